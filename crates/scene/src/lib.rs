@@ -1,0 +1,24 @@
+//! Lucerna's luminaire model: emitters, parts, shape generators and
+//! materials; versioned TOML load/save; tessellation into triangles; OBJ
+//! import. No GPU, no UI.
+//!
+//! Units: metres, lumens, degrees at the file boundary. Luminaire
+//! coordinates are right-handed with z up; the photometric axis points down.
+
+pub mod file;
+pub mod generators;
+pub mod mesh;
+pub mod model;
+pub mod obj;
+pub mod profile;
+pub mod tessellate;
+pub mod validate;
+
+pub use file::{
+    LoadSceneError, SaveSceneError, load_scene, parse_scene, save_scene, scene_to_toml,
+    write_atomically,
+};
+pub use mesh::{MeshDefect, TriangleMesh};
+pub use model::*;
+pub use tessellate::{SurfaceKind, TessellateError, TessellatedScene, emitter_mesh, tessellate};
+pub use validate::{Invalid, validate};

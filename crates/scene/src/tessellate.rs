@@ -1,0 +1,197 @@
+//! The whole luminaire as one triangle soup in luminaire coordinates, with
+//! a material per triangle: what the tracer's BVH is built from.
+
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use glam::DVec2;
+
+use crate::generators::{generate, revolve};
+use crate::mesh::{MeshDefect, TriangleMesh};
+use crate::model::{EmitterShape, Material, Scene, Shape};
+use crate::obj::{LoadObjError, load_obj, material_for};
+use crate::profile::sample_curve;
+
+/// Name of the implicit material of emitters that name none.
+pub const EMITTER_ABSORBER: &str = "<emitter absorber>";
+
+/// Whether a range of triangles is a reflector part or an emitter's surface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SurfaceKind {
+    Part,
+    Emitter,
+}
+
+/// A named range of triangles in [`TessellatedScene::mesh`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurfaceRange {
+    pub name: String,
+    pub kind: SurfaceKind,
+    /// Index into `Scene::parts` or `Scene::emitters`.
+    pub index: usize,
+    pub triangles: Range<usize>,
+}
+
+/// The enabled parts and emitter surfaces, transformed to luminaire
+/// coordinates.
+#[derive(Debug, Clone)]
+pub struct TessellatedScene {
+    pub mesh: TriangleMesh,
+    /// Index into `materials` for every triangle.
+    pub triangle_material: Vec<u32>,
+    /// Materials by index, with their scene names.
+    pub materials: Vec<(String, Material)>,
+    pub surfaces: Vec<SurfaceRange>,
+}
+
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum TessellateError {
+    #[error("part '{part}': OBJ file {path}")]
+    Obj {
+        part: String,
+        path: PathBuf,
+        #[source]
+        source: LoadObjError,
+    },
+    #[error("part '{part}'{}: unusable mesh", group.as_ref().map(|g| format!(", OBJ group '{g}'")).unwrap_or_default())]
+    Mesh {
+        part: String,
+        group: Option<String>,
+        #[source]
+        defect: MeshDefect,
+    },
+    #[error("part '{part}' uses material '{material}', which the scene does not define")]
+    UnknownMaterial { part: String, material: String },
+}
+
+impl TessellatedScene {
+    pub fn triangle_count(&self) -> usize {
+        self.mesh.triangle_count()
+    }
+}
+
+/// The emitter's surface in its local frame, normals along the emission.
+pub fn emitter_mesh(shape: &EmitterShape) -> TriangleMesh {
+    match *shape {
+        EmitterShape::Disk { radius } => generate(&Shape::Disk {
+            radius,
+            segments_around: 32,
+        }),
+        EmitterShape::Rectangle { width, depth } => generate(&Shape::Plate { width, depth }),
+        EmitterShape::Sphere { radius } => {
+            // South pole to north pole: the right-hand normal points out.
+            let strip = sample_curve(
+                -std::f64::consts::FRAC_PI_2,
+                std::f64::consts::FRAC_PI_2,
+                16,
+                |t| DVec2::new(radius * t.cos(), radius * t.sin()),
+                |t| DVec2::new(-t.sin(), t.cos()),
+            );
+            Some(revolve(&[strip], 32, false))
+        }
+        EmitterShape::Cylinder { radius, height } => generate(&Shape::Cylinder {
+            radius,
+            height,
+            cap_top: false,
+            cap_bottom: false,
+            segments_around: 32,
+        }),
+    }
+    .unwrap_or_default()
+}
+
+/// Tessellates every enabled part and emitter. `scene_dir` resolves the
+/// relative paths of OBJ meshes. Each part's mesh is checked, so a NaN,
+/// a degenerate triangle or an absurd size is reported, never traced.
+pub fn tessellate(scene: &Scene, scene_dir: &Path) -> Result<TessellatedScene, TessellateError> {
+    let mut materials: Vec<(String, Material)> = scene
+        .materials
+        .iter()
+        .map(|(k, v)| (k.clone(), v.clone()))
+        .collect();
+    let material_index = |materials: &Vec<(String, Material)>, part: &str, name: &str| {
+        materials
+            .iter()
+            .position(|(n, _)| n == name)
+            .map(|i| i as u32)
+            .ok_or_else(|| TessellateError::UnknownMaterial {
+                part: part.to_owned(),
+                material: name.to_owned(),
+            })
+    };
+    let mut out = TessellatedScene {
+        mesh: TriangleMesh::default(),
+        triangle_material: Vec::new(),
+        materials: Vec::new(),
+        surfaces: Vec::new(),
+    };
+    let push = |out: &mut TessellatedScene,
+                    name: &str,
+                    kind: SurfaceKind,
+                    index: usize,
+                    mesh: &TriangleMesh,
+                    material: u32| {
+        let first = out.mesh.triangle_count();
+        out.mesh.append(mesh);
+        out.triangle_material
+            .extend(std::iter::repeat_n(material, mesh.triangle_count()));
+        out.surfaces.push(SurfaceRange {
+            name: name.to_owned(),
+            kind,
+            index,
+            triangles: first..out.mesh.triangle_count(),
+        });
+    };
+    let mesh_error = |part: &str, group: Option<&str>, defect| TessellateError::Mesh {
+        part: part.to_owned(),
+        group: group.map(str::to_owned),
+        defect,
+    };
+    for (index, part) in scene.parts.iter().enumerate().filter(|(_, p)| p.enabled) {
+        let luminaire_from_part = part.transform.matrix();
+        if let Shape::Mesh {
+            path,
+            group_materials,
+        } = &part.shape
+        {
+            let file = scene_dir.join(path);
+            let groups = load_obj(&file).map_err(|source| TessellateError::Obj {
+                part: part.name.clone(),
+                path: file.clone(),
+                source,
+            })?;
+            for group in &groups {
+                let mesh = group.mesh.transformed(&luminaire_from_part);
+                mesh.check()
+                    .map_err(|d| mesh_error(&part.name, Some(&group.name), d))?;
+                let material = material_for(group, group_materials, &part.material);
+                let m = material_index(&materials, &part.name, material)?;
+                push(&mut out, &part.name, SurfaceKind::Part, index, &mesh, m);
+            }
+        } else if let Some(local) = generate(&part.shape) {
+            let mesh = local.transformed(&luminaire_from_part);
+            mesh.check().map_err(|d| mesh_error(&part.name, None, d))?;
+            let m = material_index(&materials, &part.name, &part.material)?;
+            push(&mut out, &part.name, SurfaceKind::Part, index, &mesh, m);
+        }
+    }
+    for (index, emitter) in scene.emitters.iter().enumerate().filter(|(_, e)| e.enabled) {
+        let mesh = emitter_mesh(&emitter.shape).transformed(&emitter.transform.matrix());
+        mesh.check().map_err(|d| mesh_error(&emitter.name, None, d))?;
+        let m = match &emitter.material {
+            Some(name) => material_index(&materials, &emitter.name, name)?,
+            None => {
+                if let Some(i) = materials.iter().position(|(n, _)| n == EMITTER_ABSORBER) {
+                    i as u32
+                } else {
+                    materials.push((EMITTER_ABSORBER.to_owned(), Material::Absorber));
+                    (materials.len() - 1) as u32
+                }
+            }
+        };
+        push(&mut out, &emitter.name, SurfaceKind::Emitter, index, &mesh, m);
+    }
+    out.materials = materials;
+    Ok(out)
+}
