@@ -8,7 +8,11 @@ use clap::{Parser, Subcommand};
 mod validate;
 
 #[derive(Debug, Parser)]
-#[command(name = "lucerna", version, about = "Luminaire development: scenes, photometry files, bakes")]
+#[command(
+    name = "lucerna",
+    version,
+    about = "Luminaire development: scenes, photometry files, bakes"
+)]
 pub struct Cli {
     #[command(subcommand)]
     command: Command,

@@ -1,1 +1,24 @@
+//! Lucerna's photometry core: cube-map intensity maps, candela tables on
+//! C-γ grids, IES LM-63 and EULUMDAT read/write, derived figures. No GPU.
+//!
+//! Conventions (ARCHITECTURE.md): candela, lumens, metres; degrees at file
+//! boundaries; type C photometry with γ = 0 at nadir (−z), C0 along +x,
+//! C90 along +y.
 
+pub mod cubemap;
+pub mod figures;
+pub mod ies;
+pub mod intensity_map;
+pub mod ldt;
+pub mod photometry;
+pub mod table;
+
+pub use cubemap::{CubeFace, CubeMapLayout};
+pub use figures::{Figures, figures};
+pub use ies::{IesVersion, parse_ies, write_ies};
+pub use intensity_map::IntensityMap;
+pub use ldt::{parse_ldt, to_latin1, write_ldt};
+pub use photometry::{
+    Dimensions, Format, LampSet, Metadata, ParsePhotometryError, Photometry, read_photometry, sniff,
+};
+pub use table::{CandelaTable, Symmetry, table_from_cube_map};

@@ -249,8 +249,10 @@ pub fn revolve(strips: &[Strip], segments_around: u32, faceted: bool) -> Triangl
             ring_start.push(mesh.positions.len() as u32);
             let nrz = profile_normal(s);
             if on_axis(s.point.x, scale) {
-                mesh.positions.push(DVec3::new(0.0, 0.0, s.point.y).as_vec3());
-                mesh.normals.push(Vec3::new(0.0, 0.0, nrz.y.signum() as f32));
+                mesh.positions
+                    .push(DVec3::new(0.0, 0.0, s.point.y).as_vec3());
+                mesh.normals
+                    .push(Vec3::new(0.0, 0.0, nrz.y.signum() as f32));
             } else {
                 for i in 0..n {
                     let (sn, cs) = angle(i).sin_cos();
@@ -393,8 +395,8 @@ pub fn extrude(strips: &[Strip], length: f64, end_caps: bool) -> TriangleMesh {
                 let normal_y = if inward { cap_normal_y } else { -cap_normal_y };
                 let normal = DVec3::new(0.0, normal_y, 0.0);
                 for &[i, j, k] in &triangles {
-                    let corners = [outline[i], outline[j], outline[k]]
-                        .map(|p| DVec3::new(p.x, y, p.y));
+                    let corners =
+                        [outline[i], outline[j], outline[k]].map(|p| DVec3::new(p.x, y, p.y));
                     let g = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
                     let corners = if g.dot(normal) < 0.0 {
                         [corners[0], corners[2], corners[1]]
@@ -450,9 +452,9 @@ fn ear_clip(points: &[DVec2]) -> Vec<[usize; 3]> {
             if cross < 0.0 {
                 continue; // reflex vertex
             }
-            let contains_other = remaining.iter().any(|&o| {
-                o != ia && o != ib && o != ic && point_in_triangle(points[o], a, b, c)
-            });
+            let contains_other = remaining
+                .iter()
+                .any(|&o| o != ia && o != ib && o != ic && point_in_triangle(points[o], a, b, c));
             if !contains_other {
                 triangles.push([ia, ib, ic]);
                 remaining.remove(k);

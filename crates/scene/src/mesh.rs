@@ -107,11 +107,7 @@ impl TriangleMesh {
             positions: self
                 .positions
                 .iter()
-                .map(|p| {
-                    luminaire_from_part
-                        .transform_point3(p.as_dvec3())
-                        .as_vec3()
-                })
+                .map(|p| luminaire_from_part.transform_point3(p.as_dvec3()).as_vec3())
                 .collect(),
             normals: self
                 .normals

@@ -65,7 +65,10 @@ pub enum Material {
     },
     /// Translucent diffuser (opal glass, frosted PMMA) as a thin sheet:
     /// Lambertian reflection and Lambertian transmission.
-    Diffuser { reflectance: f64, transmittance: f64 },
+    Diffuser {
+        reflectance: f64,
+        transmittance: f64,
+    },
 }
 
 impl Material {

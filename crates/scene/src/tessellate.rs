@@ -127,11 +127,11 @@ pub fn tessellate(scene: &Scene, scene_dir: &Path) -> Result<TessellatedScene, T
         surfaces: Vec::new(),
     };
     let push = |out: &mut TessellatedScene,
-                    name: &str,
-                    kind: SurfaceKind,
-                    index: usize,
-                    mesh: &TriangleMesh,
-                    material: u32| {
+                name: &str,
+                kind: SurfaceKind,
+                index: usize,
+                mesh: &TriangleMesh,
+                material: u32| {
         let first = out.mesh.triangle_count();
         out.mesh.append(mesh);
         out.triangle_material
@@ -178,7 +178,8 @@ pub fn tessellate(scene: &Scene, scene_dir: &Path) -> Result<TessellatedScene, T
     }
     for (index, emitter) in scene.emitters.iter().enumerate().filter(|(_, e)| e.enabled) {
         let mesh = emitter_mesh(&emitter.shape).transformed(&emitter.transform.matrix());
-        mesh.check().map_err(|d| mesh_error(&emitter.name, None, d))?;
+        mesh.check()
+            .map_err(|d| mesh_error(&emitter.name, None, d))?;
         let m = match &emitter.material {
             Some(name) => material_index(&materials, &emitter.name, name)?,
             None => {
@@ -190,7 +191,14 @@ pub fn tessellate(scene: &Scene, scene_dir: &Path) -> Result<TessellatedScene, T
                 }
             }
         };
-        push(&mut out, &emitter.name, SurfaceKind::Emitter, index, &mesh, m);
+        push(
+            &mut out,
+            &emitter.name,
+            SurfaceKind::Emitter,
+            index,
+            &mesh,
+            m,
+        );
     }
     out.materials = materials;
     Ok(out)

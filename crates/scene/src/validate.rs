@@ -3,7 +3,7 @@
 
 use std::fmt;
 
-use crate::model::{Emitter, EmitterShape, Material, Part, Scene, Shape, FORMAT_VERSION};
+use crate::model::{Emitter, EmitterShape, FORMAT_VERSION, Material, Part, Scene, Shape};
 
 /// Where a value sits in the scene file, e.g. `part[2].shape.focal_length`
 /// (the TOML key path, used to find its line).
@@ -307,7 +307,10 @@ impl Checker {
                 if neck_diameter >= 2.0 * b {
                     self.fail(
                         at.key("neck_diameter"),
-                        format!("must be smaller than the ellipsoid's minor diameter {}", 2.0 * b),
+                        format!(
+                            "must be smaller than the ellipsoid's minor diameter {}",
+                            2.0 * b
+                        ),
                     );
                 } else if cut_below_focus.is_finite() && neck_diameter > 0.0 {
                     let t0 = (0.5 * neck_diameter / b).asin();
@@ -331,8 +334,7 @@ impl Checker {
                 self.profile(&at, profile, true);
                 self.segments(&at, "segments_around", *segments_around, 3);
                 self.segments(&at, "segments_per_span", *segments_per_span, 1);
-                if profile.len().saturating_mul(*segments_per_span as usize)
-                    > MAX_SEGMENTS as usize
+                if profile.len().saturating_mul(*segments_per_span as usize) > MAX_SEGMENTS as usize
                 {
                     self.fail(
                         at.key("segments_per_span"),
@@ -349,8 +351,7 @@ impl Checker {
                 self.profile(&at, profile, false);
                 self.length(&at, "length", *length);
                 self.segments(&at, "segments_per_span", *segments_per_span, 1);
-                if profile.len().saturating_mul(*segments_per_span as usize)
-                    > MAX_SEGMENTS as usize
+                if profile.len().saturating_mul(*segments_per_span as usize) > MAX_SEGMENTS as usize
                 {
                     self.fail(
                         at.key("segments_per_span"),
@@ -415,7 +416,10 @@ impl Checker {
                 if height > 2.0 * radius {
                     self.fail(
                         at.key("height"),
-                        format!("a spherical cap is at most 2 × radius = {} high", 2.0 * radius),
+                        format!(
+                            "a spherical cap is at most 2 × radius = {} high",
+                            2.0 * radius
+                        ),
                     );
                 }
                 self.segments(&at, "segments_around", segments_around, 3);
@@ -436,7 +440,9 @@ impl Checker {
                     if !(v.is_finite() && v > 0.0 && v <= MAX_LENGTH_M) {
                         self.fail(
                             at.key("size").index(i),
-                            format!("must be a length in metres, > 0 and ≤ {MAX_LENGTH_M}, got {v}"),
+                            format!(
+                                "must be a length in metres, > 0 and ≤ {MAX_LENGTH_M}, got {v}"
+                            ),
                         );
                     }
                 }
@@ -514,7 +520,10 @@ impl Checker {
         if let crate::model::Emission::Profile(file) = &e.emission
             && file.trim().is_empty()
         {
-            self.fail(at.key("emission").key("profile"), "must name an IES or LDT file");
+            self.fail(
+                at.key("emission").key("profile"),
+                "must name an IES or LDT file",
+            );
         }
         if let Some(m) = &e.material {
             self.material_ref(scene, at.key("material"), m);
@@ -545,7 +554,10 @@ pub fn validate(scene: &Scene) -> Vec<Invalid> {
         c.material(&root.key("materials").key(name), m);
     }
     if scene.emitters.iter().all(|e| !e.enabled) {
-        c.fail(root.key("emitter"), "the luminaire needs at least one enabled [[emitter]]");
+        c.fail(
+            root.key("emitter"),
+            "the luminaire needs at least one enabled [[emitter]]",
+        );
     }
     for (i, e) in scene.emitters.iter().enumerate() {
         c.emitter(scene, &root.key("emitter").index(i), e);

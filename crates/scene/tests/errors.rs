@@ -42,7 +42,12 @@ fn the_baseline_is_valid() {
 fn unknown_field_is_a_syntax_error_with_its_line() {
     let text = GOOD.replace("reflectance = 0.9", "reflectance = 0.9\nshininess = 3");
     match parse(&text) {
-        Err(LoadSceneError::Syntax { line, message, path, .. }) => {
+        Err(LoadSceneError::Syntax {
+            line,
+            message,
+            path,
+            ..
+        }) => {
             assert_eq!(line, 7, "{message}");
             assert!(message.contains("shininess"), "{message}");
             assert_eq!(path, Path::new("lamp.toml"));
@@ -84,13 +89,41 @@ fn out_of_range_values_name_line_and_field() {
 #[test]
 fn energy_and_physics_limits_are_checked() {
     let cases = [
-        ("type = \"mirror\"\nreflectance = 0.9", "type = \"diffuser\"\nreflectance = 0.6\ntransmittance = 0.5", "materials.alu.transmittance"),
-        ("type = \"mirror\"\nreflectance = 0.9", "type = \"dielectric\"\nior = 0.8", "materials.alu.ior"),
-        ("type = \"mirror\"\nreflectance = 0.9", "type = \"lambertian\"\nalbedo = -0.1", "materials.alu.albedo"),
-        ("type = \"mirror\"\nreflectance = 0.9", "type = \"rough_conductor\"\nreflectance = 0.9\nroughness_u = 0.0\nroughness_v = 0.1", "materials.alu.roughness_u"),
-        ("aperture_diameter = 0.08 }", "aperture_diameter = 0.08, segments_around = 100000 }", "part[0].shape.segments_around"),
-        ("aperture_diameter = 0.08 }", "aperture_diameter = 0.08, neck_diameter = 0.09 }", "part[0].shape.neck_diameter"),
-        ("radius = 0.002 }", "radius = 0.002 }\ntransform = { scale = [0.0, 1.0, 1.0] }", "emitter[0].transform.scale"),
+        (
+            "type = \"mirror\"\nreflectance = 0.9",
+            "type = \"diffuser\"\nreflectance = 0.6\ntransmittance = 0.5",
+            "materials.alu.transmittance",
+        ),
+        (
+            "type = \"mirror\"\nreflectance = 0.9",
+            "type = \"dielectric\"\nior = 0.8",
+            "materials.alu.ior",
+        ),
+        (
+            "type = \"mirror\"\nreflectance = 0.9",
+            "type = \"lambertian\"\nalbedo = -0.1",
+            "materials.alu.albedo",
+        ),
+        (
+            "type = \"mirror\"\nreflectance = 0.9",
+            "type = \"rough_conductor\"\nreflectance = 0.9\nroughness_u = 0.0\nroughness_v = 0.1",
+            "materials.alu.roughness_u",
+        ),
+        (
+            "aperture_diameter = 0.08 }",
+            "aperture_diameter = 0.08, segments_around = 100000 }",
+            "part[0].shape.segments_around",
+        ),
+        (
+            "aperture_diameter = 0.08 }",
+            "aperture_diameter = 0.08, neck_diameter = 0.09 }",
+            "part[0].shape.neck_diameter",
+        ),
+        (
+            "radius = 0.002 }",
+            "radius = 0.002 }\ntransform = { scale = [0.0, 1.0, 1.0] }",
+            "emitter[0].transform.scale",
+        ),
         ("format_version = 1", "format_version = 7", "format_version"),
     ];
     for (from, to, field) in cases {
@@ -114,7 +147,10 @@ fn unknown_material_lists_the_known_ones() {
 
 #[test]
 fn a_scene_without_emitter_is_rejected() {
-    let text = GOOD.replace("[[emitter]]\nname = \"LED\"", "[[emitter]]\nname = \"LED\"\nenabled = false");
+    let text = GOOD.replace(
+        "[[emitter]]\nname = \"LED\"",
+        "[[emitter]]\nname = \"LED\"\nenabled = false",
+    );
     let p = invalid(&text);
     assert!(p.iter().any(|x| x.field == "emitter"), "{p:?}");
 }
@@ -126,7 +162,10 @@ fn not_toml_at_all_is_a_syntax_error() {
     }
 }
 
-fn scene_with_obj(dir: &Path, obj: &str) -> Result<lucerna_scene::TessellatedScene, TessellateError> {
+fn scene_with_obj(
+    dir: &Path,
+    obj: &str,
+) -> Result<lucerna_scene::TessellatedScene, TessellateError> {
     std::fs::write(dir.join("part.obj"), obj).expect("write obj");
     let text = GOOD.replace(
         "shape = { type = \"paraboloid\", focal_length = 0.02, aperture_diameter = 0.08 }",
@@ -158,7 +197,10 @@ fn obj_with_nan_is_reported() {
     let dir = tempfile::tempdir().expect("temp dir");
     let r = scene_with_obj(dir.path(), "v 0 0 0\nv 0.1 0 0\nv 0 nan 0\nf 1 2 3\n");
     assert!(
-        matches!(r, Err(TessellateError::Obj { .. }) | Err(TessellateError::Mesh { .. })),
+        matches!(
+            r,
+            Err(TessellateError::Obj { .. }) | Err(TessellateError::Mesh { .. })
+        ),
         "{r:?}"
     );
 }
@@ -172,7 +214,13 @@ fn obj_with_degenerate_face_is_reported() {
         "v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0.2 0 0\nf 1 2 3\nf 1 2 4\n",
     );
     match r {
-        Err(TessellateError::Mesh { defect: lucerna_scene::MeshDefect::Degenerate { count: 1, first: 1, .. }, .. }) => {}
+        Err(TessellateError::Mesh {
+            defect:
+                lucerna_scene::MeshDefect::Degenerate {
+                    count: 1, first: 1, ..
+                },
+            ..
+        }) => {}
         other => panic!("{other:?}"),
     }
 }
@@ -183,7 +231,12 @@ fn obj_of_absurd_size_is_reported() {
     // 1200 m across: millimetres without the scale.
     let r = scene_with_obj(dir.path(), "v 0 0 0\nv 1200 0 0\nv 0 1200 0\nf 1 2 3\n");
     match r {
-        Err(e @ TessellateError::Mesh { defect: lucerna_scene::MeshDefect::AbsurdSize { .. }, .. }) => {
+        Err(
+            e @ TessellateError::Mesh {
+                defect: lucerna_scene::MeshDefect::AbsurdSize { .. },
+                ..
+            },
+        ) => {
             let chain = format!("{e}: {}", std::error::Error::source(&e).unwrap());
             assert!(chain.contains("scale"), "{chain}");
         }

@@ -11,28 +11,131 @@ use lucerna_scene::{Interpolation, Shape, TriangleMesh};
 fn all_default_shapes() -> Vec<Shape> {
     let profile = vec![[0.01, 0.0], [0.02, -0.01], [0.035, -0.03], [0.04, -0.05]];
     let mut shapes = vec![
-        Shape::Paraboloid { focal_length: 0.025, aperture_diameter: 0.1, neck_diameter: 0.0, segments_around: 64, segments_along: 32, faceted: false },
-        Shape::Paraboloid { focal_length: 0.025, aperture_diameter: 0.1, neck_diameter: 0.02, segments_around: 64, segments_along: 32, faceted: false },
-        Shape::Paraboloid { focal_length: 0.025, aperture_diameter: 0.1, neck_diameter: 0.0, segments_around: 12, segments_along: 6, faceted: true },
-        Shape::Ellipsoid { focal_distance: 0.1, vertex_distance: 0.015, cut_below_focus: 0.03, neck_diameter: 0.0, segments_around: 64, segments_along: 32, faceted: false },
-        Shape::Ellipsoid { focal_distance: 0.1, vertex_distance: 0.015, cut_below_focus: 0.03, neck_diameter: 0.01, segments_around: 16, segments_along: 8, faceted: true },
-        Shape::Plate { width: 0.1, depth: 0.05 },
-        Shape::Disk { radius: 0.05, segments_around: 64 },
-        Shape::Dome { radius: 0.15, height: 0.1, segments_around: 64, segments_along: 32 },
-        Shape::Dome { radius: 0.15, height: 0.3, segments_around: 64, segments_along: 32 },
-        Shape::Cylinder { radius: 0.05, height: 0.1, cap_top: true, cap_bottom: true, segments_around: 64 },
-        Shape::Box { size: [0.1, 0.2, 0.05], open_bottom: false },
-        Shape::Box { size: [0.1, 0.2, 0.05], open_bottom: true },
-        Shape::Louvre { blade_count: 5, spacing: 0.02, blade_height: 0.015, blade_length: 0.5, tilt_deg: 20.0, cross_blade_count: 10, cross_spacing: 0.04 },
+        Shape::Paraboloid {
+            focal_length: 0.025,
+            aperture_diameter: 0.1,
+            neck_diameter: 0.0,
+            segments_around: 64,
+            segments_along: 32,
+            faceted: false,
+        },
+        Shape::Paraboloid {
+            focal_length: 0.025,
+            aperture_diameter: 0.1,
+            neck_diameter: 0.02,
+            segments_around: 64,
+            segments_along: 32,
+            faceted: false,
+        },
+        Shape::Paraboloid {
+            focal_length: 0.025,
+            aperture_diameter: 0.1,
+            neck_diameter: 0.0,
+            segments_around: 12,
+            segments_along: 6,
+            faceted: true,
+        },
+        Shape::Ellipsoid {
+            focal_distance: 0.1,
+            vertex_distance: 0.015,
+            cut_below_focus: 0.03,
+            neck_diameter: 0.0,
+            segments_around: 64,
+            segments_along: 32,
+            faceted: false,
+        },
+        Shape::Ellipsoid {
+            focal_distance: 0.1,
+            vertex_distance: 0.015,
+            cut_below_focus: 0.03,
+            neck_diameter: 0.01,
+            segments_around: 16,
+            segments_along: 8,
+            faceted: true,
+        },
+        Shape::Plate {
+            width: 0.1,
+            depth: 0.05,
+        },
+        Shape::Disk {
+            radius: 0.05,
+            segments_around: 64,
+        },
+        Shape::Dome {
+            radius: 0.15,
+            height: 0.1,
+            segments_around: 64,
+            segments_along: 32,
+        },
+        Shape::Dome {
+            radius: 0.15,
+            height: 0.3,
+            segments_around: 64,
+            segments_along: 32,
+        },
+        Shape::Cylinder {
+            radius: 0.05,
+            height: 0.1,
+            cap_top: true,
+            cap_bottom: true,
+            segments_around: 64,
+        },
+        Shape::Box {
+            size: [0.1, 0.2, 0.05],
+            open_bottom: false,
+        },
+        Shape::Box {
+            size: [0.1, 0.2, 0.05],
+            open_bottom: true,
+        },
+        Shape::Louvre {
+            blade_count: 5,
+            spacing: 0.02,
+            blade_height: 0.015,
+            blade_length: 0.5,
+            tilt_deg: 20.0,
+            cross_blade_count: 10,
+            cross_spacing: 0.04,
+        },
     ];
     for interpolation in [Interpolation::Linear, Interpolation::CatmullRom] {
         for faceted in [false, true] {
-            shapes.push(Shape::Revolved { profile: profile.clone(), interpolation, segments_around: 48, segments_per_span: 8, faceted });
+            shapes.push(Shape::Revolved {
+                profile: profile.clone(),
+                interpolation,
+                segments_around: 48,
+                segments_per_span: 8,
+                faceted,
+            });
         }
-        shapes.push(Shape::Revolved { profile: vec![[0.0, 0.02], [0.02, 0.0], [0.03, -0.03]], interpolation, segments_around: 48, segments_per_span: 8, faceted: false });
-        shapes.push(Shape::Extruded { profile: vec![[-0.04, -0.05], [-0.02, -0.015], [0.0, 0.0], [0.02, -0.015], [0.04, -0.05]], length: 1.0, interpolation, segments_per_span: 8, end_caps: true });
+        shapes.push(Shape::Revolved {
+            profile: vec![[0.0, 0.02], [0.02, 0.0], [0.03, -0.03]],
+            interpolation,
+            segments_around: 48,
+            segments_per_span: 8,
+            faceted: false,
+        });
+        shapes.push(Shape::Extruded {
+            profile: vec![
+                [-0.04, -0.05],
+                [-0.02, -0.015],
+                [0.0, 0.0],
+                [0.02, -0.015],
+                [0.04, -0.05],
+            ],
+            length: 1.0,
+            interpolation,
+            segments_per_span: 8,
+            end_caps: true,
+        });
         // Counter-clockwise profile: caps must follow the other orientation.
-        shapes.push(Shape::Extruded { profile: vec![[0.04, -0.05], [0.0, 0.0], [-0.04, -0.05]], length: 0.5, interpolation, segments_per_span: 4, end_caps: true });
+        shapes.push(Shape::Extruded {
+            profile: vec![[0.04, -0.05], [0.0, 0.0], [-0.04, -0.05]],
+            length: 0.5,
+            interpolation,
+            segments_per_span: 4,
+            end_caps: true,
+        });
     }
     shapes
 }
@@ -82,7 +185,14 @@ fn every_generator_gives_clean_consistently_wound_meshes() {
 
 #[test]
 fn surfaces_of_revolution_face_the_axis() {
-    let shape = Shape::Paraboloid { focal_length: 0.025, aperture_diameter: 0.1, neck_diameter: 0.0, segments_around: 32, segments_along: 16, faceted: false };
+    let shape = Shape::Paraboloid {
+        focal_length: 0.025,
+        aperture_diameter: 0.1,
+        neck_diameter: 0.0,
+        segments_around: 32,
+        segments_along: 16,
+        faceted: false,
+    };
     let mesh = generate(&shape).unwrap();
     for t in 0..mesh.triangle_count() {
         let [a, b, c] = mesh.corners(t);
@@ -95,7 +205,14 @@ fn surfaces_of_revolution_face_the_axis() {
 #[test]
 fn paraboloid_vertices_lie_on_the_paraboloid() {
     let f = 0.025;
-    let shape = Shape::Paraboloid { focal_length: f, aperture_diameter: 0.1, neck_diameter: 0.01, segments_around: 64, segments_along: 32, faceted: false };
+    let shape = Shape::Paraboloid {
+        focal_length: f,
+        aperture_diameter: 0.1,
+        neck_diameter: 0.01,
+        segments_around: 64,
+        segments_along: 32,
+        faceted: false,
+    };
     let mesh = generate(&shape).unwrap();
     for p in &mesh.positions {
         let p = p.as_dvec3();
@@ -104,14 +221,26 @@ fn paraboloid_vertices_lie_on_the_paraboloid() {
         let z_vertex_frame = f - p.z;
         assert!((r2 - 4.0 * f * z_vertex_frame).abs() < 1e-8, "{p}");
     }
-    let r_max = mesh.positions.iter().map(|p| p.truncate().length()).fold(0.0f32, f32::max);
+    let r_max = mesh
+        .positions
+        .iter()
+        .map(|p| p.truncate().length())
+        .fold(0.0f32, f32::max);
     assert!((r_max - 0.05).abs() < 1e-6);
 }
 
 #[test]
 fn ellipsoid_vertices_sum_to_the_major_axis() {
     let (fd, vd) = (0.1, 0.015);
-    let shape = Shape::Ellipsoid { focal_distance: fd, vertex_distance: vd, cut_below_focus: 0.03, neck_diameter: 0.0, segments_around: 32, segments_along: 16, faceted: false };
+    let shape = Shape::Ellipsoid {
+        focal_distance: fd,
+        vertex_distance: vd,
+        cut_below_focus: 0.03,
+        neck_diameter: 0.0,
+        segments_around: 32,
+        segments_along: 16,
+        faceted: false,
+    };
     let mesh = generate(&shape).unwrap();
     let (f1, f2) = (DVec3::ZERO, DVec3::new(0.0, 0.0, -fd));
     let major = fd + 2.0 * vd;
@@ -125,9 +254,19 @@ fn ellipsoid_vertices_sum_to_the_major_axis() {
 #[test]
 fn dome_area_matches_the_spherical_cap() {
     for (r, h) in [(0.15, 0.15), (0.1, 0.04), (0.1, 0.18)] {
-        let mesh = generate(&Shape::Dome { radius: r, height: h, segments_around: 256, segments_along: 128 }).unwrap();
+        let mesh = generate(&Shape::Dome {
+            radius: r,
+            height: h,
+            segments_around: 256,
+            segments_along: 128,
+        })
+        .unwrap();
         let exact = 2.0 * PI * r * h;
-        assert!((mesh.area() - exact).abs() / exact < 1e-3, "r {r} h {h}: {} vs {exact}", mesh.area());
+        assert!(
+            (mesh.area() - exact).abs() / exact < 1e-3,
+            "r {r} h {h}: {} vs {exact}",
+            mesh.area()
+        );
     }
 }
 
@@ -135,8 +274,16 @@ fn dome_area_matches_the_spherical_cap() {
 /// Gauss–Legendre quadrature of the spline itself.
 fn revolution_area(profile: &[[f64; 2]]) -> f64 {
     use lucerna_scene::profile::evaluate;
-    let points: Vec<glam::DVec2> = profile.iter().map(|&p| glam::DVec2::from_array(p)).collect();
-    let nodes = [(-0.861_136_311_594_053, 0.347_854_845_137_454), (-0.339_981_043_584_856, 0.652_145_154_862_546), (0.339_981_043_584_856, 0.652_145_154_862_546), (0.861_136_311_594_053, 0.347_854_845_137_454)];
+    let points: Vec<glam::DVec2> = profile
+        .iter()
+        .map(|&p| glam::DVec2::from_array(p))
+        .collect();
+    let nodes = [
+        (-0.861_136_311_594_053, 0.347_854_845_137_454),
+        (-0.339_981_043_584_856, 0.652_145_154_862_546),
+        (0.339_981_043_584_856, 0.652_145_154_862_546),
+        (0.861_136_311_594_053, 0.347_854_845_137_454),
+    ];
     let pieces = 2000;
     let spans = (points.len() - 1) as f64;
     let h = spans / pieces as f64;
@@ -153,22 +300,51 @@ fn revolution_area(profile: &[[f64; 2]]) -> f64 {
 
 #[test]
 fn revolved_area_converges_to_the_surface_of_revolution() {
-    let profile = vec![[0.01, 0.0], [0.025, -0.012], [0.038, -0.03], [0.048, -0.05], [0.055, -0.072]];
+    let profile = vec![
+        [0.01, 0.0],
+        [0.025, -0.012],
+        [0.038, -0.03],
+        [0.048, -0.05],
+        [0.055, -0.072],
+    ];
     let exact = revolution_area(&profile);
     let mut previous = f64::INFINITY;
     for n in [8u32, 16, 32, 64, 128] {
-        let mesh = generate(&Shape::Revolved { profile: profile.clone(), interpolation: Interpolation::CatmullRom, segments_around: 4 * n, segments_per_span: n, faceted: false }).unwrap();
+        let mesh = generate(&Shape::Revolved {
+            profile: profile.clone(),
+            interpolation: Interpolation::CatmullRom,
+            segments_around: 4 * n,
+            segments_per_span: n,
+            faceted: false,
+        })
+        .unwrap();
         let error = (mesh.area() - exact).abs() / exact;
-        assert!(error < previous, "error must shrink with resolution: {error} after {previous}");
+        assert!(
+            error < previous,
+            "error must shrink with resolution: {error} after {previous}"
+        );
         previous = error;
     }
-    assert!(previous < 2e-4, "relative area error at the finest resolution: {previous}");
+    assert!(
+        previous < 2e-4,
+        "relative area error at the finest resolution: {previous}"
+    );
 }
 
 #[test]
 fn a_mirroring_transform_keeps_winding_and_normals_consistent() {
-    let mesh = generate(&Shape::Dome { radius: 0.1, height: 0.05, segments_around: 16, segments_along: 8 }).unwrap();
-    let t = lucerna_scene::Transform { scale: [1.0, -2.0, 0.5], rotate_deg: [30.0, 10.0, 5.0], translate: [0.1, 0.0, 0.0] };
+    let mesh = generate(&Shape::Dome {
+        radius: 0.1,
+        height: 0.05,
+        segments_around: 16,
+        segments_along: 8,
+    })
+    .unwrap();
+    let t = lucerna_scene::Transform {
+        scale: [1.0, -2.0, 0.5],
+        rotate_deg: [30.0, 10.0, 5.0],
+        translate: [0.1, 0.0, 0.0],
+    };
     let moved = mesh.transformed(&t.matrix());
     moved.check().unwrap();
     assert_normals_agree_with_winding(&moved, "mirrored dome");

@@ -29,7 +29,10 @@ fn there_are_the_four_required_examples_and_an_obj_one() {
         "linear_louvre",
         "obj_cone",
     ] {
-        assert!(names.iter().any(|n| n == required), "missing example {required}");
+        assert!(
+            names.iter().any(|n| n == required),
+            "missing example {required}"
+        );
     }
 }
 
@@ -64,7 +67,11 @@ fn every_example_tessellates_into_a_clean_mesh() {
         );
         let covered: usize = t.surfaces.iter().map(|s| s.triangles.len()).sum();
         assert_eq!(covered, t.mesh.triangle_count());
-        assert!(t.surfaces.iter().any(|s| s.kind == lucerna_scene::SurfaceKind::Emitter));
+        assert!(
+            t.surfaces
+                .iter()
+                .any(|s| s.kind == lucerna_scene::SurfaceKind::Emitter)
+        );
     }
 }
 
@@ -74,12 +81,22 @@ fn obj_groups_get_their_own_materials() {
     let scene = load_scene(&path).expect("loads");
     let t = tessellate(&scene, path.parent().unwrap()).expect("tessellates");
     let by_name = |name: &str| t.materials.iter().position(|(n, _)| n == name).unwrap() as u32;
-    let parts: Vec<_> = t.surfaces.iter().filter(|s| s.name == "reflector").collect();
+    let parts: Vec<_> = t
+        .surfaces
+        .iter()
+        .filter(|s| s.name == "reflector")
+        .collect();
     assert_eq!(parts.len(), 2, "two OBJ objects");
     // The cone (group 'reflector', usemtl AluSpecular) takes the part's
     // default; the baffle is matched by its usemtl name BlackMatte.
-    assert_eq!(t.triangle_material[parts[0].triangles.start], by_name("alu"));
-    assert_eq!(t.triangle_material[parts[1].triangles.start], by_name("black"));
+    assert_eq!(
+        t.triangle_material[parts[0].triangles.start],
+        by_name("alu")
+    );
+    assert_eq!(
+        t.triangle_material[parts[1].triangles.start],
+        by_name("black")
+    );
     // Millimetres scaled to metres: the baffle's outer radius is 55 mm.
     let (lo, hi) = t.mesh.bounds().unwrap();
     assert!((hi.x - 0.055).abs() < 1e-6 && (lo.x + 0.055).abs() < 1e-6);

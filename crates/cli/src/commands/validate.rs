@@ -99,7 +99,13 @@ pub fn report(path: &Path) -> Result<ValidateReport> {
             .iter()
             .filter(|p| !p.enabled)
             .map(|p| p.name.clone())
-            .chain(scene.emitters.iter().filter(|e| !e.enabled).map(|e| e.name.clone()))
+            .chain(
+                scene
+                    .emitters
+                    .iter()
+                    .filter(|e| !e.enabled)
+                    .map(|e| e.name.clone()),
+            )
             .collect(),
     })
 }

@@ -1,0 +1,108 @@
+//! Derived figures a datasheet shows: flux, LOR, downward/upward fractions,
+//! peak intensity, beam and field angles.
+
+use serde::Serialize;
+
+use crate::table::CandelaTable;
+
+/// Figures derived from a candela table.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Figures {
+    /// Luminous flux integrated from the table (lm).
+    pub flux_lm: f64,
+    /// Flux below the horizontal plane, γ < 90° (lm).
+    pub downward_flux_lm: f64,
+    /// Flux above the horizontal plane (lm).
+    pub upward_flux_lm: f64,
+    /// Downward flux fraction (0–1).
+    pub downward_fraction: f64,
+    /// Light output ratio: table flux over lamp flux, where the lamp flux is
+    /// known (relative photometry).
+    pub light_output_ratio: Option<f64>,
+    pub peak_cd: f64,
+    pub peak_c_deg: f64,
+    pub peak_gamma_deg: f64,
+    /// Full beam angle (50 % of the plane's maximum) in the C0-C180 and
+    /// C90-C270 planes (degrees); `None` where the intensity never falls
+    /// that low.
+    pub beam_angle_deg: [Option<f64>; 2],
+    /// Full field angle (10 %) in the same planes.
+    pub field_angle_deg: [Option<f64>; 2],
+}
+
+/// Intensity along a full vertical plane through C and C + 180°, as a
+/// function of the signed angle θ ∈ [−180°, 180°]: θ ≥ 0 is γ = θ in plane
+/// C, θ < 0 is γ = −θ in plane C + 180°.
+fn plane_profile(table: &CandelaTable, c_deg: f64, theta_deg: f64) -> f64 {
+    if theta_deg >= 0.0 {
+        table.intensity(c_deg, theta_deg)
+    } else {
+        table.intensity(c_deg + 180.0, -theta_deg)
+    }
+}
+
+/// Full angle between the points on either side of the plane's maximum
+/// where the intensity first falls to `fraction` of it (linear
+/// interpolation on a 0.05° walk).
+pub fn spread_angle(table: &CandelaTable, c_deg: f64, fraction: f64) -> Option<f64> {
+    const STEP: f64 = 0.05;
+    let steps = (360.0 / STEP) as i64;
+    let theta = |k: i64| -180.0 + k as f64 * STEP;
+    let (k_max, i_max) = (0..=steps)
+        .map(|k| (k, plane_profile(table, c_deg, theta(k))))
+        .fold((0, f64::NEG_INFINITY), |(bk, bv), (k, v)| {
+            if v > bv { (k, v) } else { (bk, bv) }
+        });
+    if i_max <= 0.0 {
+        return None;
+    }
+    let level = fraction * i_max;
+    let crossing = |dir: i64| -> Option<f64> {
+        let mut k = k_max;
+        let mut prev = i_max;
+        loop {
+            let next = k + dir;
+            if !(0..=steps).contains(&next) {
+                return None;
+            }
+            let v = plane_profile(table, c_deg, theta(next));
+            if v <= level {
+                let t = (prev - level) / (prev - v);
+                return Some(theta(k) + dir as f64 * STEP * t);
+            }
+            prev = v;
+            k = next;
+        }
+    };
+    Some(crossing(1)? - crossing(-1)?)
+}
+
+/// All figures of a table; `lamp_flux_lm` is the total rated lamp flux for
+/// relative photometry (None for absolute photometry).
+pub fn figures(table: &CandelaTable, lamp_flux_lm: Option<f64>) -> Figures {
+    let flux_lm = table.flux_lm();
+    let downward_flux_lm = table.flux_between_lm(0.0, 90.0);
+    let (peak_cd, peak_c_deg, peak_gamma_deg) = table.peak();
+    Figures {
+        flux_lm,
+        downward_flux_lm,
+        upward_flux_lm: flux_lm - downward_flux_lm,
+        downward_fraction: if flux_lm > 0.0 {
+            downward_flux_lm / flux_lm
+        } else {
+            0.0
+        },
+        light_output_ratio: lamp_flux_lm.filter(|f| *f > 0.0).map(|f| flux_lm / f),
+        peak_cd,
+        peak_c_deg,
+        peak_gamma_deg,
+        beam_angle_deg: [
+            spread_angle(table, 0.0, 0.5),
+            spread_angle(table, 90.0, 0.5),
+        ],
+        field_angle_deg: [
+            spread_angle(table, 0.0, 0.1),
+            spread_angle(table, 90.0, 0.1),
+        ],
+    }
+}

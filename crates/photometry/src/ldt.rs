@@ -1,0 +1,385 @@
+//! EULUMDAT (.ldt) reading and writing: one field a line, intensities in
+//! cd/klm of lamp set 1, symmetry indicators 0–4.
+
+use crate::photometry::{
+    Dimensions, Format, LampSet, Metadata, ParsePhotometryError, Photometry, expand_planes,
+    format_number,
+};
+use crate::table::{CandelaTable, Symmetry};
+
+const FORMAT: &str = "EULUMDAT";
+const MAX_PLANES: usize = 3600;
+const MAX_LAMP_SETS: usize = 20;
+
+fn error(line: usize, message: impl Into<String>) -> ParsePhotometryError {
+    ParsePhotometryError::new(FORMAT, Some(line), message)
+}
+
+struct Lines<'a> {
+    lines: Vec<&'a str>,
+    next: usize,
+}
+
+impl<'a> Lines<'a> {
+    /// 1-based number of the line last read.
+    fn line(&self) -> usize {
+        self.next
+    }
+
+    fn text(&mut self, what: &str) -> Result<&'a str, ParsePhotometryError> {
+        let l = self.lines.get(self.next).ok_or_else(|| {
+            error(
+                self.next + 1,
+                format!("the file ends where {what} was expected"),
+            )
+        })?;
+        self.next += 1;
+        Ok(l.trim())
+    }
+
+    /// A number; decimal commas are accepted (one field per line, so a comma
+    /// cannot be a separator).
+    fn number(&mut self, what: &str) -> Result<f64, ParsePhotometryError> {
+        let t = self.text(what)?;
+        let v: f64 = t
+            .replace(',', ".")
+            .parse()
+            .map_err(|_| error(self.line(), format!("{what}: '{t}' is not a number")))?;
+        if !v.is_finite() {
+            return Err(error(
+                self.line(),
+                format!("{what}: {t} is not a finite number"),
+            ));
+        }
+        Ok(v)
+    }
+
+    /// A number where old files sometimes leave the line blank.
+    fn number_or_zero(&mut self, what: &str) -> Result<f64, ParsePhotometryError> {
+        let t = self.lines.get(self.next).map(|l| l.trim());
+        if t == Some("") {
+            self.next += 1;
+            return Ok(0.0);
+        }
+        self.number(what)
+    }
+
+    fn integer(&mut self, what: &str, min: i64, max: i64) -> Result<i64, ParsePhotometryError> {
+        let v = self.number(what)?;
+        if v.fract() != 0.0 || v < min as f64 || v > max as f64 {
+            return Err(error(
+                self.line(),
+                format!("{what} must be a whole number from {min} to {max}, got {v}"),
+            ));
+        }
+        Ok(v as i64)
+    }
+}
+
+fn symmetry_of(isym: i64) -> Symmetry {
+    match isym {
+        1 => Symmetry::Rotational,
+        2 => Symmetry::AboutC0C180,
+        3 => Symmetry::AboutC90C270,
+        4 => Symmetry::Quadrant,
+        _ => Symmetry::None,
+    }
+}
+
+/// 1-based first and last stored C-plane index (Mc1, Mc2) per EULUMDAT.
+fn stored_range(isym: i64, mc: usize) -> (usize, usize) {
+    match isym {
+        1 => (1, 1),
+        2 => (1, mc / 2 + 1),
+        3 => {
+            let mc1 = 3 * mc / 4 + 1;
+            (mc1, mc1 + mc / 2)
+        }
+        4 => (1, mc / 4 + 1),
+        _ => (1, mc),
+    }
+}
+
+/// Reads EULUMDAT text.
+pub fn parse_ldt(text: &str) -> Result<Photometry, ParsePhotometryError> {
+    let mut l = Lines {
+        lines: text.lines().collect(),
+        next: 0,
+    };
+    let mut meta = Metadata {
+        ballast_factor: 1.0,
+        ..Metadata::default()
+    };
+    meta.manufacturer = l.text("company identification")?.to_owned();
+    let ityp = l.integer("type indicator Ityp", 0, 3)?;
+    meta.ldt_type = Some(ityp as u8);
+    let isym = l.integer("symmetry indicator Isym", 0, 4)?;
+    let mc = l.integer("number of C-planes Mc", 1, MAX_PLANES as i64)? as usize;
+    let mc_line = l.line();
+    let dc = l.number("C-plane spacing Dc")?;
+    let ng = l.integer("number of γ angles Ng", 2, MAX_PLANES as i64)? as usize;
+    let dg = l.number("γ spacing Dg")?;
+    if (isym == 2 || isym == 3) && mc % 2 != 0 || isym == 4 && mc % 4 != 0 {
+        return Err(error(
+            mc_line,
+            format!("Mc = {mc} C-planes cannot hold symmetry Isym {isym}"),
+        ));
+    }
+    meta.test_report = l.text("measurement report number")?.to_owned();
+    meta.luminaire = l.text("luminaire name")?.to_owned();
+    meta.catalog_number = l.text("luminaire number")?.to_owned();
+    let file_name = l.text("file name")?.to_owned();
+    if !file_name.is_empty() {
+        meta.keywords.push(("_LDT_FILE_NAME".to_owned(), file_name));
+    }
+    meta.issue_date = l.text("date/user")?.to_owned();
+    let mm = 0.001;
+    let body_length = l.number_or_zero("luminaire length/diameter")?;
+    let body_width = l.number_or_zero("luminaire width")?;
+    let body_height = l.number_or_zero("luminaire height")?;
+    meta.luminaire_dimensions = Dimensions {
+        length_m: body_length * mm,
+        width_m: body_width * mm,
+        height_m: body_height * mm,
+        circular: body_width == 0.0,
+    };
+    let area_length = l.number_or_zero("luminous area length/diameter")?;
+    let area_width = l.number_or_zero("luminous area width")?;
+    let mut heights = [0.0; 4];
+    for (i, h) in heights.iter_mut().enumerate() {
+        *h = l.number_or_zero(&format!("luminous area height C{}", 90 * i))?;
+    }
+    meta.luminous_area = Dimensions {
+        length_m: area_length * mm,
+        width_m: area_width * mm,
+        height_m: heights[0] * mm,
+        circular: area_width == 0.0,
+    };
+    l.number_or_zero("downward flux fraction DFF")?;
+    l.number_or_zero("light output ratio LORL")?;
+    let mut cfli = l.number_or_zero("intensity conversion factor CFLI")?;
+    if cfli <= 0.0 {
+        cfli = 1.0;
+    }
+    l.number_or_zero("tilt during measurement")?;
+    let sets = l.integer("number of lamp sets", 1, MAX_LAMP_SETS as i64)? as usize;
+    let mut flux_line = 0;
+    for set in 0..sets {
+        let count = l.number("number of lamps")?;
+        let kind = l.text("lamp type")?.to_owned();
+        let flux_lm = l.number("lamp set luminous flux")?;
+        if set == 0 {
+            flux_line = l.line();
+        }
+        let colour_temperature = l.text("colour temperature")?.to_owned();
+        let colour_rendering = l.text("colour rendering")?.to_owned();
+        let watts = l.number_or_zero("lamp set wattage")?;
+        meta.lamps.push(LampSet {
+            count: count as i32,
+            kind,
+            flux_lm,
+            colour_temperature,
+            colour_rendering,
+            watts,
+        });
+    }
+    meta.input_watts = meta.lamps.iter().map(|s| s.watts).sum();
+    meta.absolute = meta.lamps[0].count < 0;
+    for k in 0..10 {
+        l.number_or_zero(&format!("direct ratio {}", k + 1))?;
+    }
+    let c_line = l.line() + 1;
+    let c_angles: Vec<f64> = (0..mc)
+        .map(|_| l.number("C angle"))
+        .collect::<Result<_, _>>()?;
+    let g_line = l.line() + 1;
+    let gammas: Vec<f64> = (0..ng)
+        .map(|_| l.number("γ angle"))
+        .collect::<Result<_, _>>()?;
+    if c_angles.iter().any(|c| !(0.0..=360.0).contains(c))
+        || c_angles.windows(2).any(|w| w[0] >= w[1])
+    {
+        return Err(error(c_line, "C angles must be ascending within 0..360°"));
+    }
+    if gammas.iter().any(|g| !(0.0..=180.0).contains(g)) || gammas.windows(2).any(|w| w[0] >= w[1])
+    {
+        return Err(error(g_line, "γ angles must be ascending within 0..180°"));
+    }
+    let _ = (dc, dg); // the angle lists are authoritative
+    let (mc1, mc2) = stored_range(isym, mc);
+    let flux_set1 = meta.lamps[0].flux_lm;
+    if flux_set1 <= 0.0 {
+        return Err(error(
+            flux_line,
+            "lamp set 1 has no luminous flux: cd/klm cannot be converted to cd",
+        ));
+    }
+    let to_cd = flux_set1 / 1000.0 * cfli;
+    let mut stored_c = Vec::new();
+    let mut rows = Vec::new();
+    let mut clamped = 0usize;
+    for k in mc1..=mc2 {
+        // Isym 3 runs from C270 through C0 to C90: indices past Mc wrap.
+        let c = if k > mc {
+            c_angles[k - 1 - mc] + 360.0
+        } else {
+            c_angles[k - 1]
+        };
+        stored_c.push(c.rem_euclid(360.0));
+        let mut row = Vec::with_capacity(ng);
+        for _ in 0..ng {
+            let mut v = l.number(&format!("intensity in C-plane {c}°"))?;
+            if v < 0.0 {
+                clamped += 1;
+                v = 0.0;
+            }
+            row.push(v * to_cd);
+        }
+        rows.push(row);
+    }
+    if clamped > 0 {
+        meta.warnings
+            .push(format!("{clamped} negative intensity value(s) set to 0"));
+    }
+    let symmetry = symmetry_of(isym);
+    let (c_planes, rows) = expand_planes(symmetry, &stored_c, &rows);
+    let table = CandelaTable::new(c_planes, gammas, rows.concat())
+        .map_err(|e| error(c_line, e.to_string()))?;
+    Ok(Photometry {
+        format: Format::Eulumdat,
+        symmetry,
+        table,
+        meta,
+    })
+}
+
+/// The C-planes around the full circle that the file lists: the table's
+/// own when it has several, else 24 planes (a rotational file stores one).
+fn listed_c_planes(table: &CandelaTable) -> Vec<f64> {
+    if table.c_planes_deg.len() > 1 {
+        table.c_planes_deg.clone()
+    } else {
+        crate::table::uniform_c_planes(15.0)
+    }
+}
+
+fn isym_of(symmetry: Symmetry, mc: usize) -> i64 {
+    match symmetry {
+        Symmetry::Rotational => 1,
+        Symmetry::AboutC0C180 if mc % 2 == 0 => 2,
+        Symmetry::AboutC90C270 if mc % 2 == 0 => 3,
+        Symmetry::Quadrant if mc % 4 == 0 => 4,
+        _ => 0,
+    }
+}
+
+/// Writes EULUMDAT (CR LF). Intensities are cd/klm of lamp set 1; absolute
+/// photometry is written with a negative lamp count and the luminaire's
+/// own flux as the set's flux, so cd = cd/klm × flux / 1000 still holds.
+pub fn write_ldt(p: &Photometry) -> String {
+    let m = &p.meta;
+    let table = &p.table;
+    let figures = p.figures();
+    let c_list = listed_c_planes(table);
+    let mc = c_list.len();
+    let isym = isym_of(p.symmetry, mc);
+    let step = 360.0 / mc as f64;
+    let uniform_c = c_list
+        .iter()
+        .enumerate()
+        .all(|(i, &c)| (c - i as f64 * step).abs() < 1e-6);
+    let g = &table.gammas_deg;
+    let g_step = g[1] - g[0];
+    let uniform_g = g.windows(2).all(|w| (w[1] - w[0] - g_step).abs() < 1e-6) && g[0] == 0.0;
+    let mut lamps = m.lamps.clone();
+    if lamps.is_empty() || lamps[0].flux_lm <= 0.0 || m.absolute {
+        let first = lamps.first().cloned();
+        lamps = vec![LampSet {
+            count: if m.absolute { -1 } else { 1 },
+            kind: first.as_ref().map(|l| l.kind.clone()).unwrap_or_default(),
+            flux_lm: figures.flux_lm,
+            colour_temperature: first
+                .as_ref()
+                .map(|l| l.colour_temperature.clone())
+                .unwrap_or_default(),
+            colour_rendering: first
+                .as_ref()
+                .map(|l| l.colour_rendering.clone())
+                .unwrap_or_default(),
+            watts: m.input_watts,
+        }];
+    }
+    let per_klm = 1000.0 / lamps[0].flux_lm;
+    let lor_percent = figures.flux_lm / lamps.iter().map(|l| l.flux_lm).sum::<f64>() * 100.0;
+    let mm = |m: f64| format_number(m * 1000.0, 6);
+    let area = &m.luminous_area;
+    let body = &m.luminaire_dimensions;
+    let text = |s: &str| s.replace(['\r', '\n'], " ");
+    let file_name = m
+        .keywords
+        .iter()
+        .find(|(k, _)| k == "_LDT_FILE_NAME")
+        .map(|(_, v)| v.clone())
+        .unwrap_or_default();
+    let mut lines: Vec<String> = vec![
+        text(&m.manufacturer),
+        m.ldt_type
+            .unwrap_or(if isym == 1 { 1 } else { 3 })
+            .to_string(),
+        isym.to_string(),
+        mc.to_string(),
+        format_number(if uniform_c { step } else { 0.0 }, 6),
+        g.len().to_string(),
+        format_number(if uniform_g { g_step } else { 0.0 }, 6),
+        text(&m.test_report),
+        text(&m.luminaire),
+        text(&m.catalog_number),
+        text(&file_name),
+        text(&m.issue_date),
+        mm(body.length_m),
+        mm(if body.circular { 0.0 } else { body.width_m }),
+        mm(body.height_m),
+        mm(area.length_m),
+        mm(if area.circular { 0.0 } else { area.width_m }),
+        mm(area.height_m),
+        mm(area.height_m),
+        mm(area.height_m),
+        mm(area.height_m),
+        format_number(figures.downward_fraction * 100.0, 5),
+        format_number(lor_percent, 5),
+        "1".to_owned(),
+        "0".to_owned(),
+        lamps.len().to_string(),
+    ];
+    for s in &lamps {
+        lines.push(s.count.to_string());
+        lines.push(text(&s.kind));
+        lines.push(format_number(s.flux_lm, 7));
+        lines.push(text(&s.colour_temperature));
+        lines.push(text(&s.colour_rendering));
+        lines.push(format_number(s.watts, 6));
+    }
+    // Direct ratios for room indices 0.6–5 are a utilisation-factor
+    // computation not done here; 0 marks them as not given.
+    lines.extend(std::iter::repeat_n("0".to_owned(), 10));
+    lines.extend(c_list.iter().map(|&c| format_number(c, 6)));
+    lines.extend(g.iter().map(|&x| format_number(x, 6)));
+    let (mc1, mc2) = stored_range(isym, mc);
+    for k in mc1..=mc2 {
+        let c = c_list[(k - 1) % mc];
+        for &gamma in g {
+            lines.push(format_number(table.intensity(c, gamma) * per_klm, 6));
+        }
+    }
+    let mut out = lines.join("\r\n");
+    out.push_str("\r\n");
+    out
+}
+
+/// EULUMDAT text as Latin-1 bytes (what older tools expect); characters
+/// outside Latin-1 become '?'.
+pub fn to_latin1(text: &str) -> Vec<u8> {
+    text.chars()
+        .map(|c| u8::try_from(u32::from(c)).unwrap_or(b'?'))
+        .collect()
+}

@@ -1,0 +1,263 @@
+//! A photometric data set as the file formats carry it: a candela table and
+//! the metadata both IES and EULUMDAT can hold.
+
+use serde::Serialize;
+
+use crate::table::{CandelaTable, Symmetry};
+
+/// The file format a data set came from (or goes to).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum Format {
+    /// IES LM-63 with its version year (1986, 1991, 1995, 2002, 2019).
+    Ies(u16),
+    /// EULUMDAT (.ldt).
+    Eulumdat,
+}
+
+impl std::fmt::Display for Format {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Format::Ies(year) => write!(f, "IES LM-63-{year}"),
+            Format::Eulumdat => write!(f, "EULUMDAT"),
+        }
+    }
+}
+
+/// A set of identical lamps (EULUMDAT lamp set; IES has one).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LampSet {
+    /// Number of lamps (negative in EULUMDAT marks absolute photometry).
+    pub count: i32,
+    pub kind: String,
+    /// Total rated flux of the set (lm).
+    pub flux_lm: f64,
+    pub colour_temperature: String,
+    pub colour_rendering: String,
+    /// Power including ballast (W).
+    pub watts: f64,
+}
+
+/// Dimensions of a luminaire or its luminous area (m). Length is along the
+/// C0-C180 axis (x), width along C90-C270 (y); a circular shape has
+/// `width_m = 0` and its diameter in `length_m`.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+pub struct Dimensions {
+    pub length_m: f64,
+    pub width_m: f64,
+    pub height_m: f64,
+    pub circular: bool,
+}
+
+/// Everything but the intensities.
+#[derive(Debug, Clone, PartialEq, Default, Serialize)]
+pub struct Metadata {
+    pub manufacturer: String,
+    pub luminaire: String,
+    /// IES `[LUMCAT]`, EULUMDAT luminaire number.
+    pub catalog_number: String,
+    /// IES `[TEST]`, EULUMDAT measurement report number.
+    pub test_report: String,
+    pub test_lab: String,
+    pub issue_date: String,
+    /// IES 2019 `[FILEGENINFO]`.
+    pub file_generation_info: String,
+    /// IES 2019 file-generation type (1.00010 = computer simulation), where
+    /// the file says.
+    pub file_generation_type: Option<f64>,
+    /// Other IES keywords in file order (`[MORE]` lines folded in), and the
+    /// EULUMDAT file-name field as `_LDT_FILE_NAME`.
+    pub keywords: Vec<(String, String)>,
+    pub lamps: Vec<LampSet>,
+    /// Absolute photometry: intensities are the luminaire's own, no rated
+    /// lamp flux (IES −1 lumens, EULUMDAT negative lamp count).
+    pub absolute: bool,
+    pub ballast_factor: f64,
+    pub input_watts: f64,
+    pub luminous_area: Dimensions,
+    /// EULUMDAT only: the luminaire body.
+    pub luminaire_dimensions: Dimensions,
+    /// EULUMDAT type indicator (1 point source rotational, 2 linear, 3 other).
+    pub ldt_type: Option<u8>,
+    /// IES TILT=INCLUDE data (angles, factors), kept for information: the
+    /// table is at the luminaire's nominal tilt.
+    pub tilt: Option<(Vec<f64>, Vec<f64>)>,
+    /// Things the reader tolerated (clamped negative values, extra data).
+    pub warnings: Vec<String>,
+}
+
+/// A photometric data set: absolute candela on a full C-γ grid plus
+/// metadata.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Photometry {
+    pub format: Format,
+    /// The symmetry the file declared (or, for a bake, was detected).
+    pub symmetry: Symmetry,
+    pub table: CandelaTable,
+    pub meta: Metadata,
+}
+
+impl Photometry {
+    /// Total rated lamp flux (lm) for relative photometry.
+    pub fn lamp_flux_lm(&self) -> Option<f64> {
+        if self.meta.absolute {
+            return None;
+        }
+        let total: f64 = self.meta.lamps.iter().map(|l| l.flux_lm).sum();
+        (total > 0.0).then_some(total)
+    }
+
+    /// The derived datasheet figures.
+    pub fn figures(&self) -> crate::figures::Figures {
+        crate::figures::figures(&self.table, self.lamp_flux_lm())
+    }
+}
+
+/// Expands the C-planes a symmetric file stores to the whole circle:
+/// every stored plane is copied to its images under `symmetry`; planes
+/// that coincide (C360 = C0) keep the first stored.
+pub fn expand_planes(
+    symmetry: Symmetry,
+    stored_c_deg: &[f64],
+    rows: &[Vec<f64>],
+) -> (Vec<f64>, Vec<Vec<f64>>) {
+    if symmetry == Symmetry::Rotational {
+        return (vec![0.0], vec![rows[0].clone()]);
+    }
+    let mut planes: Vec<(f64, usize)> = Vec::new();
+    for (i, &c) in stored_c_deg.iter().enumerate() {
+        for image in symmetry.images(c) {
+            let image = if (image - 360.0).abs() < 1e-9 {
+                0.0
+            } else {
+                image
+            };
+            if !planes.iter().any(|(x, _)| (x - image).abs() < 1e-9) {
+                planes.push((image, i));
+            }
+        }
+    }
+    planes.sort_by(|a, b| a.0.total_cmp(&b.0));
+    (
+        planes.iter().map(|p| p.0).collect(),
+        planes.iter().map(|p| rows[p.1].clone()).collect(),
+    )
+}
+
+/// Reading failed: which format, where, and what was wrong.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{format}{}: {message}", line.map(|l| format!(" line {l}")).unwrap_or_default())]
+pub struct ParsePhotometryError {
+    /// "IES", "EULUMDAT" or "photometric file".
+    pub format: &'static str,
+    pub line: Option<usize>,
+    pub message: String,
+}
+
+impl ParsePhotometryError {
+    pub(crate) fn new(
+        format: &'static str,
+        line: Option<usize>,
+        message: impl Into<String>,
+    ) -> Self {
+        ParsePhotometryError {
+            format,
+            line,
+            message: message.into(),
+        }
+    }
+}
+
+/// Decodes file bytes: UTF-8 where valid, else Latin-1 (old EULUMDAT and
+/// IES files from European tools), which maps every byte to a character.
+pub fn decode_text(bytes: &[u8]) -> String {
+    match std::str::from_utf8(bytes) {
+        Ok(s) => s.trim_start_matches('\u{feff}').to_owned(),
+        Err(_) => bytes.iter().map(|&b| char::from(b)).collect(),
+    }
+}
+
+/// Tells IES from EULUMDAT by content: IES files open with `IESNA`/`IES:`
+/// (LM-63-1991 and later) or, in 1986 files, have a `TILT=` line before
+/// their data; EULUMDAT has numbers on lines 2–7 and at least 42 lines.
+/// EULUMDAT is recognised first, since its free-text lines may contain
+/// anything, `TILT=` included.
+pub fn sniff(text: &str) -> Option<Format> {
+    let first = text
+        .lines()
+        .next()
+        .unwrap_or("")
+        .trim()
+        .to_ascii_uppercase();
+    if first.starts_with("IESNA") || first.starts_with("IES:") {
+        return Some(Format::Ies(0));
+    }
+    let lines: Vec<&str> = text.lines().take(64).collect();
+    let numeric = lines
+        .iter()
+        .skip(1)
+        .take(6)
+        .filter(|l| {
+            l.trim()
+                .replace(',', ".")
+                .parse::<f64>()
+                .is_ok_and(|v| v.is_finite())
+        })
+        .count();
+    if numeric == 6 && text.lines().count() >= 42 {
+        return Some(Format::Eulumdat);
+    }
+    let is_tilt = |l: &str| {
+        let l = l.trim_start().to_ascii_uppercase();
+        l.strip_prefix("TILT")
+            .is_some_and(|r| r.trim_start().starts_with('='))
+    };
+    text.lines()
+        .take(2000)
+        .any(is_tilt)
+        .then_some(Format::Ies(0))
+}
+
+/// Reads an IES or EULUMDAT file from its bytes, whatever its extension.
+pub fn read_photometry(bytes: &[u8]) -> Result<Photometry, ParsePhotometryError> {
+    if bytes.is_empty() {
+        return Err(ParsePhotometryError::new(
+            "photometric file",
+            None,
+            "the file is empty",
+        ));
+    }
+    if bytes.iter().take(4096).filter(|&&b| b == 0).count() > 0 {
+        return Err(ParsePhotometryError::new(
+            "photometric file",
+            None,
+            "binary data (NUL bytes): not an IES or EULUMDAT text file",
+        ));
+    }
+    let text = decode_text(bytes);
+    match sniff(&text) {
+        Some(Format::Ies(_)) => crate::ies::parse_ies(&text),
+        Some(Format::Eulumdat) => crate::ldt::parse_ldt(&text),
+        None => Err(ParsePhotometryError::new(
+            "photometric file",
+            None,
+            "neither IES LM-63 (no TILT= line) nor EULUMDAT (lines 2-7 are not numbers)",
+        )),
+    }
+}
+
+/// Formats a number with at most `significant` significant digits and no
+/// trailing zeros (files stay short and are read back exactly as printed).
+pub fn format_number(v: f64, significant: usize) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return "0".to_owned();
+    }
+    let magnitude = v.abs().log10().floor() as i32;
+    let decimals = (significant as i32 - 1 - magnitude).clamp(0, 12) as usize;
+    let s = format!("{v:.decimals$}");
+    let s = if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_owned()
+    } else {
+        s
+    };
+    if s == "-0" { "0".to_owned() } else { s }
+}

@@ -1,0 +1,517 @@
+//! Candela tables on C-γ grids (photometry type C), their symmetries, and
+//! resampling from a cube-map intensity map.
+//!
+//! Direction of (C, γ): `d = (sin γ cos C, sin γ sin C, −cos γ)`: γ = 0 at
+//! nadir, C counter-clockwise seen from above, C0 along +x, C90 along +y.
+
+use std::f64::consts::TAU;
+
+use serde::{Deserialize, Serialize};
+
+use crate::cubemap::{CubeMapLayout, Dir, rectangle_solid_angle};
+
+/// Symmetry of a light distribution about the photometric axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Symmetry {
+    /// No symmetry: C0 to C360 stored.
+    None,
+    /// Mirror symmetry about the C0-C180 plane: I(C) = I(360° − C).
+    AboutC0C180,
+    /// Mirror symmetry about the C90-C270 plane: I(C) = I(180° − C).
+    AboutC90C270,
+    /// Both planes (quadrant symmetry).
+    Quadrant,
+    /// The same in every C-plane (rotational symmetry).
+    Rotational,
+}
+
+impl Symmetry {
+    /// C angles (degrees, in [0, 360)) that the symmetry maps `c` onto,
+    /// including `c` itself.
+    pub fn images(self, c: f64) -> Vec<f64> {
+        let w = |x: f64| x.rem_euclid(360.0);
+        match self {
+            Symmetry::None => vec![w(c)],
+            Symmetry::AboutC0C180 => vec![w(c), w(360.0 - c)],
+            Symmetry::AboutC90C270 => vec![w(c), w(180.0 - c)],
+            Symmetry::Quadrant => vec![w(c), w(360.0 - c), w(180.0 - c), w(180.0 + c)],
+            Symmetry::Rotational => vec![w(c)],
+        }
+    }
+
+    pub fn describe(self) -> &'static str {
+        match self {
+            Symmetry::None => "none (C0-C360)",
+            Symmetry::AboutC0C180 => "about the C0-C180 plane",
+            Symmetry::AboutC90C270 => "about the C90-C270 plane",
+            Symmetry::Quadrant => "quadrant (C0-C180 and C90-C270 planes)",
+            Symmetry::Rotational => "rotational",
+        }
+    }
+}
+
+/// Direction of (C, γ) in radians.
+pub fn direction(c: f64, gamma: f64) -> Dir {
+    let (sg, cg) = gamma.sin_cos();
+    let (sc, cc) = c.sin_cos();
+    [sg * cc, sg * sc, -cg]
+}
+
+/// (C, γ) in radians of a direction; C in [0, 2π), γ in [0, π].
+pub fn angles(d: Dir) -> (f64, f64) {
+    let [x, y, z] = d;
+    let horizontal = (x * x + y * y).sqrt();
+    let gamma = horizontal.atan2(-z);
+    let c = if horizontal == 0.0 {
+        0.0
+    } else {
+        y.atan2(x).rem_euclid(TAU)
+    };
+    (c, gamma)
+}
+
+/// Absolute luminous intensities (cd) on a C-γ grid covering the whole
+/// sphere of C angles. Files with symmetry are expanded on reading, so
+/// every consumer sees one representation.
+///
+/// `c_planes_deg` is ascending in [0, 360) (a single plane means
+/// rotational symmetry); `gammas_deg` is ascending in [0, 180]; intensity
+/// outside the γ range is zero.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CandelaTable {
+    pub c_planes_deg: Vec<f64>,
+    pub gammas_deg: Vec<f64>,
+    /// Row-major: `candela[c_index * gammas.len() + gamma_index]`.
+    pub candela: Vec<f64>,
+}
+
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum TableError {
+    #[error("a table needs at least one C-plane and two γ angles")]
+    TooSmall,
+    #[error("{what} must be strictly ascending within {range}; got {values:?}")]
+    Angles {
+        what: &'static str,
+        range: &'static str,
+        values: Vec<f64>,
+    },
+    #[error("{expected} intensities expected, got {got}")]
+    Count { expected: usize, got: usize },
+    #[error("intensity {value} at C{c}° γ{gamma}° is not a finite non-negative number")]
+    Value { value: f64, c: f64, gamma: f64 },
+}
+
+fn strictly_ascending_within(v: &[f64], lo: f64, hi: f64, hi_inclusive: bool) -> bool {
+    v.iter()
+        .all(|x| x.is_finite() && *x >= lo && (*x < hi || (hi_inclusive && *x <= hi)))
+        && v.windows(2).all(|w| w[0] < w[1])
+}
+
+impl CandelaTable {
+    /// Checks the grid and values; the constructor every reader goes through.
+    pub fn new(
+        c_planes_deg: Vec<f64>,
+        gammas_deg: Vec<f64>,
+        candela: Vec<f64>,
+    ) -> Result<Self, TableError> {
+        if c_planes_deg.is_empty() || gammas_deg.len() < 2 {
+            return Err(TableError::TooSmall);
+        }
+        if !strictly_ascending_within(&c_planes_deg, 0.0, 360.0, false) {
+            return Err(TableError::Angles {
+                what: "C-plane angles",
+                range: "[0°, 360°)",
+                values: c_planes_deg,
+            });
+        }
+        if !strictly_ascending_within(&gammas_deg, 0.0, 180.0, true) {
+            return Err(TableError::Angles {
+                what: "γ angles",
+                range: "[0°, 180°]",
+                values: gammas_deg,
+            });
+        }
+        let expected = c_planes_deg.len() * gammas_deg.len();
+        if candela.len() != expected {
+            return Err(TableError::Count {
+                expected,
+                got: candela.len(),
+            });
+        }
+        if let Some(i) = candela.iter().position(|v| !v.is_finite() || *v < 0.0) {
+            return Err(TableError::Value {
+                value: candela[i],
+                c: c_planes_deg[i / gammas_deg.len()],
+                gamma: gammas_deg[i % gammas_deg.len()],
+            });
+        }
+        Ok(CandelaTable {
+            c_planes_deg,
+            gammas_deg,
+            candela,
+        })
+    }
+
+    /// Uniform grid with `c_step_deg` (0 → one plane) and `gamma_step_deg`
+    /// from γ 0° to 180°, filled by `f(c_deg, gamma_deg)`.
+    pub fn from_fn(
+        c_step_deg: f64,
+        gamma_step_deg: f64,
+        mut f: impl FnMut(f64, f64) -> f64,
+    ) -> Self {
+        let c_planes_deg = uniform_c_planes(c_step_deg);
+        let gammas_deg = uniform_gammas(gamma_step_deg, 180.0);
+        let mut candela = Vec::with_capacity(c_planes_deg.len() * gammas_deg.len());
+        for &c in &c_planes_deg {
+            for &g in &gammas_deg {
+                candela.push(f(c, g));
+            }
+        }
+        CandelaTable {
+            c_planes_deg,
+            gammas_deg,
+            candela,
+        }
+    }
+
+    pub fn plane(&self, c_index: usize) -> &[f64] {
+        let n = self.gammas_deg.len();
+        &self.candela[c_index * n..(c_index + 1) * n]
+    }
+
+    fn at(&self, c_index: usize, g_index: usize) -> f64 {
+        self.candela[c_index * self.gammas_deg.len() + g_index]
+    }
+
+    /// Intensity along one C-plane at γ, linear in γ, zero outside the range.
+    fn plane_intensity(&self, c_index: usize, gamma_deg: f64) -> f64 {
+        let g = &self.gammas_deg;
+        if gamma_deg < g[0] || gamma_deg > g[g.len() - 1] {
+            return 0.0;
+        }
+        let j = g.partition_point(|&x| x <= gamma_deg).clamp(1, g.len() - 1);
+        let t = (gamma_deg - g[j - 1]) / (g[j] - g[j - 1]);
+        self.at(c_index, j - 1) * (1.0 - t) + self.at(c_index, j) * t
+    }
+
+    /// Intensity (cd) at (C, γ) in degrees: linear in γ and in C, C wrapping
+    /// around 360°.
+    pub fn intensity(&self, c_deg: f64, gamma_deg: f64) -> f64 {
+        let c = &self.c_planes_deg;
+        if c.len() == 1 {
+            return self.plane_intensity(0, gamma_deg);
+        }
+        let c_deg = c_deg.rem_euclid(360.0);
+        let i = c.partition_point(|&x| x <= c_deg);
+        let (lo, hi) = if i == 0 || i == c.len() {
+            (c.len() - 1, 0)
+        } else {
+            (i - 1, i)
+        };
+        let span = (c[hi] - c[lo]).rem_euclid(360.0);
+        let span = if span == 0.0 { 360.0 } else { span };
+        let t = (c_deg - c[lo]).rem_euclid(360.0) / span;
+        self.plane_intensity(lo, gamma_deg) * (1.0 - t) + self.plane_intensity(hi, gamma_deg) * t
+    }
+
+    /// Weight (rad) of each C-plane in the integral over C: half the angle
+    /// to each neighbour, around the circle.
+    fn c_weights(&self) -> Vec<f64> {
+        let c = &self.c_planes_deg;
+        let n = c.len();
+        if n == 1 {
+            return vec![TAU];
+        }
+        (0..n)
+            .map(|i| {
+                let next = (c[(i + 1) % n] - c[i]).rem_euclid(360.0);
+                let prev = (c[i] - c[(i + n - 1) % n]).rem_euclid(360.0);
+                0.5 * (next + prev).to_radians()
+            })
+            .collect()
+    }
+
+    /// Flux (lm) between γ0 and γ1 (degrees): the exact integral of the
+    /// table's piecewise-linear intensity times sin γ, per plane, summed
+    /// with trapezoidal weights in C.
+    pub fn flux_between_lm(&self, gamma0_deg: f64, gamma1_deg: f64) -> f64 {
+        let weights = self.c_weights();
+        let g = &self.gammas_deg;
+        let mut total = 0.0;
+        for (ci, w) in weights.iter().enumerate() {
+            let mut plane = 0.0;
+            for j in 0..g.len() - 1 {
+                let (lo, hi) = (g[j].max(gamma0_deg), g[j + 1].min(gamma1_deg));
+                if lo >= hi {
+                    continue;
+                }
+                // I(γ) = p + q γ on this segment (radians).
+                let (a, b) = (g[j].to_radians(), g[j + 1].to_radians());
+                let (ia, ib) = (self.at(ci, j), self.at(ci, j + 1));
+                let q = (ib - ia) / (b - a);
+                let p = ia - q * a;
+                // ∫ (p + q t) sin t dt = −(p + q t) cos t + q sin t
+                let antiderivative = |t: f64| -(p + q * t) * t.cos() + q * t.sin();
+                plane += antiderivative(hi.to_radians()) - antiderivative(lo.to_radians());
+            }
+            total += w * plane;
+        }
+        total
+    }
+
+    /// Total luminous flux (lm).
+    pub fn flux_lm(&self) -> f64 {
+        self.flux_between_lm(0.0, 180.0)
+    }
+
+    /// Largest intensity and its (C, γ) in degrees.
+    pub fn peak(&self) -> (f64, f64, f64) {
+        let n = self.gammas_deg.len();
+        let (i, v) =
+            self.candela
+                .iter()
+                .enumerate()
+                .fold((0, f64::NEG_INFINITY), |(bi, bv), (i, &v)| {
+                    if v > bv { (i, v) } else { (bi, bv) }
+                });
+        (v, self.c_planes_deg[i / n], self.gammas_deg[i % n])
+    }
+
+    /// Largest relative difference between the table and its image under
+    /// `symmetry`, relative to the peak intensity.
+    pub fn asymmetry(&self, symmetry: Symmetry) -> f64 {
+        let (peak, _, _) = self.peak();
+        if peak <= 0.0 {
+            return 0.0;
+        }
+        let mut worst: f64 = 0.0;
+        for &c in &self.c_planes_deg {
+            let images: Vec<f64> = if symmetry == Symmetry::Rotational {
+                self.c_planes_deg.clone()
+            } else {
+                symmetry.images(c)
+            };
+            for &g in &self.gammas_deg {
+                let here = self.intensity(c, g);
+                for &ci in &images {
+                    worst = worst.max((self.intensity(ci, g) - here).abs());
+                }
+            }
+        }
+        worst / peak
+    }
+
+    /// The highest symmetry the table has within `tolerance` (fraction of the
+    /// peak intensity).
+    pub fn detect_symmetry(&self, tolerance: f64) -> Symmetry {
+        if self.c_planes_deg.len() == 1 || self.asymmetry(Symmetry::Rotational) <= tolerance {
+            return Symmetry::Rotational;
+        }
+        let c0 = self.asymmetry(Symmetry::AboutC0C180) <= tolerance;
+        let c90 = self.asymmetry(Symmetry::AboutC90C270) <= tolerance;
+        match (c0, c90) {
+            (true, true) => Symmetry::Quadrant,
+            (true, false) => Symmetry::AboutC0C180,
+            (false, true) => Symmetry::AboutC90C270,
+            (false, false) => Symmetry::None,
+        }
+    }
+
+    /// Averages each value with its symmetric images (on this grid), e.g. to
+    /// halve the noise of a traced distribution known to be symmetric.
+    pub fn symmetrised(&self, symmetry: Symmetry) -> CandelaTable {
+        let mut out = self.clone();
+        let n = self.gammas_deg.len();
+        for (ci, &c) in self.c_planes_deg.iter().enumerate() {
+            let images: Vec<f64> = if symmetry == Symmetry::Rotational {
+                self.c_planes_deg.clone()
+            } else {
+                symmetry.images(c)
+            };
+            for (gi, &g) in self.gammas_deg.iter().enumerate() {
+                let sum: f64 = images.iter().map(|&cc| self.intensity(cc, g)).sum();
+                out.candela[ci * n + gi] = sum / images.len() as f64;
+            }
+        }
+        out
+    }
+
+    /// The same distribution on another grid (linear interpolation).
+    pub fn resampled(&self, c_planes_deg: Vec<f64>, gammas_deg: Vec<f64>) -> CandelaTable {
+        let mut candela = Vec::with_capacity(c_planes_deg.len() * gammas_deg.len());
+        for &c in &c_planes_deg {
+            for &g in &gammas_deg {
+                candela.push(self.intensity(c, g));
+            }
+        }
+        CandelaTable {
+            c_planes_deg,
+            gammas_deg,
+            candela,
+        }
+    }
+
+    /// Whether the C-planes are equally spaced around the full circle.
+    pub fn uniform_c_step(&self) -> Option<f64> {
+        let c = &self.c_planes_deg;
+        if c.len() == 1 {
+            return Some(0.0);
+        }
+        let step = 360.0 / c.len() as f64;
+        c.iter()
+            .enumerate()
+            .all(|(i, &x)| (x - i as f64 * step).abs() < 1e-6)
+            .then_some(step)
+    }
+
+    /// Scales every intensity (e.g. relative ↔ absolute photometry).
+    pub fn scaled(&self, factor: f64) -> CandelaTable {
+        CandelaTable {
+            candela: self.candela.iter().map(|v| v * factor).collect(),
+            ..self.clone()
+        }
+    }
+}
+
+/// C-planes 0, step, … below 360° (a single plane for step 0).
+pub fn uniform_c_planes(step_deg: f64) -> Vec<f64> {
+    if step_deg <= 0.0 {
+        return vec![0.0];
+    }
+    let n = (360.0 / step_deg).round() as usize;
+    (0..n).map(|i| i as f64 * 360.0 / n as f64).collect()
+}
+
+/// γ angles 0, step, … up to `max_deg` inclusive.
+pub fn uniform_gammas(step_deg: f64, max_deg: f64) -> Vec<f64> {
+    let n = (max_deg / step_deg).round() as usize;
+    (0..=n).map(|i| i as f64 * max_deg / n as f64).collect()
+}
+
+/// Boundaries between neighbouring γ angles (midpoints), clipped to the
+/// first and last angle; the cell of angle j is [edges[j], edges[j+1]].
+fn gamma_cell_edges(g: &[f64]) -> Vec<f64> {
+    let mut e = Vec::with_capacity(g.len() + 1);
+    e.push(g[0]);
+    for w in g.windows(2) {
+        e.push(0.5 * (w[0] + w[1]));
+    }
+    e.push(g[g.len() - 1]);
+    e
+}
+
+/// Resamples cube-map intensities (cd per texel) onto a C-γ grid by
+/// integrating over each table cell's solid angle: every texel is split
+/// into sub-texels small against the cells, whose exact solid angles are
+/// binned by the cell their centre falls in; a cell's candela is the
+/// solid-angle-weighted mean. Point sampling would alias where texels are
+/// smaller than cells. Cells at γ = 0° and 180° are polar caps shared by
+/// every C-plane.
+pub fn table_from_cube_map(
+    layout: CubeMapLayout,
+    candela_per_texel: &[f64],
+    c_planes_deg: &[f64],
+    gammas_deg: &[f64],
+) -> CandelaTable {
+    let (nc, ng) = (c_planes_deg.len(), gammas_deg.len());
+    let gamma_edges = gamma_cell_edges(gammas_deg);
+    // Sub-texel count per texel edge: sub-texels at most ~1/4 of the
+    // smallest cell, and at least 1.
+    let texel_deg = 90.0 / f64::from(layout.resolution);
+    let min_cell_deg = gammas_deg
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .chain(if nc > 1 {
+            Some(360.0 / nc as f64)
+        } else {
+            None
+        })
+        .fold(f64::INFINITY, f64::min);
+    let split = ((4.0 * texel_deg / min_cell_deg).ceil() as u32).clamp(1, 16);
+    let mut weighted = vec![0.0; nc * ng];
+    let mut solid_angle = vec![0.0; nc * ng];
+    let mut cap_weighted = [0.0; 2];
+    let mut cap_solid_angle = [0.0; 2];
+    let pole = |j: usize| gammas_deg[j] <= 0.0 || gammas_deg[j] >= 180.0;
+    for texel in 0..layout.texel_count() {
+        let value = candela_per_texel[texel];
+        let (face, a0, b0, a1, b1) = layout.texel_bounds(texel);
+        let (da, db) = ((a1 - a0) / f64::from(split), (b1 - b0) / f64::from(split));
+        for si in 0..split {
+            for sj in 0..split {
+                let (sa0, sb0) = (a0 + f64::from(si) * da, b0 + f64::from(sj) * db);
+                let omega = rectangle_solid_angle(sa0, sb0, sa0 + da, sb0 + db);
+                let d = face.direction(sa0 + 0.5 * da, sb0 + 0.5 * db);
+                let (c, g) = angles(d);
+                let (c_deg, g_deg) = (c.to_degrees(), g.to_degrees());
+                if g_deg < gamma_edges[0] || g_deg > gamma_edges[ng] {
+                    continue;
+                }
+                let j = (gamma_edges.partition_point(|&e| e <= g_deg).max(1) - 1).min(ng - 1);
+                if pole(j) {
+                    let k = usize::from(gammas_deg[j] >= 180.0);
+                    cap_weighted[k] += value * omega;
+                    cap_solid_angle[k] += omega;
+                    continue;
+                }
+                let i = nearest_c_plane(c_planes_deg, c_deg);
+                weighted[i * ng + j] += value * omega;
+                solid_angle[i * ng + j] += omega;
+            }
+        }
+    }
+    let mut candela = vec![0.0; nc * ng];
+    for i in 0..nc {
+        for j in 0..ng {
+            candela[i * ng + j] = if pole(j) {
+                let k = usize::from(gammas_deg[j] >= 180.0);
+                safe_ratio(cap_weighted[k], cap_solid_angle[k])
+            } else {
+                safe_ratio(weighted[i * ng + j], solid_angle[i * ng + j])
+            };
+        }
+    }
+    CandelaTable {
+        c_planes_deg: c_planes_deg.to_vec(),
+        gammas_deg: gammas_deg.to_vec(),
+        candela,
+    }
+}
+
+fn safe_ratio(a: f64, b: f64) -> f64 {
+    if b > 0.0 { a / b } else { 0.0 }
+}
+
+/// Index of the C-plane nearest to `c_deg` (ascending planes), around the
+/// circle.
+fn nearest_c_plane(c_planes_deg: &[f64], c_deg: f64) -> usize {
+    let n = c_planes_deg.len();
+    let distance = |i: usize| {
+        let d = (c_planes_deg[i] - c_deg).rem_euclid(360.0);
+        d.min(360.0 - d)
+    };
+    let above = c_planes_deg.partition_point(|&x| x < c_deg) % n;
+    let below = (above + n - 1) % n;
+    if distance(below) <= distance(above) {
+        below
+    } else {
+        above
+    }
+}
+
+/// Point intensities of a table on every texel centre of a cube map (cd),
+/// e.g. to show an IES file on the cube view or compare it with a bake.
+pub fn cube_map_from_table(table: &CandelaTable, layout: CubeMapLayout) -> Vec<f64> {
+    (0..layout.texel_count())
+        .map(|t| {
+            let (c, g) = angles(layout.texel_centre_direction(t));
+            table.intensity(c.to_degrees(), g.to_degrees())
+        })
+        .collect()
+}
+
+/// Solid angle (sr) of a polar cap of half-angle `gamma` (radians).
+pub fn cap_solid_angle(gamma: f64) -> f64 {
+    TAU * (1.0 - gamma.cos())
+}
