@@ -209,7 +209,7 @@ pub fn parse_ies(text: &str) -> Result<Photometry, ParsePhotometryError> {
             return Err(error(
                 type_line,
                 format!(
-                    "photometric type {} ({}) is not supported: Lucerna reads type C (1)",
+                    "photometric type {} (type {}) is not supported: Lucerna reads type C (1)",
                     photometric_type,
                     if photometric_type == 2.0 { "B" } else { "A" }
                 ),

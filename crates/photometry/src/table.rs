@@ -71,6 +71,10 @@ pub fn angles(d: Dir) -> (f64, f64) {
     (c, gamma)
 }
 
+/// Largest plausible intensity (cd): the brightest searchlights reach
+/// about 10⁹ cd; anything far beyond is a corrupt file.
+pub const MAX_CANDELA: f64 = 1e12;
+
 /// Absolute luminous intensities (cd) on a C-γ grid covering the whole
 /// sphere of C angles. Files with symmetry are expanded on reading, so
 /// every consumer sees one representation.
@@ -98,7 +102,7 @@ pub enum TableError {
     },
     #[error("{expected} intensities expected, got {got}")]
     Count { expected: usize, got: usize },
-    #[error("intensity {value} at C{c}° γ{gamma}° is not a finite non-negative number")]
+    #[error("intensity {value} at C{c}° γ{gamma}° is not a number from 0 to {MAX_CANDELA:e} cd")]
     Value { value: f64, c: f64, gamma: f64 },
 }
 
@@ -139,7 +143,10 @@ impl CandelaTable {
                 got: candela.len(),
             });
         }
-        if let Some(i) = candela.iter().position(|v| !v.is_finite() || *v < 0.0) {
+        if let Some(i) = candela
+            .iter()
+            .position(|v| !v.is_finite() || *v < 0.0 || *v > MAX_CANDELA)
+        {
             return Err(TableError::Value {
                 value: candela[i],
                 c: c_planes_deg[i / gammas_deg.len()],
@@ -416,19 +423,27 @@ pub fn table_from_cube_map(
 ) -> CandelaTable {
     let (nc, ng) = (c_planes_deg.len(), gammas_deg.len());
     let gamma_edges = gamma_cell_edges(gammas_deg);
-    // Sub-texel count per texel edge: sub-texels at most ~1/4 of the
-    // smallest cell, and at least 1.
+    // Sub-texels per texel edge: at most 1/16 of the local cell width, so
+    // that binning by sub-texel centre blurs cell edges by little,
+    // which near the poles shrinks with sin γ in the C direction.
     let texel_deg = 90.0 / f64::from(layout.resolution);
-    let min_cell_deg = gammas_deg
+    let min_gamma_step = gammas_deg
         .windows(2)
         .map(|w| w[1] - w[0])
-        .chain(if nc > 1 {
-            Some(360.0 / nc as f64)
-        } else {
-            None
-        })
         .fold(f64::INFINITY, f64::min);
-    let split = ((4.0 * texel_deg / min_cell_deg).ceil() as u32).clamp(1, 16);
+    let c_step = if nc > 1 {
+        360.0 / nc as f64
+    } else {
+        f64::INFINITY
+    };
+    let split_for = |gamma_deg: f64| {
+        let sin = gamma_deg
+            .to_radians()
+            .sin()
+            .max((0.5 * min_gamma_step).to_radians().sin());
+        let cell = min_gamma_step.min(c_step * sin);
+        ((16.0 * texel_deg / cell).ceil() as u32).clamp(1, 64)
+    };
     let mut weighted = vec![0.0; nc * ng];
     let mut solid_angle = vec![0.0; nc * ng];
     let mut cap_weighted = [0.0; 2];
@@ -437,6 +452,8 @@ pub fn table_from_cube_map(
     for texel in 0..layout.texel_count() {
         let value = candela_per_texel[texel];
         let (face, a0, b0, a1, b1) = layout.texel_bounds(texel);
+        let (_, centre_gamma) = angles(layout.texel_centre_direction(texel));
+        let split = split_for(centre_gamma.to_degrees());
         let (da, db) = ((a1 - a0) / f64::from(split), (b1 - b0) / f64::from(split));
         for si in 0..split {
             for sj in 0..split {
@@ -461,14 +478,25 @@ pub fn table_from_cube_map(
             }
         }
     }
+    // A cell smaller than the sub-texels may catch no sample: it then lies
+    // within one texel, whose value is its mean.
+    let point = |c_deg: f64, g_deg: f64| {
+        candela_per_texel
+            [layout.texel_of_direction(direction(c_deg.to_radians(), g_deg.to_radians()))]
+    };
     let mut candela = vec![0.0; nc * ng];
     for i in 0..nc {
         for j in 0..ng {
-            candela[i * ng + j] = if pole(j) {
+            let (w, omega) = if pole(j) {
                 let k = usize::from(gammas_deg[j] >= 180.0);
-                safe_ratio(cap_weighted[k], cap_solid_angle[k])
+                (cap_weighted[k], cap_solid_angle[k])
             } else {
-                safe_ratio(weighted[i * ng + j], solid_angle[i * ng + j])
+                (weighted[i * ng + j], solid_angle[i * ng + j])
+            };
+            candela[i * ng + j] = if omega > 0.0 {
+                w / omega
+            } else {
+                point(c_planes_deg[i], gammas_deg[j])
             };
         }
     }
@@ -477,10 +505,6 @@ pub fn table_from_cube_map(
         gammas_deg: gammas_deg.to_vec(),
         candela,
     }
-}
-
-fn safe_ratio(a: f64, b: f64) -> f64 {
-    if b > 0.0 { a / b } else { 0.0 }
 }
 
 /// Index of the C-plane nearest to `c_deg` (ascending planes), around the

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use lucerna_photometry::{IesVersion, Photometry, read_photometry, write_ies, write_ldt};
 
 fn samples_dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/photometry-samples")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../assets/profiles/samples")
 }
 
 /// (file, peak cd, integrated flux lm) from SOURCES.md.
