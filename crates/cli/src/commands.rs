@@ -5,6 +5,8 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 
+mod convert;
+mod info;
 mod validate;
 
 #[derive(Debug, Parser)]
@@ -28,6 +30,23 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Describe an IES or EULUMDAT file: format, symmetry, grids, flux,
+    /// peak, beam and field angles, LOR, luminous dimensions.
+    Info {
+        file: PathBuf,
+        /// Print the report as JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Convert between IES (LM-63-2002, LM-63-2019) and EULUMDAT, keeping
+    /// the metadata both formats hold.
+    Convert {
+        input: PathBuf,
+        output: PathBuf,
+        /// Output format; by default from OUTPUT's extension (.ies → 2019).
+        #[arg(long, value_enum)]
+        to: Option<convert::OutFormat>,
+    },
 }
 
 pub fn run(cli: Cli) -> Result<()> {
@@ -40,6 +59,19 @@ pub fn run(cli: Cli) -> Result<()> {
             } else {
                 print!("{report}");
             }
+            Ok(())
+        }
+        Command::Info { file, json } => {
+            let report = info::report(&file)?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&report)?);
+            } else {
+                print!("{report}");
+            }
+            Ok(())
+        }
+        Command::Convert { input, output, to } => {
+            println!("{}", convert::convert(&input, &output, to)?);
             Ok(())
         }
     }

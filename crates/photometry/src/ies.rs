@@ -391,7 +391,7 @@ fn keyword_lines(key: &str, value: &str, out: &mut String) {
     let mut current = String::new();
     let flush = |out: &mut String, current: &str, first: bool| {
         let k = if first { key } else { "MORE" };
-        out.push_str(&format!("[{k}] {current}").trim_end().to_owned());
+        out.push_str(format!("[{k}] {current}").trim_end());
         out.push_str("\r\n");
     };
     for word in value.split_whitespace() {

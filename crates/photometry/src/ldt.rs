@@ -119,7 +119,7 @@ pub fn parse_ldt(text: &str) -> Result<Photometry, ParsePhotometryError> {
     let dc = l.number("C-plane spacing Dc")?;
     let ng = l.integer("number of γ angles Ng", 2, MAX_PLANES as i64)? as usize;
     let dg = l.number("γ spacing Dg")?;
-    if (isym == 2 || isym == 3) && mc % 2 != 0 || isym == 4 && mc % 4 != 0 {
+    if (isym == 2 || isym == 3) && !mc.is_multiple_of(2) || isym == 4 && !mc.is_multiple_of(4) {
         return Err(error(
             mc_line,
             format!("Mc = {mc} C-planes cannot hold symmetry Isym {isym}"),
@@ -266,9 +266,9 @@ fn listed_c_planes(table: &CandelaTable) -> Vec<f64> {
 fn isym_of(symmetry: Symmetry, mc: usize) -> i64 {
     match symmetry {
         Symmetry::Rotational => 1,
-        Symmetry::AboutC0C180 if mc % 2 == 0 => 2,
-        Symmetry::AboutC90C270 if mc % 2 == 0 => 3,
-        Symmetry::Quadrant if mc % 4 == 0 => 4,
+        Symmetry::AboutC0C180 if mc.is_multiple_of(2) => 2,
+        Symmetry::AboutC90C270 if mc.is_multiple_of(2) => 3,
+        Symmetry::Quadrant if mc.is_multiple_of(4) => 4,
         _ => 0,
     }
 }

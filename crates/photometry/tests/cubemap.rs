@@ -1,3 +1,4 @@
+#![allow(clippy::unwrap_used, clippy::expect_used)] // reason: test helpers may panic
 //! Cube-map layout: exact solid angles, and direction ↔ texel consistency.
 
 use std::f64::consts::PI;

@@ -1,3 +1,4 @@
+#![allow(clippy::unwrap_used, clippy::expect_used)] // reason: test helpers may panic
 //! Malformed photometric files give errors, never panics.
 
 use std::path::PathBuf;

@@ -1,3 +1,4 @@
+#![allow(clippy::unwrap_used, clippy::expect_used)] // reason: test helpers may panic
 //! Every bundled real-world sample parses, and its peak intensity and
 //! integrated flux match what an independent reader gives (SOURCES.md of
 //! `shared/photometry-samples`) within 0.5 %; IES → LDT → IES keeps both.

@@ -1,3 +1,4 @@
+#![allow(clippy::unwrap_used, clippy::expect_used)] // reason: test helpers may panic
 //! Broken scenes and meshes give errors naming the file, line and field.
 
 use std::path::Path;

@@ -1,3 +1,4 @@
+#![allow(clippy::unwrap_used, clippy::expect_used)] // reason: test helpers may panic
 //! Generators: consistent winding and normals, no degenerate triangles,
 //! and the analytic shapes they claim to be.
 

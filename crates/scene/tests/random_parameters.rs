@@ -1,3 +1,4 @@
+#![allow(clippy::unwrap_used, clippy::expect_used)] // reason: test helpers may panic
 //! Property test: generators never panic or produce NaN for any parameters
 //! that pass validation.
 

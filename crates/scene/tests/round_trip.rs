@@ -1,3 +1,4 @@
+#![allow(clippy::unwrap_used, clippy::expect_used)] // reason: test helpers may panic
 //! Every example luminaire loads, tessellates, and survives load → save →
 //! load unchanged.
 

@@ -1,0 +1,59 @@
+//! `lucerna convert`: IES ↔ EULUMDAT, LM-63-2002 ↔ 2019.
+
+use std::path::Path;
+
+use anyhow::{Context, Result, bail};
+use lucerna_photometry::{IesVersion, to_latin1, write_ies, write_ldt};
+
+use super::info;
+
+/// Output format, from the flag or else the output file's extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum OutFormat {
+    Ies2002,
+    Ies2019,
+    Ldt,
+}
+
+pub fn out_format(path: &Path, flag: Option<OutFormat>) -> Result<OutFormat> {
+    if let Some(f) = flag {
+        return Ok(f);
+    }
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+    {
+        Some("ies") => Ok(OutFormat::Ies2019),
+        Some("ldt") => Ok(OutFormat::Ldt),
+        _ => bail!(
+            "cannot tell the output format of {}: use a .ies or .ldt extension or --to",
+            path.display()
+        ),
+    }
+}
+
+/// Converts and writes atomically; returns a one-line summary.
+pub fn convert(input: &Path, output: &Path, to: Option<OutFormat>) -> Result<String> {
+    let p = info::read(input)?;
+    let format = out_format(output, to)?;
+    let bytes = match format {
+        OutFormat::Ies2002 => write_ies(&p, IesVersion::Lm63_2002).into_bytes(),
+        OutFormat::Ies2019 => write_ies(&p, IesVersion::Lm63_2019).into_bytes(),
+        OutFormat::Ldt => to_latin1(&write_ldt(&p)),
+    };
+    lucerna_scene::write_atomically(output, &bytes)
+        .with_context(|| format!("cannot write {}", output.display()))?;
+    let f = p.figures();
+    Ok(format!(
+        "{} ({}) -> {} ({:?}): {:.1} lm, peak {:.1} cd, symmetry {}",
+        input.display(),
+        p.format,
+        output.display(),
+        format,
+        f.flux_lm,
+        f.peak_cd,
+        p.symmetry.describe()
+    ))
+}

@@ -1,0 +1,170 @@
+#![allow(clippy::unwrap_used, clippy::expect_used)] // reason: test helpers may panic
+//! End-to-end: the `lucerna` binary on the bundled examples and samples,
+//! and on broken input.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn lucerna(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_lucerna"))
+        .args(args)
+        .output()
+        .expect("the lucerna binary runs")
+}
+
+fn assets() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets")
+}
+
+fn text(o: &[u8]) -> String {
+    String::from_utf8_lossy(o).into_owned()
+}
+
+#[test]
+fn validate_accepts_every_example() {
+    let dir = assets().join("luminaires");
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let out = lucerna(&["validate", path.to_str().unwrap(), "--json"]);
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            path.display(),
+            text(&out.stderr)
+        );
+        let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON report");
+        assert!(report["triangles"].as_u64().unwrap() > 0);
+    }
+}
+
+#[test]
+fn validate_names_file_line_and_field_of_a_broken_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = std::fs::read_to_string(assets().join("luminaires/parabolic_spot.toml")).unwrap();
+    let broken = good.replace("reflectance = 0.9", "reflectance = 1.9");
+    let path = dir.path().join("broken.toml");
+    std::fs::write(&path, &broken).unwrap();
+    let out = lucerna(&["validate", path.to_str().unwrap()]);
+    assert!(!out.status.success());
+    let err = text(&out.stderr);
+    let line = broken.lines().position(|l| l.contains("1.9")).unwrap() + 1;
+    assert!(err.contains("broken.toml"), "{err}");
+    assert!(err.contains(&format!("line {line}")), "{err}");
+    assert!(err.contains("materials.polished_alu.reflectance"), "{err}");
+}
+
+#[test]
+fn validate_reports_a_missing_obj() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = std::fs::read_to_string(assets().join("luminaires/obj_cone.toml")).unwrap();
+    let path = dir.path().join("moved.toml");
+    std::fs::write(&path, scene).unwrap();
+    let out = lucerna(&["validate", path.to_str().unwrap()]);
+    assert!(!out.status.success());
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("cone_reflector.obj") && err.contains("reflector"),
+        "{err}"
+    );
+}
+
+#[test]
+fn info_reports_flux_and_peak_of_every_sample() {
+    for entry in std::fs::read_dir(assets().join("profiles/samples")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "md") {
+            continue;
+        }
+        let out = lucerna(&["info", path.to_str().unwrap(), "--json"]);
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            path.display(),
+            text(&out.stderr)
+        );
+        let r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert!(r["figures"]["flux_lm"].as_f64().unwrap() > 0.0);
+        assert!(r["figures"]["peak_cd"].as_f64().unwrap() > 0.0);
+    }
+}
+
+fn figures(path: &Path) -> (f64, f64) {
+    let out = lucerna(&["info", path.to_str().unwrap(), "--json"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    (
+        r["figures"]["flux_lm"].as_f64().unwrap(),
+        r["figures"]["peak_cd"].as_f64().unwrap(),
+    )
+}
+
+#[test]
+fn convert_round_trips_keep_flux_and_peak_within_one_percent() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in [
+        "rab_indoor3_2002_full360.ies",
+        "avad_srl_isym4.ldt",
+        "bega_50975_1995_single_h.ies",
+    ] {
+        let input = assets().join("profiles/samples").join(name);
+        let ldt = dir.path().join("a.ldt");
+        let ies = dir.path().join("b.ies");
+        let ies2002 = dir.path().join("c.ies");
+        for (from, to, extra) in [
+            (&input, &ldt, None),
+            (&ldt, &ies, None),
+            (&ies, &ies2002, Some("ies2002")),
+        ] {
+            let mut args = vec!["convert", from.to_str().unwrap(), to.to_str().unwrap()];
+            if let Some(e) = extra {
+                args.extend(["--to", e]);
+            }
+            let out = lucerna(&args);
+            assert!(out.status.success(), "{name}: {}", text(&out.stderr));
+        }
+        assert!(
+            std::fs::read_to_string(&ies)
+                .unwrap()
+                .starts_with("IES:LM-63-2019")
+        );
+        assert!(
+            std::fs::read_to_string(&ies2002)
+                .unwrap()
+                .starts_with("IESNA:LM-63-2002")
+        );
+        let (f0, p0) = figures(&input);
+        for out in [&ldt, &ies, &ies2002] {
+            let (f, p) = figures(out);
+            assert!(
+                (f - f0).abs() < 0.01 * f0 && (p - p0).abs() < 0.01 * p0,
+                "{name} -> {}: {f} lm {p} cd vs {f0} lm {p0} cd",
+                out.display()
+            );
+        }
+    }
+}
+
+#[test]
+fn convert_of_a_bad_file_fails_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.ies");
+    std::fs::write(
+        &bad,
+        "IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 3 1 1 2 0 0 0\n1 1 1\n0 45\n",
+    )
+    .unwrap();
+    let out_path = dir.path().join("out.ldt");
+    let out = lucerna(&["convert", bad.to_str().unwrap(), out_path.to_str().unwrap()]);
+    assert!(!out.status.success());
+    assert!(
+        text(&out.stderr).contains("IES line"),
+        "{}",
+        text(&out.stderr)
+    );
+    assert!(!out_path.exists());
+    // An unknown extension is refused before anything is written.
+    let good = assets().join("profiles/samples/avad_srl_isym4.ldt");
+    let odd = dir.path().join("out.xyz");
+    let out = lucerna(&["convert", good.to_str().unwrap(), odd.to_str().unwrap()]);
+    assert!(!out.status.success() && !odd.exists());
+}
