@@ -348,6 +348,9 @@ fn horizontal_symmetry(h: &[f64]) -> Option<Symmetry> {
     }
 }
 
+/// User keyword stating relative or absolute photometry in the header.
+pub const PHOTOMETRY_KEYWORD: &str = "_PHOTOMETRY";
+
 /// Which LM-63 edition to write.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum IesVersion {
@@ -456,11 +459,20 @@ pub fn write_ies(p: &Photometry, version: IesVersion) -> String {
     }
     for (k, v) in &m.keywords {
         let key = if k.is_empty() { "OTHER" } else { k.as_str() };
-        if key == "FILEGENINFO" || key.starts_with("TILT") {
+        if key == "FILEGENINFO" || key == PHOTOMETRY_KEYWORD || key.starts_with("TILT") {
             continue;
         }
         keyword_lines(key, v, &mut out);
     }
+    keyword_lines(
+        PHOTOMETRY_KEYWORD,
+        if p.lamp_flux_lm().is_some() {
+            "RELATIVE: candela for the rated lamp lumens stated below"
+        } else {
+            "ABSOLUTE: candela of the luminaire itself; lumens per lamp -1"
+        },
+        &mut out,
+    );
     out.push_str("TILT=NONE\r\n");
     let horizontal = stored_c_planes(&p.table, p.symmetry);
     let gammas = &p.table.gammas_deg;

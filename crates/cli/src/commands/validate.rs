@@ -3,7 +3,7 @@
 use std::fmt;
 use std::path::Path;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use lucerna_scene::{Emission, SurfaceKind, load_scene, tessellate};
 use serde::Serialize;
 
@@ -43,6 +43,8 @@ pub fn report(path: &Path) -> Result<ValidateReport> {
                 e.name,
                 profile.display()
             );
+            super::info::read(&profile)
+                .with_context(|| format!("emitter '{}': unusable emission profile", e.name))?;
         }
     }
     let t = tessellate(&scene, dir)?;
