@@ -8,13 +8,29 @@ fn data_crates_depend_on_no_gpu_or_ui_crate() {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned());
     for krate in ["lucerna-scene", "lucerna-photometry"] {
         let out = Command::new(&cargo)
-            .args(["tree", "--offline", "-p", krate, "-e", "normal", "--prefix", "none"])
+            .args([
+                "tree",
+                "--offline",
+                "-p",
+                krate,
+                "-e",
+                "normal",
+                "--prefix",
+                "none",
+            ])
             .current_dir(env!("CARGO_MANIFEST_DIR"))
             .output()
             .expect("cargo tree runs");
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         let tree = String::from_utf8_lossy(&out.stdout);
-        assert!(tree.contains(krate), "cargo tree printed nothing useful: {tree}");
+        assert!(
+            tree.contains(krate),
+            "cargo tree printed nothing useful: {tree}"
+        );
         for forbidden in ["wgpu", "egui", "eframe", "naga", "winit"] {
             assert!(
                 !tree.lines().any(|l| l.starts_with(forbidden)),

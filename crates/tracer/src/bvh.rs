@@ -1,0 +1,204 @@
+//! Bounding-volume hierarchy: built by obvhs (PLOC + reinsertion), flattened
+//! into 32-byte nodes that the CPU tracer and the WGSL kernel traverse the
+//! same way.
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Vec3, Vec3A};
+
+/// One BVH2 node. Inner node: `count == 0`, children at `first` and
+/// `first + 1`. Leaf: triangles `first .. first + count` of the reordered
+/// triangle array.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable, PartialEq)]
+pub struct BvhNode {
+    pub min: [f32; 3],
+    pub first: u32,
+    pub max: [f32; 3],
+    pub count: u32,
+}
+const _: () = assert!(std::mem::size_of::<BvhNode>() == 32);
+
+/// A triangle ready for Möller–Trumbore: a vertex and two edges.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable, PartialEq)]
+pub struct BvhTriangle {
+    pub v0: [f32; 3],
+    pub _pad0: u32,
+    pub e1: [f32; 3],
+    pub _pad1: u32,
+    pub e2: [f32; 3],
+    pub _pad2: u32,
+}
+const _: () = assert!(std::mem::size_of::<BvhTriangle>() == 48);
+
+#[derive(Debug, Clone)]
+pub struct Bvh {
+    pub nodes: Vec<BvhNode>,
+    pub triangles: Vec<BvhTriangle>,
+    /// `order[i]` is the original index of reordered triangle i.
+    pub order: Vec<u32>,
+}
+
+/// A ray hit: distance, reordered triangle index, barycentrics (u, v).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hit {
+    pub t: f32,
+    pub triangle: u32,
+    pub u: f32,
+    pub v: f32,
+}
+
+impl Bvh {
+    /// Builds with obvhs' `medium_build` preset (PLOC, reinsertion, leaf
+    /// collapse); corners are in luminaire coordinates (m).
+    pub fn build(corners: &[[Vec3; 3]]) -> Bvh {
+        let tris: Vec<obvhs::triangle::Triangle> = corners
+            .iter()
+            .map(|c| obvhs::triangle::Triangle {
+                v0: c[0].into(),
+                v1: c[1].into(),
+                v2: c[2].into(),
+            })
+            .collect();
+        let mut build_time = std::time::Duration::ZERO;
+        let bvh2 = obvhs::bvh2::builder::build_bvh2_from_tris(
+            &tris,
+            obvhs::BvhBuildParams::medium_build(),
+            &mut build_time,
+        );
+        let nodes = bvh2
+            .nodes
+            .iter()
+            .map(|n| BvhNode {
+                min: n.aabb().min.to_array(),
+                first: n.first_index,
+                max: n.aabb().max.to_array(),
+                count: n.prim_count,
+            })
+            .collect();
+        let order = bvh2.primitive_indices.clone();
+        let triangles = order
+            .iter()
+            .map(|&i| {
+                let [a, b, c] = corners[i as usize];
+                BvhTriangle {
+                    v0: a.to_array(),
+                    _pad0: 0,
+                    e1: (b - a).to_array(),
+                    _pad1: 0,
+                    e2: (c - a).to_array(),
+                    _pad2: 0,
+                }
+            })
+            .collect();
+        Bvh {
+            nodes,
+            triangles,
+            order,
+        }
+    }
+
+    /// Closest hit along `origin + t·dir`, t in (0, t_max).
+    #[inline]
+    pub fn intersect(&self, origin: Vec3A, dir: Vec3A, t_max: f32) -> Option<Hit> {
+        if self.nodes.is_empty() || self.triangles.is_empty() {
+            return None;
+        }
+        let inv = dir.recip();
+        let mut best = Hit {
+            t: t_max,
+            triangle: u32::MAX,
+            u: 0.0,
+            v: 0.0,
+        };
+        let mut stack = [0u32; 64];
+        let mut top = 0usize;
+        let mut node = 0u32;
+        if slab(&self.nodes[0], origin, inv, best.t).is_none() {
+            return None;
+        }
+        loop {
+            let n = &self.nodes[node as usize];
+            if n.count > 0 {
+                for i in n.first..n.first + n.count {
+                    if let Some((t, u, v)) =
+                        intersect_triangle(&self.triangles[i as usize], origin, dir)
+                        && t < best.t
+                    {
+                        best = Hit {
+                            t,
+                            triangle: i,
+                            u,
+                            v,
+                        };
+                    }
+                }
+            } else {
+                let (a, b) = (n.first, n.first + 1);
+                let ta = slab(&self.nodes[a as usize], origin, inv, best.t);
+                let tb = slab(&self.nodes[b as usize], origin, inv, best.t);
+                match (ta, tb) {
+                    (Some(ta), Some(tb)) => {
+                        let (near, far) = if ta <= tb { (a, b) } else { (b, a) };
+                        if top < stack.len() {
+                            stack[top] = far;
+                            top += 1;
+                        }
+                        node = near;
+                        continue;
+                    }
+                    (Some(_), None) => {
+                        node = a;
+                        continue;
+                    }
+                    (None, Some(_)) => {
+                        node = b;
+                        continue;
+                    }
+                    (None, None) => {}
+                }
+            }
+            if top == 0 {
+                break;
+            }
+            top -= 1;
+            node = stack[top];
+        }
+        (best.triangle != u32::MAX).then_some(best)
+    }
+}
+
+/// Entry distance into a node's box, if it is entered before `t_max`.
+#[inline(always)]
+fn slab(n: &BvhNode, origin: Vec3A, inv: Vec3A, t_max: f32) -> Option<f32> {
+    let t0 = (Vec3A::from_array(n.min) - origin) * inv;
+    let t1 = (Vec3A::from_array(n.max) - origin) * inv;
+    let near = t0.min(t1).max_element().max(0.0);
+    let far = t0.max(t1).min_element().min(t_max);
+    (near <= far).then_some(near)
+}
+
+/// Möller–Trumbore; returns (t, u, v) for t > 0.
+#[inline(always)]
+pub fn intersect_triangle(tri: &BvhTriangle, origin: Vec3A, dir: Vec3A) -> Option<(f32, f32, f32)> {
+    let e1 = Vec3A::from_array(tri.e1);
+    let e2 = Vec3A::from_array(tri.e2);
+    let p = dir.cross(e2);
+    let det = e1.dot(p);
+    if det.abs() < 1e-20 {
+        return None;
+    }
+    let inv_det = 1.0 / det;
+    let s = origin - Vec3A::from_array(tri.v0);
+    let u = s.dot(p) * inv_det;
+    if !(0.0..=1.0).contains(&u) {
+        return None;
+    }
+    let q = s.cross(e1);
+    let v = dir.dot(q) * inv_det;
+    if v < 0.0 || u + v > 1.0 {
+        return None;
+    }
+    let t = e2.dot(q) * inv_det;
+    (t > 0.0).then_some((t, u, v))
+}

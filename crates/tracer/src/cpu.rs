@@ -1,0 +1,321 @@
+//! CPU reference tracer: the same physics as the WGSL kernel, in Rust, run
+//! in parallel with rayon. Tests compare the kernel against it, and on a
+//! machine without a GPU it is the fast path.
+
+use glam::Vec3A;
+use lucerna_photometry::CubeMapLayout;
+use rayon::prelude::*;
+
+use crate::prepared::{EmitterDirections, PreparedScene, kind, sample_emitter_surface};
+use crate::rng::PhotonRng;
+use crate::sampling::{
+    basis, cosine_hemisphere, fresnel_dielectric, ggx_lambda, reflect, sample_ggx_vndf,
+};
+
+/// What became of one photon.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Fate {
+    /// Left the luminaire in this direction (luminaire coordinates).
+    Escaped(Vec3A),
+    Absorbed,
+    /// Still bouncing at the bounce limit.
+    CutOff,
+}
+
+/// Photon bookkeeping for a batch; counts add exactly across batches.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tally {
+    /// Escaped photons per cube-map texel.
+    pub counts: Vec<u32>,
+    pub emitted: u64,
+    pub absorbed: u64,
+    pub cut_off: u64,
+    /// Surface interactions survived (for mean bounces per photon).
+    pub bounces: u64,
+    /// Rays cast (segments traced).
+    pub rays: u64,
+}
+
+impl Tally {
+    pub fn new(texels: usize) -> Tally {
+        Tally {
+            counts: vec![0; texels],
+            emitted: 0,
+            absorbed: 0,
+            cut_off: 0,
+            bounces: 0,
+            rays: 0,
+        }
+    }
+
+    pub fn escaped(&self) -> u64 {
+        self.counts.iter().map(|&c| u64::from(c)).sum()
+    }
+
+    fn add(mut self, other: Tally) -> Tally {
+        for (a, b) in self.counts.iter_mut().zip(&other.counts) {
+            *a += b;
+        }
+        self.emitted += other.emitted;
+        self.absorbed += other.absorbed;
+        self.cut_off += other.cut_off;
+        self.bounces += other.bounces;
+        self.rays += other.rays;
+        self
+    }
+}
+
+/// Tracing settings shared by every backend.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TraceSettings {
+    pub seed: u32,
+    /// Surface interactions after which a photon is cut off.
+    pub max_bounces: u32,
+    pub layout: CubeMapLayout,
+}
+
+impl Default for TraceSettings {
+    fn default() -> Self {
+        TraceSettings {
+            seed: 1,
+            max_bounces: 64,
+            layout: CubeMapLayout::new(256),
+        }
+    }
+}
+
+/// Orients `n` to the side a photon travelling along `d` comes from.
+#[inline]
+fn facing(n: Vec3A, d: Vec3A) -> Vec3A {
+    if n.dot(d) > 0.0 { -n } else { n }
+}
+
+/// Traces one photon; returns its fate and the bounces it survived.
+pub fn trace_photon(
+    scene: &PreparedScene,
+    max_bounces: u32,
+    rng: &mut PhotonRng,
+) -> (Fate, u32, u32) {
+    let (mut origin, mut dir) = emit(scene, rng);
+    // Absorption coefficient of the medium the photon travels in (1/m).
+    let mut medium_absorption = 0.0f32;
+    let mut rays = 0u32;
+    for bounce in 0..=max_bounces {
+        rays += 1;
+        let Some(hit) = scene.bvh.intersect(origin, dir, f32::INFINITY) else {
+            return (Fate::Escaped(dir), bounce, rays);
+        };
+        if medium_absorption > 0.0 && rng.next_f32() >= (-medium_absorption * hit.t).exp() {
+            return (Fate::Absorbed, bounce, rays);
+        }
+        if bounce == max_bounces {
+            return (Fate::CutOff, bounce, rays);
+        }
+        let s = &scene.shading[hit.triangle as usize];
+        let m = &scene.materials[s.material as usize];
+        let position = origin + dir * hit.t;
+        let geometric = Vec3A::from_array(s.geometric_normal);
+        let w = 1.0 - hit.u - hit.v;
+        let shading_normal = (Vec3A::from_slice(&s.n0[..3]) * w
+            + Vec3A::from_slice(&s.n1[..3]) * hit.u
+            + Vec3A::from_slice(&s.n2[..3]) * hit.v)
+            .normalize_or(geometric);
+        // Two-sided sheets: both normals face the incoming photon.
+        let ng = facing(geometric, dir);
+        let ns = if shading_normal.dot(ng) < 0.0 {
+            -shading_normal
+        } else {
+            shading_normal
+        };
+        let ns = facing_consistent(ns, ng);
+        let next = match m.kind {
+            kind::LAMBERTIAN => (rng.next_f32() < m.reflectance)
+                .then(|| cosine_hemisphere(ns, rng.next_f32(), rng.next_f32())),
+            kind::MIRROR => (rng.next_f32() < m.reflectance).then(|| {
+                let r = reflect(dir, ns);
+                if r.dot(ng) > 0.0 { r } else { reflect(dir, ng) }
+            }),
+            kind::ROUGH_CONDUCTOR => rough_conductor(m, dir, ns, rng),
+            kind::DIFFUSER => {
+                let u = rng.next_f32();
+                if u < m.reflectance {
+                    Some(cosine_hemisphere(ns, rng.next_f32(), rng.next_f32()))
+                } else if u < m.reflectance + m.transmittance {
+                    Some(cosine_hemisphere(-ns, rng.next_f32(), rng.next_f32()))
+                } else {
+                    None
+                }
+            }
+            kind::DIELECTRIC => {
+                let (d, inside_after) = dielectric(m, dir, geometric, shading_normal, rng);
+                medium_absorption = if inside_after {
+                    m.absorption_per_m
+                } else {
+                    0.0
+                };
+                Some(d)
+            }
+            _ => None,
+        };
+        let Some(next) = next else {
+            return (Fate::Absorbed, bounce, rays);
+        };
+        // Leave the surface on the side the new direction goes.
+        let side = if next.dot(geometric) > 0.0 {
+            geometric
+        } else {
+            -geometric
+        };
+        origin = position + side * scene.epsilon;
+        dir = next;
+    }
+    (Fate::CutOff, max_bounces, rays)
+}
+
+/// The shading normal, kept in the geometric normal's hemisphere.
+#[inline]
+fn facing_consistent(ns: Vec3A, ng: Vec3A) -> Vec3A {
+    if ns.dot(ng) > 1e-4 { ns } else { ng }
+}
+
+/// A new photon: emitter chosen by flux, point uniform on its surface,
+/// direction Lambertian or from its measured profile.
+fn emit(scene: &PreparedScene, rng: &mut PhotonRng) -> (Vec3A, Vec3A) {
+    let u = rng.next_f32();
+    let index = scene
+        .emitter_cdf
+        .partition_point(|&c| c <= u)
+        .min(scene.emitters.len() - 1);
+    let e = &scene.emitters[index];
+    let (p_local, n_local) = sample_emitter_surface(&e.shape, rng.next_f32(), rng.next_f32());
+    let p = e.luminaire_from_emitter.transform_point3a(p_local);
+    let n = (e.normal_matrix * n_local).normalize();
+    let d = match &e.directions {
+        EmitterDirections::Lambertian => cosine_hemisphere(n, rng.next_f32(), rng.next_f32()),
+        EmitterDirections::Profile(sampler) => {
+            let local = sampler.sample(rng.next_f32(), rng.next_f32(), rng.next_f32());
+            e.luminaire_from_emitter
+                .matrix3
+                .mul_vec3a(local)
+                .normalize()
+        }
+    };
+    let off = if d.dot(n) >= 0.0 { n } else { -n };
+    (p + (off + d) * scene.epsilon, d)
+}
+
+/// Anisotropic GGX conductor: a microfacet normal from the visible-normal
+/// distribution, mirror reflection about it; the photon goes on with
+/// probability R · G2/G1 (the single-scattering albedo for this direction),
+/// so photons keep equal flux.
+fn rough_conductor(
+    m: &crate::prepared::TraceMaterial,
+    dir: Vec3A,
+    n: Vec3A,
+    rng: &mut PhotonRng,
+) -> Option<Vec3A> {
+    // Anisotropy axes: circumferential about the luminaire's z axis (the
+    // brushing direction of spun reflectors), turned by the orientation.
+    let around_z = Vec3A::Z.cross(n);
+    let t0 = if around_z.length_squared() > 1e-8 {
+        around_z.normalize()
+    } else {
+        basis(n).0
+    };
+    let b0 = n.cross(t0);
+    let (so, co) = m.orientation_rad.sin_cos();
+    let t = t0 * co + b0 * so;
+    let b = n.cross(t);
+    let wo_world = -dir;
+    let wo = Vec3A::new(wo_world.dot(t), wo_world.dot(b), wo_world.dot(n));
+    if wo.z <= 0.0 {
+        return None;
+    }
+    let mn = sample_ggx_vndf(wo, m.alpha_u, m.alpha_v, rng.next_f32(), rng.next_f32());
+    let wi = mn * (2.0 * wo.dot(mn)) - wo;
+    if wi.z <= 0.0 {
+        return None;
+    }
+    let lo = ggx_lambda(wo, m.alpha_u, m.alpha_v);
+    let li = ggx_lambda(wi, m.alpha_u, m.alpha_v);
+    let survive = m.reflectance * (1.0 + lo) / (1.0 + lo + li);
+    (rng.next_f32() < survive).then(|| (t * wi.x + b * wi.y + n * wi.z).normalize())
+}
+
+/// Smooth dielectric: Fresnel reflection or refraction, total internal
+/// reflection. Closed solids have outward geometric normals, so the sign of
+/// d·n tells entering from leaving. Returns the new direction and whether
+/// the photon is inside the solid afterwards.
+fn dielectric(
+    m: &crate::prepared::TraceMaterial,
+    dir: Vec3A,
+    geometric: Vec3A,
+    shading: Vec3A,
+    rng: &mut PhotonRng,
+) -> (Vec3A, bool) {
+    let entering = dir.dot(geometric) < 0.0;
+    let ng = if entering { geometric } else { -geometric };
+    let ns = facing_consistent(
+        if shading.dot(ng) < 0.0 {
+            -shading
+        } else {
+            shading
+        },
+        ng,
+    );
+    let eta = if entering { 1.0 / m.ior } else { m.ior };
+    let cos_i = (-dir.dot(ns)).clamp(0.0, 1.0);
+    let (f, cos_t) = fresnel_dielectric(cos_i, eta);
+    if rng.next_f32() < f {
+        let r = reflect(dir, ns);
+        let r = if r.dot(ng) > 0.0 { r } else { reflect(dir, ng) };
+        (r, !entering)
+    } else {
+        let t = (dir * eta + ns * (eta * cos_i - cos_t)).normalize();
+        let t = if t.dot(ng) < 0.0 { t } else { dir };
+        (t, entering)
+    }
+}
+
+/// Traces photons `first .. first + count` of `iteration` in parallel.
+pub fn trace_batch(
+    scene: &PreparedScene,
+    settings: &TraceSettings,
+    iteration: u32,
+    first: u32,
+    count: u32,
+) -> Tally {
+    let texels = settings.layout.texel_count();
+    let chunk = 16_384u32;
+    let chunks = count.div_ceil(chunk);
+    (0..chunks)
+        .into_par_iter()
+        .fold(
+            || Tally::new(texels),
+            |mut tally, c| {
+                let start = first + c * chunk;
+                let end = (start + chunk).min(first + count);
+                for photon in start..end {
+                    let mut rng = PhotonRng::new(settings.seed, iteration, photon);
+                    let (fate, bounces, rays) = trace_photon(scene, settings.max_bounces, &mut rng);
+                    tally.emitted += 1;
+                    tally.bounces += u64::from(bounces);
+                    tally.rays += u64::from(rays);
+                    match fate {
+                        Fate::Escaped(d) => {
+                            let texel = settings.layout.texel_of_direction([
+                                f64::from(d.x),
+                                f64::from(d.y),
+                                f64::from(d.z),
+                            ]);
+                            tally.counts[texel] += 1;
+                        }
+                        Fate::Absorbed => tally.absorbed += 1,
+                        Fate::CutOff => tally.cut_off += 1,
+                    }
+                }
+                tally
+            },
+        )
+        .reduce(|| Tally::new(texels), Tally::add)
+}

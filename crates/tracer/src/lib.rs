@@ -1,0 +1,15 @@
+//! Lucerna's photon tracer: photons from the emitters bounce through the
+//! luminaire and are counted by escape direction on a cube-map intensity
+//! map (Litemaker 2017, sections 3.2 and 4). This crate holds the BVH, the
+//! CPU reference tracer and the progressive session.
+
+pub mod bvh;
+pub mod cpu;
+pub mod prepared;
+pub mod rng;
+pub mod sampling;
+pub mod session;
+
+pub use cpu::{Fate, Tally, TraceSettings, trace_batch};
+pub use prepared::{PrepareError, PreparedScene};
+pub use session::{IterationReport, Session};

@@ -1,0 +1,309 @@
+//! The luminaire prepared for tracing: BVH, per-triangle shading data and
+//! materials, emitter samplers. Shared by the CPU tracer and the GPU upload.
+
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Affine3A, Mat3A, Vec3, Vec3A};
+use lucerna_scene::{Emission, EmitterShape, Material, Scene, TessellatedScene};
+
+use crate::bvh::Bvh;
+use crate::sampling::ProfileSampler;
+
+/// Material kinds as the kernels switch on them.
+pub mod kind {
+    pub const ABSORBER: u32 = 0;
+    pub const LAMBERTIAN: u32 = 1;
+    pub const MIRROR: u32 = 2;
+    pub const ROUGH_CONDUCTOR: u32 = 3;
+    pub const DIELECTRIC: u32 = 4;
+    pub const DIFFUSER: u32 = 5;
+}
+
+/// A material flattened for the kernels (32 bytes, WGSL twin `Material`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable, PartialEq)]
+pub struct TraceMaterial {
+    pub kind: u32,
+    /// Albedo or reflectance (0–1).
+    pub reflectance: f32,
+    /// Diffuse transmittance (0–1).
+    pub transmittance: f32,
+    pub ior: f32,
+    /// GGX α along the tangent and bitangent.
+    pub alpha_u: f32,
+    pub alpha_v: f32,
+    /// Anisotropy orientation about the normal (rad).
+    pub orientation_rad: f32,
+    /// Internal absorption coefficient (1/m).
+    pub absorption_per_m: f32,
+}
+const _: () = assert!(std::mem::size_of::<TraceMaterial>() == 32);
+
+impl TraceMaterial {
+    pub fn from_material(m: &Material) -> TraceMaterial {
+        let mut t = TraceMaterial::zeroed();
+        match *m {
+            Material::Absorber => t.kind = kind::ABSORBER,
+            Material::Lambertian { albedo } => {
+                t.kind = kind::LAMBERTIAN;
+                t.reflectance = albedo as f32;
+            }
+            Material::Mirror { reflectance } => {
+                t.kind = kind::MIRROR;
+                t.reflectance = reflectance as f32;
+            }
+            Material::RoughConductor {
+                reflectance,
+                roughness_u,
+                roughness_v,
+                orientation_deg,
+            } => {
+                t.kind = kind::ROUGH_CONDUCTOR;
+                t.reflectance = reflectance as f32;
+                t.alpha_u = roughness_u as f32;
+                t.alpha_v = roughness_v as f32;
+                t.orientation_rad = orientation_deg.to_radians() as f32;
+            }
+            Material::Dielectric {
+                ior,
+                absorption_per_m,
+            } => {
+                t.kind = kind::DIELECTRIC;
+                t.ior = ior as f32;
+                t.absorption_per_m = absorption_per_m as f32;
+            }
+            Material::Diffuser {
+                reflectance,
+                transmittance,
+            } => {
+                t.kind = kind::DIFFUSER;
+                t.reflectance = reflectance as f32;
+                t.transmittance = transmittance as f32;
+            }
+        }
+        t
+    }
+}
+
+/// Per-triangle data the kernels need after a hit (64 bytes): geometric
+/// normal and the three vertex shading normals, material in `n0.w`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable, PartialEq)]
+pub struct TriangleShading {
+    pub geometric_normal: [f32; 3],
+    pub material: u32,
+    pub n0: [f32; 4],
+    pub n1: [f32; 4],
+    pub n2: [f32; 4],
+}
+const _: () = assert!(std::mem::size_of::<TriangleShading>() == 64);
+
+/// How an emitter chooses directions.
+#[derive(Debug, Clone)]
+pub enum EmitterDirections {
+    Lambertian,
+    Profile(Box<ProfileSampler>),
+}
+
+/// One emitter ready to sample.
+#[derive(Debug, Clone)]
+pub struct TraceEmitter {
+    pub shape: EmitterShape,
+    pub luminaire_from_emitter: Affine3A,
+    pub normal_matrix: Mat3A,
+    pub directions: EmitterDirections,
+    pub flux_lm: f64,
+}
+
+#[derive(Debug, Clone)]
+pub struct PreparedScene {
+    pub bvh: Bvh,
+    /// Reordered like `bvh.triangles`.
+    pub shading: Vec<TriangleShading>,
+    pub materials: Vec<TraceMaterial>,
+    pub emitters: Vec<TraceEmitter>,
+    /// Cumulative flux fraction per emitter.
+    pub emitter_cdf: Vec<f32>,
+    pub total_flux_lm: f64,
+    /// Offset (m) that moves a new ray off the surface it leaves.
+    pub epsilon: f32,
+    pub bvh_build_time: Duration,
+}
+
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum PrepareError {
+    #[error("the luminaire has no enabled emitter with flux")]
+    NoEmitter,
+    #[error("emitter '{emitter}': cannot read emission profile {path}")]
+    ProfileRead {
+        emitter: String,
+        path: std::path::PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("emitter '{emitter}': emission profile {path}")]
+    ProfileParse {
+        emitter: String,
+        path: std::path::PathBuf,
+        #[source]
+        source: lucerna_photometry::ParsePhotometryError,
+    },
+    #[error("emitter '{emitter}': the emission profile carries no flux")]
+    EmptyProfile { emitter: String },
+}
+
+impl PreparedScene {
+    pub fn triangle_count(&self) -> usize {
+        self.bvh.triangles.len()
+    }
+
+    /// Prepares a validated, tessellated scene; `scene_dir` resolves
+    /// emission-profile paths.
+    pub fn new(
+        scene: &Scene,
+        tessellated: &TessellatedScene,
+        scene_dir: &Path,
+    ) -> Result<PreparedScene, PrepareError> {
+        let mesh = &tessellated.mesh;
+        let corners: Vec<[Vec3; 3]> = mesh
+            .triangles
+            .iter()
+            .map(|t| t.map(|i| mesh.positions[i as usize]))
+            .collect();
+        let start = Instant::now();
+        let bvh = Bvh::build(&corners);
+        let bvh_build_time = start.elapsed();
+        let shading = bvh
+            .order
+            .iter()
+            .map(|&i| {
+                let t = mesh.triangles[i as usize];
+                let [a, b, c] = corners[i as usize];
+                let g = (b - a).cross(c - a).normalize_or_zero();
+                let n = |k: usize| {
+                    let v = mesh.normals[t[k] as usize];
+                    [v.x, v.y, v.z, 0.0]
+                };
+                TriangleShading {
+                    geometric_normal: g.to_array(),
+                    material: tessellated.triangle_material[i as usize],
+                    n0: n(0),
+                    n1: n(1),
+                    n2: n(2),
+                }
+            })
+            .collect();
+        let materials = tessellated
+            .materials
+            .iter()
+            .map(|(_, m)| TraceMaterial::from_material(m))
+            .collect();
+        let mut emitters = Vec::new();
+        for e in scene
+            .emitters
+            .iter()
+            .filter(|e| e.enabled && e.flux_lm > 0.0)
+        {
+            let directions = match &e.emission {
+                Emission::Lambertian => EmitterDirections::Lambertian,
+                Emission::Profile(file) => {
+                    let path = scene_dir.join(file);
+                    let bytes =
+                        std::fs::read(&path).map_err(|source| PrepareError::ProfileRead {
+                            emitter: e.name.clone(),
+                            path: path.clone(),
+                            source,
+                        })?;
+                    let p = lucerna_photometry::read_photometry(&bytes).map_err(|source| {
+                        PrepareError::ProfileParse {
+                            emitter: e.name.clone(),
+                            path: path.clone(),
+                            source,
+                        }
+                    })?;
+                    let sampler = ProfileSampler::new(&p.table).ok_or_else(|| {
+                        PrepareError::EmptyProfile {
+                            emitter: e.name.clone(),
+                        }
+                    })?;
+                    EmitterDirections::Profile(Box::new(sampler))
+                }
+            };
+            let m = e.transform.matrix();
+            let luminaire_from_emitter = Affine3A::from_mat3_translation(
+                glam::Mat3::from_cols(
+                    m.matrix3.x_axis.as_vec3(),
+                    m.matrix3.y_axis.as_vec3(),
+                    m.matrix3.z_axis.as_vec3(),
+                ),
+                m.translation.as_vec3(),
+            );
+            emitters.push(TraceEmitter {
+                shape: e.shape.clone(),
+                normal_matrix: luminaire_from_emitter.matrix3.inverse().transpose(),
+                luminaire_from_emitter,
+                directions,
+                flux_lm: e.flux_lm,
+            });
+        }
+        if emitters.is_empty() {
+            return Err(PrepareError::NoEmitter);
+        }
+        let total_flux_lm: f64 = emitters.iter().map(|e| e.flux_lm).sum();
+        let mut acc = 0.0;
+        let emitter_cdf = emitters
+            .iter()
+            .map(|e| {
+                acc += e.flux_lm;
+                (acc / total_flux_lm) as f32
+            })
+            .collect();
+        let extent = mesh
+            .bounds()
+            .map_or(0.1, |(lo, hi)| (hi - lo).max_element());
+        Ok(PreparedScene {
+            bvh,
+            shading,
+            materials,
+            emitters,
+            emitter_cdf,
+            total_flux_lm,
+            epsilon: (2e-6 * extent).max(1e-7),
+            bvh_build_time,
+        })
+    }
+}
+
+/// A point and its outward (emitting) normal on an emitter, local frame.
+pub fn sample_emitter_surface(shape: &EmitterShape, u1: f32, u2: f32) -> (Vec3A, Vec3A) {
+    use std::f32::consts::TAU;
+    match *shape {
+        EmitterShape::Disk { radius } => {
+            let r = radius as f32 * u1.sqrt();
+            let phi = TAU * u2;
+            (Vec3A::new(r * phi.cos(), r * phi.sin(), 0.0), Vec3A::NEG_Z)
+        }
+        EmitterShape::Rectangle { width, depth } => (
+            Vec3A::new((u1 - 0.5) * width as f32, (u2 - 0.5) * depth as f32, 0.0),
+            Vec3A::NEG_Z,
+        ),
+        EmitterShape::Sphere { radius } => {
+            let z = 1.0 - 2.0 * u1;
+            let r = (1.0 - z * z).max(0.0).sqrt();
+            let phi = TAU * u2;
+            let n = Vec3A::new(r * phi.cos(), r * phi.sin(), z);
+            (n * radius as f32, n)
+        }
+        EmitterShape::Cylinder { radius, height } => {
+            let phi = TAU * u1;
+            let n = Vec3A::new(phi.cos(), phi.sin(), 0.0);
+            (
+                n * radius as f32 + Vec3A::new(0.0, 0.0, (u2 - 0.5) * height as f32),
+                n,
+            )
+        }
+    }
+}

@@ -1,0 +1,195 @@
+//! Direction sampling and the optics of each material, shared by the CPU
+//! tracer (and mirrored in WGSL).
+
+use std::f32::consts::TAU;
+
+use glam::Vec3A;
+use lucerna_photometry::CandelaTable;
+
+/// Orthonormal basis (t, b, n) around a unit normal (Duff et al. 2017).
+#[inline]
+pub fn basis(n: Vec3A) -> (Vec3A, Vec3A) {
+    let sign = 1.0f32.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    (
+        Vec3A::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        Vec3A::new(b, sign + n.y * n.y * a, -n.y),
+    )
+}
+
+/// Cosine-weighted direction about `n` (pdf cos θ / π).
+#[inline]
+pub fn cosine_hemisphere(n: Vec3A, u1: f32, u2: f32) -> Vec3A {
+    let r = u1.sqrt();
+    let phi = TAU * u2;
+    let (t, b) = basis(n);
+    let z = (1.0 - u1).max(0.0).sqrt();
+    (t * (r * phi.cos()) + b * (r * phi.sin()) + n * z).normalize()
+}
+
+/// Mirror reflection of `d` about unit `n`.
+#[inline]
+pub fn reflect(d: Vec3A, n: Vec3A) -> Vec3A {
+    d - n * (2.0 * d.dot(n))
+}
+
+/// Unpolarised Fresnel reflectance of a smooth dielectric interface for
+/// incidence cosine `cos_i` (> 0) and relative index `eta = n_i / n_t`;
+/// 1 under total internal reflection. Also returns cos θ_t.
+#[inline]
+pub fn fresnel_dielectric(cos_i: f32, eta: f32) -> (f32, f32) {
+    let sin2_t = eta * eta * (1.0 - cos_i * cos_i).max(0.0);
+    if sin2_t >= 1.0 {
+        return (1.0, 0.0);
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    let rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    let rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    (0.5 * (rs * rs + rp * rp), cos_t)
+}
+
+/// GGX Smith Λ for a direction in the local frame (z = normal).
+#[inline]
+pub fn ggx_lambda(w: Vec3A, ax: f32, ay: f32) -> f32 {
+    let z2 = w.z * w.z;
+    if z2 <= 0.0 {
+        return f32::INFINITY;
+    }
+    let a2 = (ax * ax * w.x * w.x + ay * ay * w.y * w.y) / z2;
+    0.5 * (-1.0 + (1.0 + a2).sqrt())
+}
+
+/// A GGX microfacet normal sampled from the distribution of normals visible
+/// from `wo` (Heitz 2018, "Sampling the GGX Distribution of Visible
+/// Normals"), local frame.
+#[inline]
+pub fn sample_ggx_vndf(wo: Vec3A, ax: f32, ay: f32, u1: f32, u2: f32) -> Vec3A {
+    let vh = Vec3A::new(ax * wo.x, ay * wo.y, wo.z).normalize();
+    let len2 = vh.x * vh.x + vh.y * vh.y;
+    let t1 = if len2 > 0.0 {
+        Vec3A::new(-vh.y, vh.x, 0.0) / len2.sqrt()
+    } else {
+        Vec3A::X
+    };
+    let t2 = vh.cross(t1);
+    let r = u1.sqrt();
+    let phi = TAU * u2;
+    let p1 = r * phi.cos();
+    let s = 0.5 * (1.0 + vh.z);
+    let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * phi.sin();
+    let nh = t1 * p1 + t2 * p2 + vh * (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt();
+    Vec3A::new(ax * nh.x, ay * nh.y, nh.z.max(1e-7)).normalize()
+}
+
+/// Importance sampling of a measured emission profile: a piecewise-constant
+/// density over the table's cells (C-plane × γ cell), each weighted by its
+/// intensity times its solid angle; within a cell, uniform in solid angle.
+#[derive(Debug, Clone)]
+pub struct ProfileSampler {
+    /// Cell C bounds (radians), one pair per C-plane.
+    c_bounds: Vec<(f32, f32)>,
+    /// Cell cos γ bounds, one pair per γ angle (cos decreasing).
+    cos_bounds: Vec<(f32, f32)>,
+    /// Cumulative probability over cells, c-major.
+    cdf: Vec<f32>,
+}
+
+impl ProfileSampler {
+    /// `None` when the table carries no flux at all.
+    pub fn new(table: &CandelaTable) -> Option<ProfileSampler> {
+        let c = &table.c_planes_deg;
+        let g = &table.gammas_deg;
+        let c_bounds: Vec<(f32, f32)> = if c.len() == 1 {
+            vec![(0.0, TAU)]
+        } else {
+            (0..c.len())
+                .map(|i| {
+                    let prev = (c[i] - c[(i + c.len() - 1) % c.len()]).rem_euclid(360.0);
+                    let next = (c[(i + 1) % c.len()] - c[i]).rem_euclid(360.0);
+                    (
+                        (c[i] - 0.5 * prev).to_radians() as f32,
+                        (c[i] + 0.5 * next).to_radians() as f32,
+                    )
+                })
+                .collect()
+        };
+        let mut edges = vec![g[0]];
+        edges.extend(g.windows(2).map(|w| 0.5 * (w[0] + w[1])));
+        edges.push(g[g.len() - 1]);
+        let cos_bounds: Vec<(f32, f32)> = (0..g.len())
+            .map(|j| {
+                (
+                    edges[j].to_radians().cos() as f32,
+                    edges[j + 1].to_radians().cos() as f32,
+                )
+            })
+            .collect();
+        let mut cdf = Vec::with_capacity(c.len() * g.len());
+        let mut total = 0.0f64;
+        for (i, (c0, c1)) in c_bounds.iter().enumerate() {
+            for (j, (z0, z1)) in cos_bounds.iter().enumerate() {
+                let omega = f64::from(c1 - c0) * f64::from(z0 - z1);
+                total += table.candela[i * g.len() + j] * omega.max(0.0);
+                cdf.push(total as f32);
+            }
+        }
+        if total <= 0.0 {
+            return None;
+        }
+        for v in &mut cdf {
+            *v /= total as f32;
+        }
+        Some(ProfileSampler {
+            c_bounds,
+            cos_bounds,
+            cdf,
+        })
+    }
+
+    /// Number of cells (for tests binning samples by cell).
+    pub fn cell_count(&self) -> usize {
+        self.cdf.len()
+    }
+
+    /// Probability of cell `k`.
+    pub fn cell_probability(&self, k: usize) -> f32 {
+        self.cdf[k] - if k == 0 { 0.0 } else { self.cdf[k - 1] }
+    }
+
+    /// The cell a local direction falls in.
+    pub fn cell_of(&self, d: Vec3A) -> usize {
+        let cos_g = -d.z;
+        let c = d.y.atan2(d.x).rem_euclid(TAU);
+        let ng = self.cos_bounds.len();
+        let j = self
+            .cos_bounds
+            .iter()
+            .position(|&(z0, z1)| cos_g <= z0 && cos_g >= z1)
+            .unwrap_or(ng - 1);
+        let i = self
+            .c_bounds
+            .iter()
+            .position(|&(c0, c1)| {
+                let x = (c - c0).rem_euclid(TAU);
+                x < c1 - c0
+            })
+            .unwrap_or(0);
+        i * ng + j
+    }
+
+    /// A direction in the emitter's local frame (nadir −z).
+    pub fn sample(&self, u_cell: f32, u1: f32, u2: f32) -> Vec3A {
+        let k = self
+            .cdf
+            .partition_point(|&p| p <= u_cell)
+            .min(self.cdf.len() - 1);
+        let ng = self.cos_bounds.len();
+        let (c0, c1) = self.c_bounds[k / ng];
+        let (z0, z1) = self.cos_bounds[k % ng];
+        let c = c0 + (c1 - c0) * u1;
+        let cos_g = z0 + (z1 - z0) * u2;
+        let sin_g = (1.0 - cos_g * cos_g).max(0.0).sqrt();
+        Vec3A::new(sin_g * c.cos(), sin_g * c.sin(), -cos_g)
+    }
+}
