@@ -1,6 +1,11 @@
-//! Bounding-volume hierarchy: built by obvhs (PLOC + reinsertion), flattened
-//! into 32-byte nodes that the CPU tracer and the WGSL kernel traverse the
-//! same way.
+//! Bounding-volume hierarchies, built by obvhs (PLOC + reinsertion):
+//! - a compressed 8-wide BVH (CWBVH) that the CPU tracer traverses with
+//!   obvhs' SIMD traversal (measured faster than a BVH2 on 2 cores);
+//! - a BVH2 flattened into 32-byte nodes for the WGSL kernel, traversed on
+//!   the CPU too by [`Bvh::intersect_bvh2`] so tests check the GPU layout.
+//!
+//! Triangles are stored once, in the CWBVH's leaf order; BVH2 leaves reach
+//! them through `bvh2_leaf_triangles`.
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec3, Vec3A};
@@ -33,10 +38,18 @@ const _: () = assert!(std::mem::size_of::<BvhTriangle>() == 48);
 
 #[derive(Debug, Clone)]
 pub struct Bvh {
+    /// CWBVH for CPU traversal.
+    pub cwbvh: obvhs::cwbvh::CwBvh,
+    /// BVH2 nodes for the GPU (leaves index `bvh2_leaf_triangles`).
     pub nodes: Vec<BvhNode>,
+    /// For each BVH2 leaf slot, the index into `triangles`.
+    pub bvh2_leaf_triangles: Vec<u32>,
+    /// Triangles in CWBVH leaf order.
     pub triangles: Vec<BvhTriangle>,
-    /// `order[i]` is the original index of reordered triangle i.
+    /// `order[i]` is the original index of stored triangle i.
     pub order: Vec<u32>,
+    pub cwbvh_build_time: std::time::Duration,
+    pub bvh2_build_time: std::time::Duration,
 }
 
 /// A ray hit: distance, reordered triangle index, barycentrics (u, v).
@@ -49,9 +62,11 @@ pub struct Hit {
 }
 
 impl Bvh {
-    /// Builds with obvhs' `medium_build` preset (PLOC, reinsertion, leaf
-    /// collapse); corners are in luminaire coordinates (m).
+    /// Builds both hierarchies with obvhs' `very_slow_build` preset (PLOC
+    /// with a wide search, reinsertion, leaf collapse) without spatial
+    /// splits; corners in luminaire coordinates (m).
     pub fn build(corners: &[[Vec3; 3]]) -> Bvh {
+        use std::time::Instant;
         let tris: Vec<obvhs::triangle::Triangle> = corners
             .iter()
             .map(|c| obvhs::triangle::Triangle {
@@ -60,12 +75,32 @@ impl Bvh {
                 v2: c[2].into(),
             })
             .collect();
-        let mut build_time = std::time::Duration::ZERO;
+        let mut core = std::time::Duration::ZERO;
+        // Spatial pre-splits would store a triangle more than once; the
+        // kernels index one record per triangle.
+        let params = obvhs::BvhBuildParams {
+            pre_split: false,
+            ..obvhs::BvhBuildParams::very_slow_build()
+        };
+        let start = Instant::now();
+        let cwbvh = obvhs::cwbvh::builder::build_cwbvh_from_tris(
+            &tris,
+            params,
+            &mut core,
+        );
+        let cwbvh_build_time = start.elapsed();
+        let start = Instant::now();
         let bvh2 = obvhs::bvh2::builder::build_bvh2_from_tris(
             &tris,
-            obvhs::BvhBuildParams::medium_build(),
-            &mut build_time,
+            params,
+            &mut core,
         );
+        let bvh2_build_time = start.elapsed();
+        let order = cwbvh.primitive_indices.clone();
+        let mut stored_at = vec![0u32; corners.len()];
+        for (slot, &original) in order.iter().enumerate() {
+            stored_at[original as usize] = slot as u32;
+        }
         let nodes = bvh2
             .nodes
             .iter()
@@ -76,7 +111,11 @@ impl Bvh {
                 count: n.prim_count,
             })
             .collect();
-        let order = bvh2.primitive_indices.clone();
+        let bvh2_leaf_triangles = bvh2
+            .primitive_indices
+            .iter()
+            .map(|&original| stored_at[original as usize])
+            .collect();
         let triangles = order
             .iter()
             .map(|&i| {
@@ -92,15 +131,50 @@ impl Bvh {
             })
             .collect();
         Bvh {
+            cwbvh,
             nodes,
+            bvh2_leaf_triangles,
             triangles,
             order,
+            cwbvh_build_time,
+            bvh2_build_time,
         }
     }
 
-    /// Closest hit along `origin + t·dir`, t in (0, t_max).
+    /// Closest hit along `origin + t·dir`, t in (0, t_max), by the CWBVH.
     #[inline]
     pub fn intersect(&self, origin: Vec3A, dir: Vec3A, t_max: f32) -> Option<Hit> {
+        if self.triangles.is_empty() {
+            return None;
+        }
+        let ray = obvhs::ray::Ray::new(origin, dir, 0.0, t_max);
+        let mut hit = obvhs::ray::RayHit::none();
+        let mut best = Hit {
+            t: t_max,
+            triangle: u32::MAX,
+            u: 0.0,
+            v: 0.0,
+        };
+        self.cwbvh.ray_traverse(ray, &mut hit, |r, slot| {
+            match intersect_triangle(&self.triangles[slot], origin, dir) {
+                Some((t, u, v)) if t < r.tmax && t < best.t => {
+                    best = Hit {
+                        t,
+                        triangle: slot as u32,
+                        u,
+                        v,
+                    };
+                    t
+                }
+                _ => f32::INFINITY,
+            }
+        });
+        (best.triangle != u32::MAX).then_some(best)
+    }
+
+    /// Closest hit by the BVH2 in the GPU layout: the same stack traversal
+    /// as the WGSL kernel (nearer child first).
+    pub fn intersect_bvh2(&self, origin: Vec3A, dir: Vec3A, t_max: f32) -> Option<Hit> {
         if self.nodes.is_empty() || self.triangles.is_empty() {
             return None;
         }
@@ -120,7 +194,8 @@ impl Bvh {
         loop {
             let n = &self.nodes[node as usize];
             if n.count > 0 {
-                for i in n.first..n.first + n.count {
+                for slot in n.first..n.first + n.count {
+                    let i = self.bvh2_leaf_triangles[slot as usize];
                     if let Some((t, u, v)) =
                         intersect_triangle(&self.triangles[i as usize], origin, dir)
                         && t < best.t
