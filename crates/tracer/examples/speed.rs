@@ -10,5 +10,12 @@ fn main() {
     let start = std::time::Instant::now();
     let tally = lucerna_tracer::trace_batch(&p, &s, 0, 0, n);
     let secs = start.elapsed().as_secs_f64();
-    println!("{} tris, bvh {:?}: {:.2} M photons/s, {:.2} M rays/s, {:.2} bounces", p.triangle_count(), p.bvh_build_time, n as f64 / secs / 1e6, tally.rays as f64 / secs / 1e6, tally.bounces as f64 / n as f64);
+    println!(
+        "{} tris, bvh {:?}: {:.2} M photons/s, {:.2} M rays/s, {:.2} bounces",
+        p.triangle_count(),
+        p.bvh_build_time,
+        n as f64 / secs / 1e6,
+        tally.rays as f64 / secs / 1e6,
+        tally.bounces as f64 / n as f64
+    );
 }

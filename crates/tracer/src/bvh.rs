@@ -6,6 +6,10 @@
 //!
 //! Triangles are stored once, in the CWBVH's leaf order; BVH2 leaves reach
 //! them through `bvh2_leaf_triangles`.
+//!
+//! Geometry is stored scaled so the luminaire is about [`BVH_EXTENT`] units
+//! across: obvhs' CWBVH culls boxes closer than 1e-4 units, which in metres
+//! would lose hits within 0.1 mm of a ray's origin (creases, thin gaps).
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec3, Vec3A};
@@ -36,8 +40,13 @@ pub struct BvhTriangle {
 }
 const _: () = assert!(std::mem::size_of::<BvhTriangle>() == 48);
 
+/// Size of the luminaire in BVH units.
+pub const BVH_EXTENT: f32 = 1000.0;
+
 #[derive(Debug, Clone)]
 pub struct Bvh {
+    /// BVH units per metre.
+    pub scale: f32,
     /// CWBVH for CPU traversal.
     pub cwbvh: obvhs::cwbvh::CwBvh,
     /// BVH2 nodes for the GPU (leaves index `bvh2_leaf_triangles`).
@@ -67,6 +76,17 @@ impl Bvh {
     /// splits; corners in luminaire coordinates (m).
     pub fn build(corners: &[[Vec3; 3]]) -> Bvh {
         use std::time::Instant;
+        let (lo, hi) = corners.iter().flatten().fold(
+            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        let extent = (hi - lo).max_element();
+        let scale = if extent.is_finite() && extent > 0.0 {
+            BVH_EXTENT / extent
+        } else {
+            1.0
+        };
+        let corners: Vec<[Vec3; 3]> = corners.iter().map(|c| c.map(|p| p * scale)).collect();
         let tris: Vec<obvhs::triangle::Triangle> = corners
             .iter()
             .map(|c| obvhs::triangle::Triangle {
@@ -83,18 +103,10 @@ impl Bvh {
             ..obvhs::BvhBuildParams::very_slow_build()
         };
         let start = Instant::now();
-        let cwbvh = obvhs::cwbvh::builder::build_cwbvh_from_tris(
-            &tris,
-            params,
-            &mut core,
-        );
+        let cwbvh = obvhs::cwbvh::builder::build_cwbvh_from_tris(&tris, params, &mut core);
         let cwbvh_build_time = start.elapsed();
         let start = Instant::now();
-        let bvh2 = obvhs::bvh2::builder::build_bvh2_from_tris(
-            &tris,
-            params,
-            &mut core,
-        );
+        let bvh2 = obvhs::bvh2::builder::build_bvh2_from_tris(&tris, params, &mut core);
         let bvh2_build_time = start.elapsed();
         let order = cwbvh.primitive_indices.clone();
         let mut stored_at = vec![0u32; corners.len()];
@@ -131,6 +143,7 @@ impl Bvh {
             })
             .collect();
         Bvh {
+            scale,
             cwbvh,
             nodes,
             bvh2_leaf_triangles,
@@ -141,12 +154,15 @@ impl Bvh {
         }
     }
 
-    /// Closest hit along `origin + t·dir`, t in (0, t_max), by the CWBVH.
+    /// Closest hit along `origin + t·dir` (metres, unit `dir`), t in
+    /// (0, t_max), by the CWBVH.
     #[inline]
     pub fn intersect(&self, origin: Vec3A, dir: Vec3A, t_max: f32) -> Option<Hit> {
         if self.triangles.is_empty() {
             return None;
         }
+        let origin = origin * self.scale;
+        let t_max = t_max * self.scale;
         let ray = obvhs::ray::Ray::new(origin, dir, 0.0, t_max);
         let mut hit = obvhs::ray::RayHit::none();
         let mut best = Hit {
@@ -169,7 +185,10 @@ impl Bvh {
                 _ => f32::INFINITY,
             }
         });
-        (best.triangle != u32::MAX).then_some(best)
+        (best.triangle != u32::MAX).then_some(Hit {
+            t: best.t / self.scale,
+            ..best
+        })
     }
 
     /// Closest hit by the BVH2 in the GPU layout: the same stack traversal
@@ -178,6 +197,8 @@ impl Bvh {
         if self.nodes.is_empty() || self.triangles.is_empty() {
             return None;
         }
+        let origin = origin * self.scale;
+        let t_max = t_max * self.scale;
         let inv = dir.recip();
         let mut best = Hit {
             t: t_max,
@@ -239,7 +260,10 @@ impl Bvh {
             top -= 1;
             node = stack[top];
         }
-        (best.triangle != u32::MAX).then_some(best)
+        (best.triangle != u32::MAX).then_some(Hit {
+            t: best.t / self.scale,
+            ..best
+        })
     }
 }
 

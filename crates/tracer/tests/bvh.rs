@@ -11,7 +11,11 @@ use lucerna_tracer::rng::PhotonRng;
 #[test]
 fn both_hierarchies_agree_with_brute_force() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/luminaires");
-    for name in ["faceted_downlight.toml", "linear_louvre.toml", "obj_cone.toml"] {
+    for name in [
+        "faceted_downlight.toml",
+        "linear_louvre.toml",
+        "obj_cone.toml",
+    ] {
         let scene = lucerna_scene::load_scene(&dir.join(name)).unwrap();
         let t = lucerna_scene::tessellate(&scene, &dir).unwrap();
         let p = lucerna_tracer::PreparedScene::new(&scene, &t, &dir).unwrap();
@@ -19,26 +23,50 @@ fn both_hierarchies_agree_with_brute_force() {
         let mut rng = PhotonRng::new(1, 2, 3);
         let mut hits = 0;
         for _ in 0..3000 {
-            let o = Vec3A::new(rng.next_f32() - 0.5, rng.next_f32() - 0.5, rng.next_f32() - 0.5) * 0.1;
-            let d = Vec3A::new(rng.next_f32() - 0.5, rng.next_f32() - 0.5, rng.next_f32() - 0.5).normalize();
+            let o = Vec3A::new(
+                rng.next_f32() - 0.5,
+                rng.next_f32() - 0.5,
+                rng.next_f32() - 0.5,
+            ) * 0.1;
+            let d = Vec3A::new(
+                rng.next_f32() - 0.5,
+                rng.next_f32() - 0.5,
+                rng.next_f32() - 0.5,
+            )
+            .normalize();
             let brute = bvh
                 .triangles
                 .iter()
                 .enumerate()
-                .filter_map(|(i, tri)| intersect_triangle(tri, o, d).map(|h| (h.0, i as u32)))
+                .filter_map(|(i, tri)| {
+                    intersect_triangle(tri, o * bvh.scale, d).map(|h| (h.0 / bvh.scale, i as u32))
+                })
                 .min_by(|a, b| a.0.total_cmp(&b.0));
-            let cw = bvh.intersect(o, d, f32::INFINITY).map(|h| (h.t, h.triangle));
-            let b2 = bvh.intersect_bvh2(o, d, f32::INFINITY).map(|h| (h.t, h.triangle));
+            let cw = bvh
+                .intersect(o, d, f32::INFINITY)
+                .map(|h| (h.t, h.triangle));
+            let b2 = bvh
+                .intersect_bvh2(o, d, f32::INFINITY)
+                .map(|h| (h.t, h.triangle));
             // Same distance (coincident triangles may tie on the index).
             let same = |a: Option<(f32, u32)>, b: Option<(f32, u32)>| match (a, b) {
                 (Some(a), Some(b)) => (a.0 - b.0).abs() <= 1e-6 * b.0.max(1e-3),
                 (None, None) => true,
                 _ => false,
             };
-            assert!(same(cw, brute), "{name}: CWBVH {cw:?} vs brute force {brute:?}");
-            assert!(same(b2, brute), "{name}: BVH2 {b2:?} vs brute force {brute:?}");
+            assert!(
+                same(cw, brute),
+                "{name}: CWBVH {cw:?} vs brute force {brute:?}"
+            );
+            assert!(
+                same(b2, brute),
+                "{name}: BVH2 {b2:?} vs brute force {brute:?}"
+            );
             hits += usize::from(brute.is_some());
         }
-        assert!(hits > 300, "{name}: the test rays must hit something ({hits})");
+        assert!(
+            hits > 300,
+            "{name}: the test rays must hit something ({hits})"
+        );
     }
 }
