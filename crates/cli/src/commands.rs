@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 
+mod bake;
 mod convert;
 mod info;
 mod validate;
@@ -38,6 +39,9 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Trace a luminaire and write IES (LM-63-2019), LDT, the raw map as
+    /// EXR, a false-colour cube map PNG and a polar diagram PNG.
+    Bake(bake::BakeArgs),
     /// Convert between IES (LM-63-2002, LM-63-2019) and EULUMDAT, keeping
     /// the metadata both formats hold.
     Convert {
@@ -67,6 +71,23 @@ pub fn run(cli: Cli) -> Result<()> {
                 println!("{}", serde_json::to_string_pretty(&report)?);
             } else {
                 print!("{report}");
+            }
+            Ok(())
+        }
+        Command::Bake(args) => {
+            let summary = bake::bake(&args)
+                .with_context(|| format!("bake of {} failed", args.scene.display()))?;
+            if summary.interrupted {
+                println!("interrupted: writing what was traced");
+            }
+            println!(
+                "{} photons in {:.1} s ({:.2} M photons/s)",
+                summary.photons,
+                summary.seconds,
+                summary.photons as f64 / summary.seconds.max(1e-9) / 1e6
+            );
+            for f in &summary.files {
+                println!("wrote {}", f.display());
             }
             Ok(())
         }

@@ -168,3 +168,108 @@ fn convert_of_a_bad_file_fails_and_writes_nothing() {
     let out = lucerna(&["convert", good.to_str().unwrap(), odd.to_str().unwrap()]);
     assert!(!out.status.success() && !odd.exists());
 }
+
+#[test]
+fn bake_writes_every_output_and_the_files_read_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = assets().join("luminaires/parabolic_spot.toml");
+    let out = lucerna(&[
+        "bake",
+        scene.to_str().unwrap(),
+        "--photons",
+        "200000",
+        "--resolution",
+        "64",
+        "--backend",
+        "cpu",
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    for name in [
+        "parabolic_spot.ies",
+        "parabolic_spot.ldt",
+        "parabolic_spot.exr",
+        "parabolic_spot_cube.png",
+        "parabolic_spot_polar.png",
+    ] {
+        let path = dir.path().join(name);
+        assert!(
+            std::fs::metadata(&path)
+                .map(|m| m.len() > 100)
+                .unwrap_or(false),
+            "{name} missing or empty"
+        );
+    }
+    let ies = std::fs::read_to_string(dir.path().join("parabolic_spot.ies")).unwrap();
+    assert!(ies.starts_with("IES:LM-63-2019"));
+    assert!(ies.contains("[FILEGENINFO]") && ies.contains("200000 photons"));
+    assert!(
+        ies.lines().any(|l| l.ends_with(" 1.00010 0")),
+        "file-generation type: computer simulation"
+    );
+    // Mirror R = 0.9, one bounce: 90 % of 800 lm leaves, within noise.
+    for file in ["parabolic_spot.ies", "parabolic_spot.ldt"] {
+        let (flux, peak) = figures(&dir.path().join(file));
+        assert!((flux - 720.0).abs() < 0.02 * 720.0, "{file}: {flux} lm");
+        assert!(
+            peak > 50_000.0,
+            "{file}: a spot has a high peak, got {peak} cd"
+        );
+    }
+}
+
+#[test]
+fn bake_is_deterministic_for_a_seed() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = assets().join("luminaires/opal_bell.toml");
+    let bake = |sub: &str, seed: &str| {
+        let out_dir = dir.path().join(sub);
+        let out = lucerna(&[
+            "bake",
+            scene.to_str().unwrap(),
+            "--photons",
+            "50000",
+            "--resolution",
+            "32",
+            "--seed",
+            seed,
+            "--out",
+            out_dir.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        std::fs::read_to_string(out_dir.join("opal_bell.ldt")).unwrap()
+    };
+    // The date is in the file; compare the intensity lines only.
+    let tail = |s: String| s.lines().skip(60).collect::<Vec<_>>().join("\n");
+    assert_eq!(tail(bake("a", "3")), tail(bake("b", "3")));
+    assert_ne!(tail(bake("c", "3")), tail(bake("d", "4")));
+}
+
+#[test]
+fn bake_refuses_absurd_parameters_clearly() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = assets().join("luminaires/opal_bell.toml");
+    for (flag, value, expected) in [
+        ("--resolution", "100000", "--resolution"),
+        ("--photons", "0", "--photons"),
+        ("--time", "3 fortnights", "unit"),
+        ("--rel-error", "5", "--rel-error"),
+        ("--c-step", "7", "--c-step"),
+    ] {
+        let out = lucerna(&[
+            "bake",
+            scene.to_str().unwrap(),
+            flag,
+            value,
+            "--out",
+            dir.path().to_str().unwrap(),
+        ]);
+        assert!(!out.status.success(), "{flag} {value} accepted");
+        assert!(
+            text(&out.stderr).contains(expected),
+            "{flag} {value}: {}",
+            text(&out.stderr)
+        );
+    }
+}

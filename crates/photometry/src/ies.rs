@@ -522,8 +522,9 @@ pub fn write_ies(p: &Photometry, version: IesVersion) -> String {
         second,
         format_number(m.input_watts, 6)
     ));
-    number_lines(gammas.iter().copied(), 6, &mut out);
-    number_lines(horizontal.iter().copied(), 6, &mut out);
+    // Angles keep 8 significant digits: fine grids (0.3125°) stay exact.
+    number_lines(gammas.iter().copied(), 8, &mut out);
+    number_lines(horizontal.iter().copied(), 8, &mut out);
     for &c in &horizontal {
         number_lines(gammas.iter().map(|&g| p.table.intensity(c, g)), 6, &mut out);
     }

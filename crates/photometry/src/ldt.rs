@@ -328,9 +328,9 @@ pub fn write_ldt(p: &Photometry) -> String {
             .to_string(),
         isym.to_string(),
         mc.to_string(),
-        format_number(if uniform_c { step } else { 0.0 }, 6),
+        format_number(if uniform_c { step } else { 0.0 }, 8),
         g.len().to_string(),
-        format_number(if uniform_g { g_step } else { 0.0 }, 6),
+        format_number(if uniform_g { g_step } else { 0.0 }, 8),
         text(&m.test_report),
         text(&m.luminaire),
         text(&m.catalog_number),
@@ -362,8 +362,8 @@ pub fn write_ldt(p: &Photometry) -> String {
     // Direct ratios for room indices 0.6–5 are a utilisation-factor
     // computation not done here; 0 marks them as not given.
     lines.extend(std::iter::repeat_n("0".to_owned(), 10));
-    lines.extend(c_list.iter().map(|&c| format_number(c, 6)));
-    lines.extend(g.iter().map(|&x| format_number(x, 6)));
+    lines.extend(c_list.iter().map(|&c| format_number(c, 8)));
+    lines.extend(g.iter().map(|&x| format_number(x, 8)));
     let (mc1, mc2) = stored_range(isym, mc);
     for k in mc1..=mc2 {
         let c = c_list[(k - 1) % mc];

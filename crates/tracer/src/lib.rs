@@ -5,6 +5,7 @@
 
 pub mod bvh;
 pub mod cpu;
+pub mod export;
 pub mod prepared;
 pub mod rng;
 pub mod sampling;

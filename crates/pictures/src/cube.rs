@@ -1,0 +1,80 @@
+//! The intensity map as a false-colour unwrapped cube with a legend in cd.
+
+use lucerna_photometry::{CubeFace, CubeMapLayout};
+
+use crate::canvas::{BLACK, Canvas, WHITE, false_colour, label};
+
+/// Face positions in the cross (column, row), each face drawn with its own
+/// (u, v) axes (u right, v down), as the cube texture stores it.
+const CROSS: [(CubeFace, u32, u32, &str); 6] = [
+    (CubeFace::PosY, 1, 0, "+Y"),
+    (CubeFace::NegX, 0, 1, "-X"),
+    (CubeFace::PosZ, 1, 1, "+Z up"),
+    (CubeFace::PosX, 2, 1, "+X"),
+    (CubeFace::NegZ, 3, 1, "-Z nadir"),
+    (CubeFace::NegY, 1, 2, "-Y"),
+];
+
+/// Decades shown below the peak: stray light a thousand times dimmer than
+/// the beam still shows.
+const DECADES: f64 = 3.0;
+
+/// Position on the logarithmic colour scale of `v` for a map peaking at
+/// `peak`.
+fn log_scale(v: f64, peak: f64) -> f32 {
+    if v <= 0.0 || peak <= 0.0 {
+        0.0
+    } else {
+        ((v / peak).log10() / DECADES + 1.0).clamp(0.0, 1.0) as f32
+    }
+}
+
+/// PNG of the candela map (`candela_per_texel` in texel order), faces
+/// `face_px` pixels wide, on a logarithmic colour scale over three decades
+/// below the peak, with its legend in cd.
+pub fn cube_map_png(
+    layout: CubeMapLayout,
+    candela_per_texel: &[f64],
+    face_px: u32,
+    title: &str,
+) -> Result<Vec<u8>, image::ImageError> {
+    let peak = candela_per_texel.iter().copied().fold(0.0, f64::max);
+    let margin = 24u32;
+    let legend_w = 150u32;
+    let width = 4 * face_px + 2 * margin + legend_w;
+    let height = 3 * face_px + 2 * margin + 24;
+    let mut c = Canvas::new(width, height, WHITE);
+    c.text(i64::from(margin), 6, title, 2, BLACK);
+    let n = layout.resolution;
+    let top = i64::from(margin) + 16;
+    for (face, col, row, name) in CROSS {
+        let x0 = i64::from(margin + col * face_px);
+        let y0 = top + i64::from(row * face_px);
+        for py in 0..face_px {
+            for px in 0..face_px {
+                let (i, j) = (px * n / face_px, py * n / face_px);
+                let v = candela_per_texel[layout.texel_index(face, i, j)];
+                let colour = false_colour(log_scale(v, peak));
+                c.blend(x0 + i64::from(px), y0 + i64::from(py), colour, 1.0);
+            }
+        }
+        c.text(x0 + 4, y0 + 4, name, 1, WHITE);
+    }
+    // Legend: a vertical colour bar with nice values.
+    let bar_x = i64::from(margin + 4 * face_px + 20);
+    let bar_h = i64::from(3 * face_px) - 20;
+    for y in 0..bar_h {
+        let t = 1.0 - y as f32 / bar_h as f32;
+        c.fill_rect(bar_x, top + y, 24, 1, false_colour(t));
+    }
+    c.text(bar_x, top + bar_h + 6, "cd", 2, BLACK);
+    if peak > 0.0 {
+        for k in 0..=DECADES as i32 {
+            let v = peak / 10f64.powi(k);
+            let y = top + bar_h - (f64::from(log_scale(v, peak)) * bar_h as f64) as i64;
+            c.fill_rect(bar_x + 24, y, 6, 1, BLACK);
+            c.text(bar_x + 34, y - 4, &label(v), 1, BLACK);
+        }
+    }
+    c.png()
+}

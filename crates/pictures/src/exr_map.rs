@@ -1,0 +1,56 @@
+//! The raw intensity map as OpenEXR: one layer of N × 6N texels (faces
+//! stacked +X, −X, +Y, −Y, +Z, −Z from the top), channels `candela` (f32)
+//! and `count` (u32, where every count fits), with the bake's bookkeeping
+//! as header attributes.
+
+use exr::prelude::*;
+use lucerna_photometry::IntensityMap;
+
+#[derive(Debug, thiserror::Error)]
+#[error("cannot encode the intensity map as EXR")]
+pub struct ExrError(#[from] exr::error::Error);
+
+/// EXR bytes of `map`; `extra` attributes (name, text) are added as given
+/// (seed, scene name, date).
+pub fn intensity_map_exr(
+    map: &IntensityMap,
+    extra: &[(&str, String)],
+) -> std::result::Result<Vec<u8>, ExrError> {
+    let n = map.layout.resolution as usize;
+    let size = (n, 6 * n);
+    let candela: Vec<f32> = map.candela().iter().map(|&v| v as f32).collect();
+    let mut channels = smallvec::SmallVec::<[AnyChannel<FlatSamples>; 4]>::new();
+    channels.push(AnyChannel::new("candela", FlatSamples::F32(candela)));
+    if map.counts.iter().all(|&c| c <= u64::from(u32::MAX)) {
+        let counts = map.counts.iter().map(|&c| c as u32).collect();
+        channels.push(AnyChannel::new("count", FlatSamples::U32(counts)));
+    }
+    let mut attributes = LayerAttributes::named("intensity");
+    let mut put = |k: &str, v: String| {
+        attributes
+            .other
+            .insert(Text::from(k), AttributeValue::Text(Text::from(v.as_str())));
+    };
+    put("lucernaPhotonsEmitted", map.photons_emitted.to_string());
+    put("lucernaPhotonsAbsorbed", map.photons_absorbed.to_string());
+    put("lucernaPhotonsCutOff", map.photons_cut_off.to_string());
+    put("lucernaEmitterFluxLm", map.emitter_flux_lm.to_string());
+    put(
+        "lucernaFaceOrder",
+        "+X -X +Y -Y +Z -Z, each N rows from the top".to_owned(),
+    );
+    for (k, v) in extra {
+        put(k, v.clone());
+    }
+    let layer = Layer::new(
+        size,
+        attributes,
+        Encoding::SMALL_LOSSLESS,
+        AnyChannels::sort(channels),
+    );
+    let mut bytes = Vec::new();
+    Image::from_layer(layer)
+        .write()
+        .to_buffered(std::io::Cursor::new(&mut bytes))?;
+    Ok(bytes)
+}

@@ -1,0 +1,11 @@
+//! Pictures of photometry: false-colour cube maps and polar diagrams as
+//! PNG, the raw intensity map as EXR. No GPU.
+
+pub mod canvas;
+pub mod cube;
+pub mod exr_map;
+pub mod polar;
+
+pub use cube::cube_map_png;
+pub use exr_map::{ExrError, intensity_map_exr};
+pub use polar::polar_png;
