@@ -44,7 +44,12 @@ pub fn cube_map_png(
     let width = 4 * face_px + 2 * margin + legend_w;
     let height = 3 * face_px + 2 * margin + 24;
     let mut c = Canvas::new(width, height, WHITE);
-    c.text(i64::from(margin), 6, title, 2, BLACK);
+    let scale = if Canvas::text_width(title, 2) + i64::from(margin) > i64::from(width) {
+        1
+    } else {
+        2
+    };
+    c.text(i64::from(margin), 6, title, scale, BLACK);
     let n = layout.resolution;
     let top = i64::from(margin) + 16;
     for (face, col, row, name) in CROSS {

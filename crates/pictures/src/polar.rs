@@ -93,7 +93,12 @@ pub fn polar_png(
             .collect();
         c.polyline(&pts, 2.0, colour);
     }
-    c.text(8, 6, title, 2, BLACK);
+    let scale = if Canvas::text_width(title, 2) + 16 > i64::from(size) {
+        1
+    } else {
+        2
+    };
+    c.text(8, 6, title, scale, BLACK);
     let y = (size + 20) as i64;
     c.fill_rect(8, y + 3, 20, 3, C0_C180);
     c.text(32, y, "C0-C180", 1, BLACK);

@@ -209,9 +209,7 @@ impl Bvh {
         let mut stack = [0u32; 64];
         let mut top = 0usize;
         let mut node = 0u32;
-        if slab(&self.nodes[0], origin, inv, best.t).is_none() {
-            return None;
-        }
+        slab(&self.nodes[0], origin, inv, best.t)?;
         loop {
             let n = &self.nodes[node as usize];
             if n.count > 0 {
