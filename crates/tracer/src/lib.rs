@@ -6,6 +6,7 @@
 pub mod bvh;
 pub mod cpu;
 pub mod export;
+pub mod gpu;
 pub mod prepared;
 pub mod rng;
 pub mod sampling;

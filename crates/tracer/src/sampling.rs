@@ -147,6 +147,18 @@ impl ProfileSampler {
         })
     }
 
+    /// The sampler as the WGSL kernel reads it: C bounds (2 per plane),
+    /// cos γ bounds (2 per angle), CDF (planes × angles).
+    pub fn packed(&self) -> (u32, u32, Vec<f32>) {
+        let mut v = Vec::with_capacity(
+            2 * self.c_bounds.len() + 2 * self.cos_bounds.len() + self.cdf.len(),
+        );
+        v.extend(self.c_bounds.iter().flat_map(|&(a, b)| [a, b]));
+        v.extend(self.cos_bounds.iter().flat_map(|&(a, b)| [a, b]));
+        v.extend_from_slice(&self.cdf);
+        (self.c_bounds.len() as u32, self.cos_bounds.len() as u32, v)
+    }
+
     /// Number of cells (for tests binning samples by cell).
     pub fn cell_count(&self) -> usize {
         self.cdf.len()

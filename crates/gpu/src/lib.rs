@@ -1,0 +1,114 @@
+//! GPU access for Lucerna's kernels: adapter and device selection, and the
+//! WGSL shaders composed from `shaders/`.
+
+pub mod shaders;
+
+/// A device ready for compute, with what it is.
+#[derive(Debug, Clone)]
+pub struct GpuContext {
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub info: wgpu::AdapterInfo,
+    pub limits: wgpu::Limits,
+}
+
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum GpuError {
+    #[error("no GPU adapter is available ({0})")]
+    NoAdapter(String),
+    #[error("the adapter '{adapter}' refused a device")]
+    Device {
+        adapter: String,
+        #[source]
+        source: wgpu::RequestDeviceError,
+    },
+    #[error(
+        "the adapter '{adapter}' has {got} storage buffers per shader stage; the tracer needs {needed}"
+    )]
+    Limits {
+        adapter: String,
+        got: u32,
+        needed: u32,
+    },
+    #[error("GPU work failed: {0}")]
+    Failed(String),
+}
+
+impl GpuContext {
+    /// Whether the adapter runs on the CPU (llvmpipe, lavapipe, WARP).
+    pub fn is_software(&self) -> bool {
+        self.info.device_type == wgpu::DeviceType::Cpu
+    }
+
+    /// One line naming the adapter and backend.
+    pub fn describe(&self) -> String {
+        format!(
+            "{} ({:?}, {:?})",
+            self.info.name, self.info.backend, self.info.device_type
+        )
+    }
+}
+
+/// Storage buffers the photon-tracing kernel binds.
+pub const TRACER_STORAGE_BUFFERS: u32 = 9;
+
+/// Opens the preferred adapter (`WGPU_BACKEND=vulkan|gl|...` honoured) and
+/// requests a device with the adapter's own limits: the defaults give a GL
+/// adapter no storage buffers at all.
+pub fn open() -> Result<GpuContext, GpuError> {
+    let instance =
+        wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+        power_preference: wgpu::PowerPreference::HighPerformance,
+        ..Default::default()
+    }))
+    .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
+    let info = adapter.get_info();
+    let limits = adapter.limits();
+    if limits.max_storage_buffers_per_shader_stage < TRACER_STORAGE_BUFFERS {
+        return Err(GpuError::Limits {
+            adapter: info.name.clone(),
+            got: limits.max_storage_buffers_per_shader_stage,
+            needed: TRACER_STORAGE_BUFFERS,
+        });
+    }
+    let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+        label: Some("lucerna compute"),
+        required_features: wgpu::Features::empty(),
+        required_limits: limits.clone(),
+        ..Default::default()
+    }))
+    .map_err(|source| GpuError::Device {
+        adapter: info.name.clone(),
+        source,
+    })?;
+    Ok(GpuContext {
+        device,
+        queue,
+        info,
+        limits,
+    })
+}
+
+/// Reads a buffer back to the CPU (blocking).
+pub fn read_buffer(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+    let slice = buffer.slice(..);
+    let (sender, receiver) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = sender.send(r);
+    });
+    ctx.device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| GpuError::Failed(e.to_string()))?;
+    receiver
+        .recv()
+        .map_err(|e| GpuError::Failed(e.to_string()))?
+        .map_err(|e| GpuError::Failed(e.to_string()))?;
+    let bytes = slice
+        .get_mapped_range()
+        .map_err(|e| GpuError::Failed(e.to_string()))?
+        .to_vec();
+    buffer.unmap();
+    Ok(bytes)
+}

@@ -1,0 +1,34 @@
+// Cube-map layout, the WGSL twin of crates/photometry/src/cubemap.rs.
+// Faces +X, -X, +Y, -Y, +Z, -Z with the WebGPU face (u, v); texel index =
+// face * N * N + row * N + column. The major axis is the largest |component|,
+// ties going to x, then y (as in Rust).
+
+// Face and face coordinates (a, b) in [-1, 1] of a non-zero direction.
+fn cube_face_coordinates(d: vec3<f32>) -> vec3<f32> {
+    let ad = abs(d);
+    if ad.x >= ad.y && ad.x >= ad.z {
+        if d.x >= 0.0 {
+            return vec3<f32>(0.0, -d.z / ad.x, -d.y / ad.x);
+        }
+        return vec3<f32>(1.0, d.z / ad.x, -d.y / ad.x);
+    }
+    if ad.y >= ad.z {
+        if d.y >= 0.0 {
+            return vec3<f32>(2.0, d.x / ad.y, d.z / ad.y);
+        }
+        return vec3<f32>(3.0, d.x / ad.y, -d.z / ad.y);
+    }
+    if d.z >= 0.0 {
+        return vec3<f32>(4.0, d.x / ad.z, -d.y / ad.z);
+    }
+    return vec3<f32>(5.0, -d.x / ad.z, -d.y / ad.z);
+}
+
+// Texel index of direction d on a cube map of `resolution` texels per edge.
+fn cube_texel_of_direction(d: vec3<f32>, resolution: u32) -> u32 {
+    let fab = cube_face_coordinates(d);
+    let n = f32(resolution);
+    let column = u32(clamp(floor((fab.y + 1.0) * 0.5 * n), 0.0, n - 1.0));
+    let row = u32(clamp(floor((fab.z + 1.0) * 0.5 * n), 0.0, n - 1.0));
+    return u32(fab.x) * resolution * resolution + row * resolution + column;
+}
