@@ -14,4 +14,4 @@ pub mod session;
 
 pub use cpu::{Fate, Tally, TraceSettings, trace_batch};
 pub use prepared::{PrepareError, PreparedScene};
-pub use session::{IterationReport, Session};
+pub use session::{Backend, BackendRequest, IterationReport, Session, choose_backend};

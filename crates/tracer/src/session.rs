@@ -4,10 +4,138 @@
 
 use std::time::{Duration, Instant};
 
+use lucerna_gpu::{GpuContext, GpuError};
 use lucerna_photometry::IntensityMap;
 
-use crate::cpu::{TraceSettings, trace_batch};
+use crate::cpu::{Tally, TraceSettings, trace_batch};
+use crate::gpu::GpuTracer;
 use crate::prepared::PreparedScene;
+
+/// Which tracer a session runs.
+#[derive(Debug)]
+pub enum Backend {
+    /// The native CPU tracer (rayon).
+    Cpu,
+    /// The WGSL kernel on a GPU adapter (hardware or software).
+    Gpu(Box<GpuTracer>),
+}
+
+impl Backend {
+    pub fn describe(&self) -> String {
+        match self {
+            Backend::Cpu => format!("CPU tracer ({} threads)", rayon::current_num_threads()),
+            Backend::Gpu(g) => format!("WGSL kernel on {}", g.context().describe()),
+        }
+    }
+
+    fn trace(
+        &self,
+        scene: &PreparedScene,
+        settings: &TraceSettings,
+        iteration: u32,
+        count: u32,
+    ) -> Result<Tally, GpuError> {
+        match self {
+            Backend::Cpu => Ok(trace_batch(scene, settings, iteration, 0, count)),
+            Backend::Gpu(g) => g.trace_batch(iteration, 0, count),
+        }
+    }
+}
+
+/// What the caller asks for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BackendRequest {
+    Cpu,
+    Gpu,
+    /// A hardware GPU if there is one; otherwise whichever of the software
+    /// adapter and the CPU tracer is faster on this scene, measured.
+    Auto,
+}
+
+/// Photons/s of each candidate, and why the choice fell as it did.
+#[derive(Debug, Clone)]
+pub struct BackendChoice {
+    pub reason: String,
+}
+
+/// Photons per second of a backend on `scene`, over one warm-up and one
+/// timed batch of `photons`.
+pub fn measure(
+    backend: &Backend,
+    scene: &PreparedScene,
+    settings: &TraceSettings,
+    photons: u32,
+) -> Result<f64, GpuError> {
+    backend.trace(scene, settings, u32::MAX, photons.min(4096))?;
+    let start = Instant::now();
+    backend.trace(scene, settings, u32::MAX - 1, photons)?;
+    Ok(f64::from(photons) / start.elapsed().as_secs_f64().max(1e-9))
+}
+
+/// Opens the backend a request names. `Auto` never fails for want of an
+/// adapter: it falls back to the CPU tracer.
+pub fn choose_backend(
+    request: BackendRequest,
+    scene: &PreparedScene,
+    settings: &TraceSettings,
+) -> Result<(Backend, BackendChoice), GpuError> {
+    let gpu =
+        |ctx: GpuContext| GpuTracer::new(ctx, scene, *settings).map(|g| Backend::Gpu(Box::new(g)));
+    match request {
+        BackendRequest::Cpu => Ok((
+            Backend::Cpu,
+            BackendChoice {
+                reason: "requested".to_owned(),
+            },
+        )),
+        BackendRequest::Gpu => {
+            let backend = gpu(lucerna_gpu::open()?)?;
+            Ok((
+                backend,
+                BackendChoice {
+                    reason: "requested".to_owned(),
+                },
+            ))
+        }
+        BackendRequest::Auto => {
+            let ctx = match lucerna_gpu::open() {
+                Ok(ctx) => ctx,
+                Err(e) => {
+                    return Ok((
+                        Backend::Cpu,
+                        BackendChoice {
+                            reason: format!("no usable GPU adapter ({e})"),
+                        },
+                    ));
+                }
+            };
+            if !ctx.is_software() {
+                let name = ctx.describe();
+                return Ok((
+                    gpu(ctx)?,
+                    BackendChoice {
+                        reason: format!("hardware adapter {name}"),
+                    },
+                ));
+            }
+            let name = ctx.describe();
+            let software = gpu(ctx)?;
+            let probe = 20_000;
+            let gpu_rate = measure(&software, scene, settings, probe)?;
+            let cpu_rate = measure(&Backend::Cpu, scene, settings, probe)?;
+            let reason = format!(
+                "software adapter {name}: {:.2} M photons/s, CPU tracer {:.2} M photons/s on this scene",
+                gpu_rate / 1e6,
+                cpu_rate / 1e6
+            );
+            if gpu_rate > cpu_rate {
+                Ok((software, BackendChoice { reason }))
+            } else {
+                Ok((Backend::Cpu, BackendChoice { reason }))
+            }
+        }
+    }
+}
 
 /// What one iteration did, and where the bake stands.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -29,6 +157,7 @@ pub struct IterationReport {
 
 #[derive(Debug)]
 pub struct Session {
+    backend: Backend,
     scene: PreparedScene,
     settings: TraceSettings,
     map: IntensityMap,
@@ -43,9 +172,19 @@ pub struct Session {
 }
 
 impl Session {
+    /// A session on the CPU tracer.
     pub fn start(scene: PreparedScene, settings: TraceSettings) -> Session {
+        Session::with_backend(scene, settings, Backend::Cpu)
+    }
+
+    pub fn with_backend(
+        scene: PreparedScene,
+        settings: TraceSettings,
+        backend: Backend,
+    ) -> Session {
         let map = IntensityMap::new(settings.layout, scene.total_flux_lm);
         Session {
+            backend,
             scene,
             settings,
             map,
@@ -58,11 +197,23 @@ impl Session {
         }
     }
 
-    /// Drops everything traced and starts over on a changed scene.
+    /// Drops everything traced and starts over on a changed scene (on the
+    /// CPU tracer; a GPU backend must be re-created for the new buffers).
     pub fn restart(&mut self, scene: PreparedScene) {
         let target = self.target_iteration_time;
         *self = Session::start(scene, self.settings);
         self.target_iteration_time = target;
+    }
+
+    /// Starts over on a changed scene with a new backend.
+    pub fn restart_with(&mut self, scene: PreparedScene, backend: Backend) {
+        let target = self.target_iteration_time;
+        *self = Session::with_backend(scene, self.settings, backend);
+        self.target_iteration_time = target;
+    }
+
+    pub fn backend(&self) -> &Backend {
+        &self.backend
     }
 
     pub fn scene(&self) -> &PreparedScene {
@@ -84,10 +235,12 @@ impl Session {
 
     /// Traces one iteration of at most `limit` photons, sized to the time
     /// budget.
-    pub fn iterate_at_most(&mut self, limit: u64) -> IterationReport {
+    pub fn iterate_at_most(&mut self, limit: u64) -> Result<IterationReport, GpuError> {
         let photons = u64::from(self.photons_per_iteration).min(limit).max(1) as u32;
         let start = Instant::now();
-        let tally = trace_batch(&self.scene, &self.settings, self.iteration, 0, photons);
+        let tally = self
+            .backend
+            .trace(&self.scene, &self.settings, self.iteration, photons)?;
         let elapsed = start.elapsed();
         self.tracing_time += elapsed;
         for (a, &b) in self.map.counts.iter_mut().zip(&tally.counts) {
@@ -104,11 +257,11 @@ impl Session {
         let scale = (self.target_iteration_time.as_secs_f64() / seconds).clamp(0.25, 4.0);
         self.photons_per_iteration =
             (f64::from(photons) * scale).clamp(1024.0, f64::from(1u32 << 30)) as u32;
-        self.report(photons.into(), elapsed)
+        Ok(self.report(photons.into(), elapsed))
     }
 
     /// Traces one iteration sized to the time budget.
-    pub fn iterate(&mut self) -> IterationReport {
+    pub fn iterate(&mut self) -> Result<IterationReport, GpuError> {
         self.iterate_at_most(u64::MAX)
     }
 

@@ -10,7 +10,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use lucerna_photometry::{CubeMapLayout, IesVersion, Symmetry, to_latin1, write_ies, write_ldt};
 use lucerna_scene::{load_scene, tessellate, write_atomically};
 use lucerna_tracer::export::{ExportOptions, photometry_from_map};
-use lucerna_tracer::{PreparedScene, Session, TraceSettings};
+use lucerna_tracer::{BackendRequest, PreparedScene, Session, TraceSettings, choose_backend};
 
 /// Which tracer runs the bake.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -147,12 +147,6 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
     let dir = args.scene.parent().unwrap_or(Path::new("."));
     let tessellated = tessellate(&scene, dir)?;
     let prepared = PreparedScene::new(&scene, &tessellated, dir)?;
-    match args.backend {
-        Backend::Gpu => {
-            bail!("the GPU kernel is not built yet in this version; use --backend cpu (or auto)")
-        }
-        Backend::Cpu | Backend::Auto => {}
-    }
     let settings = TraceSettings {
         seed: args.seed,
         max_bounces: args.max_bounces,
@@ -172,7 +166,14 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
         // then Ctrl+C simply ends the process.
         let _ = ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst));
     }
-    let mut session = Session::start(prepared, settings);
+    let request = match args.backend {
+        Backend::Gpu => BackendRequest::Gpu,
+        Backend::Cpu => BackendRequest::Cpu,
+        Backend::Auto => BackendRequest::Auto,
+    };
+    let (backend, choice) = choose_backend(request, &prepared, &settings)?;
+    eprintln!("tracing on the {} ({})", backend.describe(), choice.reason);
+    let mut session = Session::with_backend(prepared, settings, backend);
     let bar = match limit {
         Some(n) => ProgressBar::new(n),
         None => ProgressBar::new_spinner(),
@@ -198,7 +199,7 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
             interrupted = true;
             break;
         }
-        let report = session.iterate_at_most(remaining);
+        let report = session.iterate_at_most(remaining)?;
         bar.set_position(report.photons_total);
         bar.set_message(format!(
             "{:.2} M rays/s, {:.2} bounces, peak ±{:.2} %, flux ±{:.3} %",
