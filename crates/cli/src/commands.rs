@@ -6,6 +6,7 @@ use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 
 mod bake;
+mod bench;
 mod convert;
 mod info;
 mod validate;
@@ -42,6 +43,9 @@ enum Command {
     /// Trace a luminaire and write IES (LM-63-2019), LDT, the raw map as
     /// EXR, a false-colour cube map PNG and a polar diagram PNG.
     Bake(bake::BakeArgs),
+    /// Measure photons/s, rays/s and bounces per photon of every example on
+    /// every available backend, and BVH build times.
+    Bench(bench::BenchArgs),
     /// Convert between IES (LM-63-2002, LM-63-2019) and EULUMDAT, keeping
     /// the metadata both formats hold.
     Convert {
@@ -91,6 +95,7 @@ pub fn run(cli: Cli) -> Result<()> {
             }
             Ok(())
         }
+        Command::Bench(args) => bench::bench(&args),
         Command::Convert { input, output, to } => {
             println!("{}", convert::convert(&input, &output, to)?);
             Ok(())

@@ -273,3 +273,29 @@ fn bake_refuses_absurd_parameters_clearly() {
         );
     }
 }
+
+#[test]
+fn bench_measures_every_example_on_the_cpu() {
+    let out = lucerna(&["bench", "--photons", "20000", "--cpu-only"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let report = text(&out.stdout);
+    for name in [
+        "faceted_downlight",
+        "parabolic_spot",
+        "opal_bell",
+        "linear_louvre",
+    ] {
+        let line = report
+            .lines()
+            .find(|l| l.starts_with(name))
+            .unwrap_or_else(|| panic!("{name} missing:\n{report}"));
+        let rate: f64 = line
+            .split_whitespace()
+            .rev()
+            .nth(2)
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert!(rate > 0.0, "{line}");
+    }
+}

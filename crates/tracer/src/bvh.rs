@@ -4,8 +4,9 @@
 //! - a BVH2 flattened into 32-byte nodes for the WGSL kernel, traversed on
 //!   the CPU too by [`Bvh::intersect_bvh2`] so tests check the GPU layout.
 //!
-//! Triangles are stored once, in the CWBVH's leaf order; BVH2 leaves reach
-//! them through `bvh2_leaf_triangles`.
+//! Triangles are stored once, in the scene's order; the leaves of both
+//! hierarchies reach them through slot → triangle tables, so spatial
+//! pre-splits (one triangle in several leaves) cost no duplicate records.
 //!
 //! Geometry is stored scaled so the luminaire is about [`BVH_EXTENT`] units
 //! across: obvhs' CWBVH culls boxes closer than 1e-4 units, which in metres
@@ -47,16 +48,16 @@ pub const BVH_EXTENT: f32 = 1000.0;
 pub struct Bvh {
     /// BVH units per metre.
     pub scale: f32,
-    /// CWBVH for CPU traversal.
+    /// CWBVH for CPU traversal (leaves index `cwbvh_leaf_triangles`).
     pub cwbvh: obvhs::cwbvh::CwBvh,
+    /// For each CWBVH leaf slot, the index into `triangles`.
+    pub cwbvh_leaf_triangles: Vec<u32>,
     /// BVH2 nodes for the GPU (leaves index `bvh2_leaf_triangles`).
     pub nodes: Vec<BvhNode>,
     /// For each BVH2 leaf slot, the index into `triangles`.
     pub bvh2_leaf_triangles: Vec<u32>,
-    /// Triangles in CWBVH leaf order.
+    /// Triangles in the scene's order.
     pub triangles: Vec<BvhTriangle>,
-    /// `order[i]` is the original index of stored triangle i.
-    pub order: Vec<u32>,
     pub cwbvh_build_time: std::time::Duration,
     pub bvh2_build_time: std::time::Duration,
 }
@@ -71,9 +72,9 @@ pub struct Hit {
 }
 
 impl Bvh {
-    /// Builds both hierarchies with obvhs' `very_slow_build` preset (PLOC
-    /// with a wide search, reinsertion, leaf collapse) without spatial
-    /// splits; corners in luminaire coordinates (m).
+    /// Builds both hierarchies with obvhs' `very_slow_build` preset (spatial
+    /// pre-splits, PLOC, full reinsertion, leaf collapse); corners in
+    /// luminaire coordinates (m).
     pub fn build(corners: &[[Vec3; 3]]) -> Bvh {
         use std::time::Instant;
         let (lo, hi) = corners.iter().flatten().fold(
@@ -96,23 +97,13 @@ impl Bvh {
             })
             .collect();
         let mut core = std::time::Duration::ZERO;
-        // Spatial pre-splits would store a triangle more than once; the
-        // kernels index one record per triangle.
-        let params = obvhs::BvhBuildParams {
-            pre_split: false,
-            ..obvhs::BvhBuildParams::very_slow_build()
-        };
+        let params = obvhs::BvhBuildParams::very_slow_build();
         let start = Instant::now();
         let cwbvh = obvhs::cwbvh::builder::build_cwbvh_from_tris(&tris, params, &mut core);
         let cwbvh_build_time = start.elapsed();
         let start = Instant::now();
         let bvh2 = obvhs::bvh2::builder::build_bvh2_from_tris(&tris, params, &mut core);
         let bvh2_build_time = start.elapsed();
-        let order = cwbvh.primitive_indices.clone();
-        let mut stored_at = vec![0u32; corners.len()];
-        for (slot, &original) in order.iter().enumerate() {
-            stored_at[original as usize] = slot as u32;
-        }
         let nodes = bvh2
             .nodes
             .iter()
@@ -123,23 +114,17 @@ impl Bvh {
                 count: n.prim_count,
             })
             .collect();
-        let bvh2_leaf_triangles = bvh2
-            .primitive_indices
+        let bvh2_leaf_triangles = bvh2.primitive_indices.clone();
+        let cwbvh_leaf_triangles = cwbvh.primitive_indices.clone();
+        let triangles = corners
             .iter()
-            .map(|&original| stored_at[original as usize])
-            .collect();
-        let triangles = order
-            .iter()
-            .map(|&i| {
-                let [a, b, c] = corners[i as usize];
-                BvhTriangle {
-                    v0: a.to_array(),
-                    _pad0: 0,
-                    e1: (b - a).to_array(),
-                    _pad1: 0,
-                    e2: (c - a).to_array(),
-                    _pad2: 0,
-                }
+            .map(|&[a, b, c]| BvhTriangle {
+                v0: a.to_array(),
+                _pad0: 0,
+                e1: (b - a).to_array(),
+                _pad1: 0,
+                e2: (c - a).to_array(),
+                _pad2: 0,
             })
             .collect();
         Bvh {
@@ -147,8 +132,8 @@ impl Bvh {
             cwbvh,
             nodes,
             bvh2_leaf_triangles,
+            cwbvh_leaf_triangles,
             triangles,
-            order,
             cwbvh_build_time,
             bvh2_build_time,
         }
@@ -172,11 +157,12 @@ impl Bvh {
             v: 0.0,
         };
         self.cwbvh.ray_traverse(ray, &mut hit, |r, slot| {
-            match intersect_triangle(&self.triangles[slot], origin, dir) {
+            let i = self.cwbvh_leaf_triangles[slot];
+            match intersect_triangle(&self.triangles[i as usize], origin, dir) {
                 Some((t, u, v)) if t < r.tmax && t < best.t => {
                     best = Hit {
                         t,
-                        triangle: slot as u32,
+                        triangle: i,
                         u,
                         v,
                     };

@@ -120,7 +120,7 @@ pub struct TraceEmitter {
 #[derive(Debug, Clone)]
 pub struct PreparedScene {
     pub bvh: Bvh,
-    /// Reordered like `bvh.triangles`.
+    /// One per triangle, in the scene's order (like `bvh.triangles`).
     pub shading: Vec<TriangleShading>,
     pub materials: Vec<TraceMaterial>,
     pub emitters: Vec<TraceEmitter>,
@@ -176,10 +176,8 @@ impl PreparedScene {
         let start = Instant::now();
         let bvh = Bvh::build(&corners);
         let bvh_build_time = start.elapsed();
-        let shading = bvh
-            .order
-            .iter()
-            .map(|&i| {
+        let shading = (0..mesh.triangles.len())
+            .map(|i| {
                 let t = mesh.triangles[i as usize];
                 let [a, b, c] = corners[i as usize];
                 let g = (b - a).cross(c - a).normalize_or_zero();

@@ -1,0 +1,164 @@
+//! `lucerna bench`: photons/s, rays/s and bounces per photon for every
+//! example luminaire on every available backend, in one run, plus BVH
+//! build times.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use lucerna_photometry::CubeMapLayout;
+use lucerna_scene::{Interpolation, Shape, load_scene, tessellate};
+use lucerna_tracer::bvh::Bvh;
+use lucerna_tracer::gpu::GpuTracer;
+use lucerna_tracer::{Backend, PreparedScene, Tally, TraceSettings};
+
+#[derive(Debug, clap::Args)]
+pub struct BenchArgs {
+    /// Luminaires to measure (default: every file in assets/luminaires).
+    pub scenes: Vec<PathBuf>,
+    /// Photons per measurement.
+    #[arg(long, default_value_t = 2_000_000)]
+    pub photons: u32,
+    /// Also time BVH builds of 10k, 100k and 1M triangles.
+    #[arg(long)]
+    pub bvh_sizes: bool,
+    /// Skip the GPU adapter even if there is one.
+    #[arg(long)]
+    pub cpu_only: bool,
+}
+
+fn examples() -> Result<Vec<PathBuf>> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/luminaires");
+    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .with_context(|| format!("cannot list {}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    v.sort();
+    Ok(v)
+}
+
+/// Traces `photons` in batches of at most 2²⁰ (warm-up first).
+fn run(
+    backend: &Backend,
+    prepared: &PreparedScene,
+    settings: &TraceSettings,
+    photons: u32,
+) -> Result<(f64, Tally)> {
+    let batch = 1u32 << 20;
+    let trace = |iteration: u32, count: u32| -> Result<Tally> {
+        Ok(match backend {
+            Backend::Cpu => lucerna_tracer::trace_batch(prepared, settings, iteration, 0, count),
+            Backend::Gpu(g) => g.trace_batch(iteration, 0, count)?,
+        })
+    };
+    trace(u32::MAX, 10_000)?;
+    let start = Instant::now();
+    let mut total = Tally::new(settings.layout.texel_count());
+    let mut done = 0;
+    let mut iteration = 0;
+    while done < photons {
+        let n = batch.min(photons - done);
+        let t = trace(iteration, n)?;
+        total.emitted += t.emitted;
+        total.bounces += t.bounces;
+        total.rays += t.rays;
+        done += n;
+        iteration += 1;
+    }
+    Ok((start.elapsed().as_secs_f64(), total))
+}
+
+pub fn bench(args: &BenchArgs) -> Result<()> {
+    let scenes = if args.scenes.is_empty() {
+        examples()?
+    } else {
+        args.scenes.clone()
+    };
+    let settings = TraceSettings {
+        seed: 1,
+        max_bounces: 64,
+        layout: CubeMapLayout::new(256),
+    };
+    let gpu = if args.cpu_only {
+        None
+    } else {
+        lucerna_gpu::open().ok()
+    };
+    println!("CPU: {} threads", rayon::current_num_threads());
+    match &gpu {
+        Some(ctx) => println!("GPU: {}", ctx.describe()),
+        None => println!("GPU: none"),
+    }
+    println!();
+    println!(
+        "{:<26} {:>9} {:>10} {:>10}  {:<34} {:>12} {:>12} {:>9}",
+        "luminaire",
+        "triangles",
+        "CWBVH ms",
+        "BVH2 ms",
+        "backend",
+        "M photons/s",
+        "M rays/s",
+        "bounces"
+    );
+    for path in &scenes {
+        let scene = load_scene(path)?;
+        let dir = path.parent().unwrap_or(Path::new("."));
+        let prepared = PreparedScene::new(&scene, &tessellate(&scene, dir)?, dir)?;
+        let mut backends = vec![Backend::Cpu];
+        if let Some(ctx) = &gpu {
+            backends.push(Backend::Gpu(Box::new(GpuTracer::new(
+                ctx.clone(),
+                &prepared,
+                settings,
+            )?)));
+        }
+        for backend in &backends {
+            let (seconds, tally) = run(backend, &prepared, &settings, args.photons)?;
+            let name = match backend {
+                Backend::Cpu => "CPU tracer".to_owned(),
+                Backend::Gpu(g) => format!("WGSL on {}", g.context().info.name),
+            };
+            println!(
+                "{:<26} {:>9} {:>10.1} {:>10.1}  {:<34} {:>12.3} {:>12.3} {:>9.3}",
+                path.file_stem()
+                    .map_or(String::new(), |s| s.to_string_lossy().into_owned()),
+                prepared.triangle_count(),
+                prepared.bvh.cwbvh_build_time.as_secs_f64() * 1e3,
+                prepared.bvh.bvh2_build_time.as_secs_f64() * 1e3,
+                name.chars().take(34).collect::<String>(),
+                tally.emitted as f64 / seconds / 1e6,
+                tally.rays as f64 / seconds / 1e6,
+                tally.bounces as f64 / tally.emitted as f64,
+            );
+        }
+    }
+    if args.bvh_sizes {
+        println!();
+        println!("{:>10} {:>12} {:>12}", "triangles", "CWBVH ms", "BVH2 ms");
+        for (around, along) in [(100u32, 50u32), (316, 158), (1000, 500)] {
+            let shape = Shape::Revolved {
+                profile: vec![[0.0, 0.03], [0.02, 0.02], [0.04, 0.0], [0.05, -0.03]],
+                interpolation: Interpolation::CatmullRom,
+                segments_around: around,
+                segments_per_span: along / 3,
+                faceted: false,
+            };
+            let mesh = lucerna_scene::generators::generate(&shape).context("a generated mesh")?;
+            let corners: Vec<[glam::Vec3; 3]> = mesh
+                .triangles
+                .iter()
+                .map(|t| t.map(|i| mesh.positions[i as usize]))
+                .collect();
+            let bvh = Bvh::build(&corners);
+            println!(
+                "{:>10} {:>12.1} {:>12.1}",
+                corners.len(),
+                bvh.cwbvh_build_time.as_secs_f64() * 1e3,
+                bvh.bvh2_build_time.as_secs_f64() * 1e3
+            );
+        }
+    }
+    Ok(())
+}
