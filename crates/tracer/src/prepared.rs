@@ -178,8 +178,8 @@ impl PreparedScene {
         let bvh_build_time = start.elapsed();
         let shading = (0..mesh.triangles.len())
             .map(|i| {
-                let t = mesh.triangles[i as usize];
-                let [a, b, c] = corners[i as usize];
+                let t = mesh.triangles[i];
+                let [a, b, c] = corners[i];
                 let g = (b - a).cross(c - a).normalize_or_zero();
                 let n = |k: usize| {
                     let v = mesh.normals[t[k] as usize];
@@ -187,7 +187,7 @@ impl PreparedScene {
                 };
                 TriangleShading {
                     geometric_normal: g.to_array(),
-                    material: tessellated.triangle_material[i as usize],
+                    material: tessellated.triangle_material[i],
                     n0: n(0),
                     n1: n(1),
                     n2: n(2),
