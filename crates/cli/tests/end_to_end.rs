@@ -299,3 +299,46 @@ fn bench_measures_every_example_on_the_cpu() {
         assert!(rate > 0.0, "{line}");
     }
 }
+
+#[test]
+fn ctrl_c_stops_a_bake_cleanly_and_still_writes() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = assets().join("luminaires/opal_bell.toml");
+    let child = Command::new(env!("CARGO_BIN_EXE_lucerna"))
+        .args([
+            "bake",
+            scene.to_str().unwrap(),
+            "--time",
+            "120s",
+            "--resolution",
+            "32",
+            "--backend",
+            "cpu",
+            "--out",
+            dir.path().to_str().unwrap(),
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let status = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let start = std::time::Instant::now();
+    let out = child.wait_with_output().unwrap();
+    assert!(
+        start.elapsed().as_secs() < 30,
+        "the bake did not stop promptly"
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stdout).contains("interrupted"),
+        "{}",
+        text(&out.stdout)
+    );
+    let (flux, _) = figures(&dir.path().join("opal_bell.ies"));
+    assert!(flux > 0.0);
+}
