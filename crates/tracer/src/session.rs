@@ -190,7 +190,7 @@ impl Session {
             map,
             iteration: 0,
             photons_per_iteration: 65_536,
-            target_iteration_time: Duration::from_millis(200),
+            target_iteration_time,
             bounces: 0,
             rays: 0,
             tracing_time: Duration::ZERO,
