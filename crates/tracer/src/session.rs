@@ -177,12 +177,18 @@ impl Session {
         Session::with_backend(scene, settings, Backend::Cpu)
     }
 
+    /// A session on `backend`. Iterations aim at 40 ms on a hardware GPU
+    /// (an editor stays responsive) and 100 ms elsewhere.
     pub fn with_backend(
         scene: PreparedScene,
         settings: TraceSettings,
         backend: Backend,
     ) -> Session {
         let map = IntensityMap::new(settings.layout, scene.total_flux_lm);
+        let target_iteration_time = match &backend {
+            Backend::Gpu(g) if !g.context().is_software() => Duration::from_millis(40),
+            _ => Duration::from_millis(100),
+        };
         Session {
             backend,
             scene,
