@@ -8,6 +8,7 @@ use clap::{Parser, Subcommand};
 mod bake;
 mod bench;
 mod convert;
+mod filter_bench;
 mod info;
 mod validate;
 
@@ -46,6 +47,10 @@ enum Command {
     /// Measure photons/s, rays/s and bounces per photon of every example on
     /// every available backend, and BVH build times.
     Bench(bench::BenchArgs),
+    /// Evaluate the pull-push filter: RMSE against a reference for raw,
+    /// fixed and automatic thresholds over photon counts (CSV + PNG), and
+    /// filter timings.
+    FilterBench(filter_bench::FilterBenchArgs),
     /// Convert between IES (LM-63-2002, LM-63-2019) and EULUMDAT, keeping
     /// the metadata both formats hold.
     Convert {
@@ -96,6 +101,7 @@ pub fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::Bench(args) => bench::bench(&args),
+        Command::FilterBench(args) => filter_bench::filter_bench(&args),
         Command::Convert { input, output, to } => {
             println!("{}", convert::convert(&input, &output, to)?);
             Ok(())

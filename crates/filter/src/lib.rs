@@ -30,15 +30,27 @@ use rayon::prelude::*;
 pub enum Threshold {
     /// Photons a texel needs to be stable (the paper's user threshold).
     Fixed(f64),
-    /// `AUTO_FACTOR · √m`, m the count-weighted mean photon count
-    /// Σc²/Σc (the typical count where the light is), clamped to
-    /// [16, 4096]: low while photons are few, rising as they accumulate,
-    /// as the paper found best by hand (50 early, 150–250 later).
+    /// Per texel, from the photon statistics: a texel is replaced when its
+    /// count is what Poisson noise around the upsampled estimate would
+    /// give (|c − E| ≤ z·√(E + 1), E = estimate × texel solid angle),
+    /// and kept when it deviates significantly (real structure: a caustic,
+    /// a cut-off) or holds more than [`AUTO_MAX`] photons. No user
+    /// threshold; smooth regions get smoothed as much as a high threshold
+    /// would, structured ones as little as a low one.
     Automatic,
 }
 
-/// Factor of the automatic threshold (see [`Threshold::Automatic`]).
-pub const AUTO_FACTOR: f64 = 10.0;
+/// z-score of the automatic mode's Poisson consistency test.
+pub const AUTO_Z: f64 = 3.0;
+/// Fewest photons a texel needs before the automatic mode believes its
+/// deviation from the estimate is structure rather than noise.
+pub const AUTO_MIN_KEEP: f64 = 32.0;
+/// Counts above which the automatic mode never replaces a texel (its
+/// relative noise is then ≤ 1/√AUTO_MAX ≈ 9 %; tuned with
+/// `lucerna filter-bench`).
+pub const AUTO_MAX: f64 = 128.0;
+/// Threshold the automatic mode uses for Algorithm 2's border test.
+pub const AUTO_BORDER: f64 = 64.0;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FilterSettings {
@@ -85,18 +97,12 @@ struct Level {
     omega: Vec<f64>,
 }
 
-/// The threshold a setting gives for these counts.
-pub fn threshold_for(counts: &[u64], threshold: Threshold) -> f64 {
+/// The count below which a texel may be replaced, and the one the border
+/// test uses.
+fn thresholds(threshold: Threshold) -> (f64, f64) {
     match threshold {
-        Threshold::Fixed(t) => t,
-        Threshold::Automatic => {
-            let (sum, sum_sq) = counts.iter().fold((0.0, 0.0), |(s, q), &c| {
-                let c = c as f64;
-                (s + c, q + c * c)
-            });
-            let typical = if sum > 0.0 { sum_sq / sum } else { 0.0 };
-            (AUTO_FACTOR * typical.sqrt()).clamp(16.0, 4096.0)
-        }
+        Threshold::Fixed(t) => (t, t),
+        Threshold::Automatic => (AUTO_MAX, AUTO_BORDER),
     }
 }
 
@@ -215,7 +221,8 @@ fn on_shadow_border(level: &Level, face: CubeFace, i: u32, j: u32, threshold: f6
 
 /// Filters a map of photon counts (texel order of `layout`).
 pub fn filter(layout: CubeMapLayout, counts: &[u64], settings: &FilterSettings) -> Filtered {
-    let threshold = threshold_for(counts, settings.threshold);
+    let (threshold, border_threshold) = thresholds(settings.threshold);
+    let automatic = settings.threshold == Threshold::Automatic;
     let levels = pull(layout, counts);
     let top = levels.len() - 1;
     let mut intensity: Vec<f64> = levels[top]
@@ -237,21 +244,32 @@ pub fn filter(layout: CubeMapLayout, counts: &[u64], settings: &FilterSettings) 
                     return (own, false);
                 }
                 let (face, i, j) = level.layout.texel_coordinates(t);
-                if border_test && on_shadow_border(level, face, i, j, threshold) {
+                if border_test && on_shadow_border(level, face, i, j, border_threshold) {
                     return (own, false);
                 }
-                (
-                    upsample(
-                        level.layout,
-                        coarse.layout,
-                        &intensity,
-                        face,
-                        i,
-                        j,
-                        settings,
-                    ),
-                    true,
-                )
+                let estimate = upsample(
+                    level.layout,
+                    coarse.layout,
+                    &intensity,
+                    face,
+                    i,
+                    j,
+                    settings,
+                );
+                if automatic {
+                    let expected = estimate * level.omega[t];
+                    let c = level.counts[t];
+                    // Too few photons where many were expected: a shadow.
+                    // Too many where few were expected: structure, once the
+                    // count is large enough not to be Poisson's long tail.
+                    let darker = c < expected && expected - c > AUTO_Z * expected.sqrt();
+                    let brighter =
+                        c >= AUTO_MIN_KEEP && c - expected > AUTO_Z * (expected + 1.0).sqrt();
+                    if darker || brighter {
+                        return (own, false);
+                    }
+                }
+                (estimate, true)
             })
             .unzip();
         intensity = next;

@@ -2,6 +2,7 @@
 //! PNG, the raw intensity map as EXR. No GPU.
 
 pub mod canvas;
+pub mod chart;
 pub mod cube;
 pub mod exr_map;
 pub mod polar;

@@ -37,16 +37,27 @@ pub fn luminous_opening(tessellated: &TessellatedScene) -> Dimensions {
     }
 }
 
-/// Relative photometry of a bake: lamp lumens = emitter flux, candela
-/// resampled from the map by cell integration.
+/// Relative photometry of a bake from its raw map.
 pub fn photometry_from_map(
     map: &IntensityMap,
     scene: &Scene,
     tessellated: &TessellatedScene,
     options: &ExportOptions,
 ) -> Photometry {
+    photometry_from_candela(map, &map.candela(), scene, tessellated, options)
+}
+
+/// Relative photometry of a bake: lamp lumens = emitter flux, `candela`
+/// per texel (raw or filtered) resampled by cell integration; `map`
+/// supplies the bookkeeping.
+pub fn photometry_from_candela(
+    map: &IntensityMap,
+    candela: &[f64],
+    scene: &Scene,
+    tessellated: &TessellatedScene,
+    options: &ExportOptions,
+) -> Photometry {
     let c_planes = uniform_c_planes(options.c_step_deg);
-    let candela = map.candela();
     let traced_flux = map.escaped_flux_lm();
     let mut step = options.gamma_step_deg.unwrap_or(2.5);
     let mut table = table_from_cube_map(

@@ -9,7 +9,7 @@ use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 use lucerna_photometry::{CubeMapLayout, IesVersion, Symmetry, to_latin1, write_ies, write_ldt};
 use lucerna_scene::{load_scene, tessellate, write_atomically};
-use lucerna_tracer::export::{ExportOptions, photometry_from_map};
+use lucerna_tracer::export::{ExportOptions, photometry_from_candela};
 use lucerna_tracer::{BackendRequest, PreparedScene, Session, TraceSettings, choose_backend};
 
 /// Which tracer runs the bake.
@@ -69,9 +69,32 @@ pub struct BakeArgs {
     /// has it).
     #[arg(long, value_enum, default_value_t = SymmetryArg::None)]
     pub symmetrise: SymmetryArg,
+    /// Export the map filtered by the pull-push bilateral filter: `auto`
+    /// (threshold from the photon statistics), a photon threshold such as
+    /// 100, or `none` for the raw map.
+    #[arg(long, default_value = "none", value_parser = parse_filter)]
+    pub filter: FilterChoice,
     /// Output directory (created if needed).
     #[arg(long)]
     pub out: PathBuf,
+}
+
+/// Raw map (`None`) or the filter with a threshold.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FilterChoice(pub Option<lucerna_filter::Threshold>);
+
+/// `none`, `auto` or a photon threshold.
+pub fn parse_filter(s: &str) -> Result<FilterChoice, String> {
+    match s {
+        "none" => Ok(FilterChoice(None)),
+        "auto" => Ok(FilterChoice(Some(lucerna_filter::Threshold::Automatic))),
+        _ => match s.parse::<f64>() {
+            Ok(t) if t.is_finite() && (1.0..=1e9).contains(&t) => {
+                Ok(FilterChoice(Some(lucerna_filter::Threshold::Fixed(t))))
+            }
+            _ => Err(format!("'{s}' is not none, auto or a photon threshold ≥ 1")),
+        },
+    }
 }
 
 /// "30s", "2m", "1.5h", "500ms", or plain seconds.
@@ -240,7 +263,25 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
             .file_name()
             .map_or(String::new(), |s| s.to_string_lossy().into_owned()),
     };
-    let photometry = photometry_from_map(&map, &scene, &tessellated, &options);
+    let candela = match args.filter.0 {
+        Some(threshold) => {
+            let settings = lucerna_filter::FilterSettings {
+                threshold,
+                ..Default::default()
+            };
+            let (candela, report) = lucerna_filter::filter_map(&map, &settings);
+            eprintln!(
+                "filtered: threshold {:.0} photons, {} of {} texels replaced, renormalised by {:.4}",
+                report.threshold,
+                report.replaced.iter().filter(|&&r| r).count(),
+                report.replaced.len(),
+                report.renormalisation
+            );
+            candela
+        }
+        None => map.candela(),
+    };
+    let photometry = photometry_from_candela(&map, &candela, &scene, &tessellated, &options);
     let flux = photometry.table.flux_lm();
     let per_klm = if flux > 0.0 {
         1000.0 / map.emitter_flux_lm
@@ -267,7 +308,7 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
         ),
         (
             format!("{stem}_cube.png"),
-            lucerna_pictures::cube_map_png(map.layout, &map.candela(), 200, &title)?,
+            lucerna_pictures::cube_map_png(map.layout, &candela, 200, &title)?,
         ),
         (
             format!("{stem}_polar.png"),

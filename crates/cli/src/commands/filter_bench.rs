@@ -1,0 +1,249 @@
+//! `lucerna filter-bench`: the Litemaker paper's Figure 8a protocol on our
+//! scenes: RMSE against a high-photon reference (each image scaled by its
+//! mean) of the raw map and of the filter with fixed and automatic
+//! thresholds, over photon counts; CSV, PNG plot, filter timings.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use lucerna_filter::{FilterSettings, Threshold, filter};
+use lucerna_photometry::CubeMapLayout;
+use lucerna_pictures::chart::{Series, log_log_chart_png};
+use lucerna_scene::{load_scene, tessellate, write_atomically};
+use lucerna_tracer::{PreparedScene, TraceSettings, trace_batch};
+
+#[derive(Debug, clap::Args)]
+pub struct FilterBenchArgs {
+    /// Luminaires (default: the opal bell and the faceted downlight).
+    pub scenes: Vec<PathBuf>,
+    /// Texels per cube-face edge.
+    #[arg(long, default_value_t = 128)]
+    pub resolution: u32,
+    /// Photons of the reference.
+    #[arg(long, default_value_t = 200_000_000)]
+    pub reference_photons: u64,
+    /// Largest photon count evaluated (powers of ten from 10⁵).
+    #[arg(long, default_value_t = 100_000_000)]
+    pub max_photons: u64,
+    /// Output directory for the CSV and PNG files.
+    #[arg(long, default_value = "target/filter-bench")]
+    pub out: PathBuf,
+}
+
+const BATCH: u64 = 1 << 20;
+const FIXED: [f64; 4] = [50.0, 100.0, 150.0, 250.0];
+
+/// Accumulates photons `done .. target` of a run into `counts`.
+fn trace_to(
+    prepared: &PreparedScene,
+    settings: &TraceSettings,
+    counts: &mut [u64],
+    done: &mut u64,
+    target: u64,
+) {
+    while *done < target {
+        let iteration = (*done / BATCH) as u32;
+        let first = (*done % BATCH) as u32;
+        let n = (BATCH - u64::from(first)).min(target - *done) as u32;
+        let t = trace_batch(prepared, settings, iteration, first, n);
+        for (a, b) in counts.iter_mut().zip(&t.counts) {
+            *a += u64::from(*b);
+        }
+        *done += u64::from(n);
+    }
+}
+
+/// Intensity per steradian of raw counts.
+fn raw_intensity(layout: CubeMapLayout, counts: &[u64]) -> Vec<f64> {
+    counts
+        .iter()
+        .enumerate()
+        .map(|(t, &c)| c as f64 / layout.texel_solid_angle(t))
+        .collect()
+}
+
+/// RMSE of two images each scaled by its own mean (the paper's measure).
+pub fn rmse_mean_scaled(a: &[f64], b: &[f64]) -> f64 {
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let (ma, mb) = (mean(a), mean(b));
+    if ma <= 0.0 || mb <= 0.0 {
+        return f64::INFINITY;
+    }
+    (a.iter()
+        .zip(b)
+        .map(|(x, y)| (x / ma - y / mb).powi(2))
+        .sum::<f64>()
+        / a.len() as f64)
+        .sqrt()
+}
+
+pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
+    let assets = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/luminaires");
+    let scenes = if args.scenes.is_empty() {
+        vec![
+            assets.join("opal_bell.toml"),
+            assets.join("faceted_downlight.toml"),
+        ]
+    } else {
+        args.scenes.clone()
+    };
+    std::fs::create_dir_all(&args.out)?;
+    let layout = CubeMapLayout::new(args.resolution);
+    let mut csv = String::from("scene,resolution,photons,method,threshold,rmse,filter_ms\n");
+    let mut summary = String::new();
+    for path in &scenes {
+        let name = path
+            .file_stem()
+            .map_or(String::new(), |s| s.to_string_lossy().into_owned());
+        let scene = load_scene(path)?;
+        let dir = path.parent().unwrap_or(Path::new("."));
+        let prepared = PreparedScene::new(&scene, &tessellate(&scene, dir)?, dir)?;
+        let start = Instant::now();
+        let reference_settings = TraceSettings {
+            seed: 1_000_003,
+            max_bounces: 64,
+            layout,
+        };
+        let mut reference = vec![0u64; layout.texel_count()];
+        let mut done = 0;
+        trace_to(
+            &prepared,
+            &reference_settings,
+            &mut reference,
+            &mut done,
+            args.reference_photons,
+        );
+        let reference = raw_intensity(layout, &reference);
+        eprintln!(
+            "{name}: reference of {} photons in {:.0} s",
+            args.reference_photons,
+            start.elapsed().as_secs_f64()
+        );
+        let settings = TraceSettings {
+            seed: 1,
+            max_bounces: 64,
+            layout,
+        };
+        let mut counts = vec![0u64; layout.texel_count()];
+        let mut done = 0;
+        let mut series: Vec<Series> = std::iter::once("raw".to_owned())
+            .chain(FIXED.iter().map(|t| format!("T = {t}")))
+            .chain(std::iter::once("automatic".to_owned()))
+            .map(|name| Series {
+                name,
+                points: Vec::new(),
+            })
+            .collect();
+        let mut n = 100_000u64;
+        while n <= args.max_photons {
+            trace_to(&prepared, &settings, &mut counts, &mut done, n);
+            let raw = rmse_mean_scaled(&raw_intensity(layout, &counts), &reference);
+            series[0].points.push((n as f64, raw));
+            let _ = writeln!(csv, "{name},{},{n},raw,,{raw:.6},", args.resolution);
+            let thresholds = FIXED
+                .iter()
+                .map(|&t| Threshold::Fixed(t))
+                .chain(std::iter::once(Threshold::Automatic));
+            for (k, threshold) in thresholds.enumerate() {
+                let t0 = Instant::now();
+                let f = filter(
+                    layout,
+                    &counts,
+                    &FilterSettings {
+                        threshold,
+                        ..Default::default()
+                    },
+                );
+                let ms = t0.elapsed().as_secs_f64() * 1e3;
+                let e = rmse_mean_scaled(&f.photons_per_sr, &reference);
+                series[k + 1].points.push((n as f64, e));
+                let method = if threshold == Threshold::Automatic {
+                    "automatic"
+                } else {
+                    "fixed"
+                };
+                let _ = writeln!(
+                    csv,
+                    "{name},{},{n},{method},{:.1},{e:.6},{ms:.1}",
+                    args.resolution, f.threshold
+                );
+            }
+            eprintln!(
+                "{name}: {n} photons done ({:.0} s)",
+                start.elapsed().as_secs_f64()
+            );
+            n *= 10;
+        }
+        // Targets: filtered(N) ≤ raw(10 N); automatic within 10 % of the
+        // best fixed threshold.
+        let raw = &series[0].points;
+        for i in 0..raw.len() {
+            let best_fixed = (1..=FIXED.len())
+                .map(|k| series[k].points[i].1)
+                .fold(f64::INFINITY, f64::min);
+            let auto = series[FIXED.len() + 1].points[i].1;
+            let raw_10n = raw.get(i + 1).map(|p| p.1);
+            let _ = writeln!(
+                summary,
+                "{name} {}² N = {:.0e}: raw {:.4}, raw(10N) {}, best fixed {:.4}, automatic {:.4} ({:+.1} % vs best) {}",
+                args.resolution,
+                raw[i].0,
+                raw[i].1,
+                raw_10n.map_or("—".to_owned(), |v| format!("{v:.4}")),
+                best_fixed,
+                auto,
+                100.0 * (auto / best_fixed - 1.0),
+                match raw_10n {
+                    Some(r) if auto <= r => "filtered(N) ≤ raw(10N): yes",
+                    Some(_) => "filtered(N) ≤ raw(10N): NO",
+                    None => "",
+                }
+            );
+        }
+        let png = log_log_chart_png(
+            &series,
+            &format!(
+                "{name} {}x{} per face: RMSE vs reference",
+                args.resolution, args.resolution
+            ),
+            "photons",
+            "RMSE (mean-scaled)",
+            900,
+            560,
+        )?;
+        write_atomically(
+            &args.out.join(format!("{name}_{}.png", args.resolution)),
+            &png,
+        )?;
+    }
+    // Filter time per map size (CPU reference).
+    for n in [256u32, 1024] {
+        let layout = CubeMapLayout::new(n);
+        let counts: Vec<u64> = (0..layout.texel_count() as u64)
+            .map(|t| (t * 2_654_435_761) % 97)
+            .collect();
+        let t0 = Instant::now();
+        let f = filter(layout, &counts, &FilterSettings::default());
+        let _ = writeln!(
+            summary,
+            "filter time 6×{n}²: {:.0} ms on the CPU ({} threads), threshold {:.0}",
+            t0.elapsed().as_secs_f64() * 1e3,
+            rayon::current_num_threads(),
+            f.threshold
+        );
+    }
+    let csv_path = args
+        .out
+        .join(format!("filter_rmse_{}.csv", args.resolution));
+    write_atomically(&csv_path, csv.as_bytes())
+        .with_context(|| format!("cannot write {}", csv_path.display()))?;
+    print!("{summary}");
+    println!(
+        "wrote {} and the PNG plots in {}",
+        csv_path.display(),
+        args.out.display()
+    );
+    Ok(())
+}
