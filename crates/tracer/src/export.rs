@@ -62,7 +62,7 @@ pub fn photometry_from_candela(
     let mut step = options.gamma_step_deg.unwrap_or(2.5);
     let mut table = table_from_cube_map(
         map.layout,
-        &candela,
+        candela,
         &c_planes,
         &uniform_gammas(step, 180.0),
     );
@@ -71,7 +71,7 @@ pub fn photometry_from_candela(
             step /= 2.0;
             table = table_from_cube_map(
                 map.layout,
-                &candela,
+                candela,
                 &c_planes,
                 &uniform_gammas(step, 180.0),
             );
