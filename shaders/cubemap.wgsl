@@ -32,3 +32,16 @@ fn cube_texel_of_direction(d: vec3<f32>, resolution: u32) -> u32 {
     let row = u32(clamp(floor((fab.z + 1.0) * 0.5 * n), 0.0, n - 1.0));
     return u32(fab.x) * resolution * resolution + row * resolution + column;
 }
+
+// Direction (not normalised) through face coordinates (a, b) of `face`:
+// the inverse of cube_face_coordinates.
+fn cube_face_direction(face: u32, a: f32, b: f32) -> vec3<f32> {
+    switch face {
+        case 0u: { return vec3<f32>(1.0, -b, -a); }
+        case 1u: { return vec3<f32>(-1.0, -b, a); }
+        case 2u: { return vec3<f32>(a, 1.0, b); }
+        case 3u: { return vec3<f32>(a, -1.0, -b); }
+        case 4u: { return vec3<f32>(a, -b, 1.0); }
+        default: { return vec3<f32>(-a, -b, -1.0); }
+    }
+}

@@ -22,6 +22,8 @@
 //! - replaced texels are renormalised together so the filtered map keeps
 //!   the traced flux; stable texels are never changed.
 
+pub mod gpu;
+
 use lucerna_photometry::{CubeFace, CubeMapLayout};
 use rayon::prelude::*;
 
@@ -99,7 +101,7 @@ struct Level {
 
 /// The count below which a texel may be replaced, and the one the border
 /// test uses.
-fn thresholds(threshold: Threshold) -> (f64, f64) {
+pub fn thresholds(threshold: Threshold) -> (f64, f64) {
     match threshold {
         Threshold::Fixed(t) => (t, t),
         Threshold::Automatic => (AUTO_MAX, AUTO_BORDER),
@@ -144,6 +146,13 @@ fn texel_at(layout: CubeMapLayout, face: CubeFace, cx: i64, cy: i64) -> usize {
     if (0..n).contains(&cx) && (0..n).contains(&cy) {
         return layout.texel_index(face, cx as u32, cy as u32);
     }
+    // Past a cube corner there is no diagonal neighbour: step across one
+    // edge only, so the lookup never hangs on a tie between two faces.
+    let cy = if (0..n).contains(&cx) {
+        cy
+    } else {
+        cy.clamp(0, n - 1)
+    };
     let step = 2.0 / n as f64;
     let a = -1.0 + (cx as f64 + 0.5) * step;
     let b = -1.0 + (cy as f64 + 0.5) * step;
@@ -219,9 +228,53 @@ fn on_shadow_border(level: &Level, face: CubeFace, i: u32, j: u32, threshold: f6
     !(stable_neighbours == 0 || stable_neighbours > 6)
 }
 
+/// Scales the replaced texels together so the map keeps the traced flux
+/// (factor bounded to [0.5, 2]); returns the factor. Stable texels are not
+/// touched.
+pub fn renormalise(counts: &[f64], omega: &[f64], intensity: &mut [f64], replaced: &[bool]) -> f64 {
+    let (mut traced, mut filtered) = (0.0, 0.0);
+    for t in 0..intensity.len() {
+        if replaced[t] {
+            traced += counts[t];
+            filtered += intensity[t] * omega[t];
+        }
+    }
+    let factor = if filtered > 0.0 && traced > 0.0 {
+        (traced / filtered).clamp(0.5, 2.0)
+    } else {
+        1.0
+    };
+    for t in 0..intensity.len() {
+        if replaced[t] {
+            intensity[t] *= factor;
+        }
+    }
+    factor
+}
+
+/// Resolutions of the pyramid's levels, finest first, down to 1.
+pub fn pyramid_resolutions(resolution: u32) -> Vec<u32> {
+    let mut v = vec![resolution.max(1)];
+    while let Some(&n) = v.last()
+        && n > 1
+    {
+        v.push(n.div_ceil(2));
+    }
+    v
+}
+
+/// Solid angles of every level's texels (the pull of texel solid angles).
+pub fn pyramid_solid_angles(layout: CubeMapLayout) -> Vec<Vec<f64>> {
+    pull(layout, &vec![0; layout.texel_count()])
+        .into_iter()
+        .map(|l| l.omega)
+        .collect()
+}
+
 /// Filters a map of photon counts (texel order of `layout`).
 pub fn filter(layout: CubeMapLayout, counts: &[u64], settings: &FilterSettings) -> Filtered {
     let (threshold, border_threshold) = thresholds(settings.threshold);
+    debug_assert_eq!(counts.len(), layout.texel_count());
     let automatic = settings.threshold == Threshold::Automatic;
     let levels = pull(layout, counts);
     let top = levels.len() - 1;
@@ -275,24 +328,12 @@ pub fn filter(layout: CubeMapLayout, counts: &[u64], settings: &FilterSettings) 
         intensity = next;
         replaced = next_replaced;
     }
-    // Keep the traced flux: scale the replaced texels together.
-    let (mut traced, mut filtered) = (0.0, 0.0);
-    for t in 0..intensity.len() {
-        if replaced[t] {
-            traced += levels[0].counts[t];
-            filtered += intensity[t] * levels[0].omega[t];
-        }
-    }
-    let renormalisation = if filtered > 0.0 && traced > 0.0 {
-        (traced / filtered).clamp(0.5, 2.0)
-    } else {
-        1.0
-    };
-    for t in 0..intensity.len() {
-        if replaced[t] {
-            intensity[t] *= renormalisation;
-        }
-    }
+    let renormalisation = renormalise(
+        &levels[0].counts,
+        &levels[0].omega,
+        &mut intensity,
+        &replaced,
+    );
     Filtered {
         photons_per_sr: intensity,
         replaced,

@@ -7,12 +7,19 @@ pub const CUBEMAP: &str = include_str!("../../../shaders/cubemap.wgsl");
 pub const RNG: &str = include_str!("../../../shaders/rng.wgsl");
 /// The photon-tracing kernel.
 pub const TRACER: &str = include_str!("../../../shaders/tracer.wgsl");
+/// The pull-push filter's kernels.
+pub const FILTER: &str = include_str!("../../../shaders/filter.wgsl");
 /// Test kernel mapping directions to texels.
 pub const CUBEMAP_TEST: &str = include_str!("../../../shaders/cubemap_test.wgsl");
 
 /// The tracer kernel with its modules.
 pub fn tracer() -> String {
     [CUBEMAP, RNG, TRACER].join("\n")
+}
+
+/// The filter kernels with their module.
+pub fn filter() -> String {
+    [CUBEMAP, FILTER].join("\n")
 }
 
 /// The cube-map test kernel with its module.
@@ -22,5 +29,9 @@ pub fn cubemap_test() -> String {
 
 /// Every composed shader, by name, for validation.
 pub fn all() -> Vec<(&'static str, String)> {
-    vec![("tracer", tracer()), ("cubemap_test", cubemap_test())]
+    vec![
+        ("tracer", tracer()),
+        ("filter", filter()),
+        ("cubemap_test", cubemap_test()),
+    ]
 }

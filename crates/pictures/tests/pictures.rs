@@ -45,7 +45,7 @@ fn the_exr_holds_candela_counts_and_bookkeeping() {
             .channel_data
             .list
             .iter()
-            .find(|c| c.name == Text::from(name))
+            .find(|c| c.name.to_string() == name)
             .unwrap()
     };
     let counts: Vec<u32> = match &channel("count").sample_data {

@@ -60,21 +60,13 @@ pub fn photometry_from_candela(
     let c_planes = uniform_c_planes(options.c_step_deg);
     let traced_flux = map.escaped_flux_lm();
     let mut step = options.gamma_step_deg.unwrap_or(2.5);
-    let mut table = table_from_cube_map(
-        map.layout,
-        candela,
-        &c_planes,
-        &uniform_gammas(step, 180.0),
-    );
+    let mut table =
+        table_from_cube_map(map.layout, candela, &c_planes, &uniform_gammas(step, 180.0));
     if options.gamma_step_deg.is_none() {
         while step > 0.125 + 1e-9 && (table.flux_lm() - traced_flux).abs() > 0.005 * traced_flux {
             step /= 2.0;
-            table = table_from_cube_map(
-                map.layout,
-                candela,
-                &c_planes,
-                &uniform_gammas(step, 180.0),
-            );
+            table =
+                table_from_cube_map(map.layout, candela, &c_planes, &uniform_gammas(step, 180.0));
         }
     }
     let (table, symmetry) = match options.symmetrise {
