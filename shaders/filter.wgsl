@@ -32,10 +32,15 @@ fn texel_count(resolution: u32) -> u32 {
     return 6u * resolution * resolution;
 }
 
+// Flat invocation index of a 2D dispatch (rows of at most 65535 groups).
+fn flat_index(gid: vec3<u32>, groups: vec3<u32>) -> u32 {
+    return gid.x + gid.y * groups.x * 64u;
+}
+
 // Pull: each coarse texel sums its (up to) 2x2 children.
 @compute @workgroup_size(64)
-fn pull(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let t = gid.x;
+fn pull(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let t = flat_index(gid, groups);
     let n = level.coarse_resolution;
     if t >= texel_count(n) {
         return;
@@ -67,8 +72,8 @@ fn safe_intensity(c: f32, w: f32) -> f32 {
 
 // The coarsest level keeps its own intensities.
 @compute @workgroup_size(64)
-fn top(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let t = gid.x;
+fn top(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let t = flat_index(gid, groups);
     if t >= texel_count(level.resolution) {
         return;
     }
@@ -157,8 +162,8 @@ fn on_shadow_border(face: u32, i: u32, j: u32, own: f32) -> bool {
 
 // Push: one level from the filtered coarser one.
 @compute @workgroup_size(64)
-fn push(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let t = gid.x;
+fn push(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let t = flat_index(gid, groups);
     let n = level.resolution;
     if t >= texel_count(n) {
         return;

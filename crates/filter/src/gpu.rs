@@ -258,7 +258,10 @@ impl GpuFilter {
             });
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &self.bind_groups[k], &[]);
-            pass.dispatch_workgroups(groups(texels_of), 1, 1);
+            // At most 65535 groups per dimension: wrap into rows.
+            let g = groups(texels_of);
+            let x = g.min(65_535);
+            pass.dispatch_workgroups(x, g.div_ceil(x), 1);
         };
         for k in 0..levels - 1 {
             pass_for(&self.pull, k, self.resolutions[k + 1]);
