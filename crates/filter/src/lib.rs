@@ -48,9 +48,9 @@ pub const AUTO_Z: f64 = 3.0;
 /// deviation from the estimate is structure rather than noise.
 pub const AUTO_MIN_KEEP: f64 = 32.0;
 /// Counts above which the automatic mode never replaces a texel (its
-/// relative noise is then ≤ 1/√AUTO_MAX ≈ 4.4 %; tuned with
+/// relative noise is then ≤ 1/√AUTO_MAX ≈ 6 %; tuned with
 /// `lucerna filter-bench`).
-pub const AUTO_MAX: f64 = 512.0;
+pub const AUTO_MAX: f64 = 256.0;
 /// Threshold the automatic mode uses for Algorithm 2's border test.
 pub const AUTO_BORDER: f64 = 64.0;
 
