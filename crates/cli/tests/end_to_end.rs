@@ -342,3 +342,47 @@ fn ctrl_c_stops_a_bake_cleanly_and_still_writes() {
     let (flux, _) = figures(&dir.path().join("opal_bell.ies"));
     assert!(flux > 0.0);
 }
+
+#[test]
+fn bake_can_export_the_filtered_map() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = assets().join("luminaires/opal_bell.toml");
+    let raw_dir = dir.path().join("raw");
+    let filtered_dir = dir.path().join("filtered");
+    for (out_dir, filter) in [(&raw_dir, "none"), (&filtered_dir, "auto")] {
+        let out = lucerna(&[
+            "bake",
+            scene.to_str().unwrap(),
+            "--photons",
+            "200000",
+            "--resolution",
+            "64",
+            "--backend",
+            "cpu",
+            "--filter",
+            filter,
+            "--out",
+            out_dir.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+    }
+    let (raw_flux, _) = figures(&raw_dir.join("opal_bell.ies"));
+    let (filtered_flux, _) = figures(&filtered_dir.join("opal_bell.ies"));
+    assert!(
+        (filtered_flux - raw_flux).abs() < 0.01 * raw_flux,
+        "{filtered_flux} vs {raw_flux}"
+    );
+    assert_ne!(
+        std::fs::read(raw_dir.join("opal_bell.ldt")).unwrap(),
+        std::fs::read(filtered_dir.join("opal_bell.ldt")).unwrap()
+    );
+    let out = lucerna(&[
+        "bake",
+        scene.to_str().unwrap(),
+        "--filter",
+        "lots",
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(!out.status.success());
+}
