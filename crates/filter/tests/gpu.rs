@@ -9,14 +9,7 @@ use lucerna_filter::{FilterSettings, Threshold, filter};
 use lucerna_photometry::CubeMapLayout;
 
 fn context() -> Option<lucerna_gpu::GpuContext> {
-    match lucerna_gpu::open() {
-        Ok(ctx) => Some(ctx),
-        Err(e) if std::env::var_os("LUCERNA_SKIP_GPU_TESTS").is_some() => {
-            eprintln!("skipping GPU test: {e}");
-            None
-        }
-        Err(e) => panic!("no GPU adapter ({e}); install Mesa or set LUCERNA_SKIP_GPU_TESTS=1"),
-    }
+    lucerna_gpu::open_for_tests()
 }
 
 #[test]

@@ -91,6 +91,30 @@ pub fn open() -> Result<GpuContext, GpuError> {
     })
 }
 
+/// For tests of GPU code: the adapter, or `None` (with a message) when
+/// there is none and `LUCERNA_SKIP_GPU_TESTS` is set. Without that
+/// variable a missing adapter is a failure, so CI's software adapter is
+/// really exercised.
+///
+/// # Panics
+/// When no adapter opens and `LUCERNA_SKIP_GPU_TESTS` is not set.
+#[allow(clippy::panic)] // reason: a test-support helper whose failure is the point
+pub fn open_for_tests() -> Option<GpuContext> {
+    match open() {
+        Ok(ctx) => {
+            eprintln!("adapter: {}", ctx.describe());
+            Some(ctx)
+        }
+        Err(e) if std::env::var_os("LUCERNA_SKIP_GPU_TESTS").is_some() => {
+            eprintln!("skipping GPU test: {e}");
+            None
+        }
+        Err(e) => panic!(
+            "no GPU adapter ({e}); install Mesa (llvmpipe/lavapipe) or set LUCERNA_SKIP_GPU_TESTS=1"
+        ),
+    }
+}
+
 /// Reads a buffer back to the CPU (blocking).
 pub fn read_buffer(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
     let slice = buffer.slice(..);

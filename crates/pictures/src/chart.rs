@@ -67,7 +67,11 @@ pub fn log_log_chart_png(
         c.line(left, y, left + w, y, 1.0, GREY);
         c.text(8, y as i64 - 4, &label(10f64.powi(e)), 1, BLACK);
     }
-    let scale = if Canvas::text_width(title, 2) + left as i64 > i64::from(width) { 1 } else { 2 };
+    let scale = if Canvas::text_width(title, 2) + left as i64 > i64::from(width) {
+        1
+    } else {
+        2
+    };
     c.text(left as i64, 8, title, scale, BLACK);
     c.text(
         (left + w / 2.0) as i64 - 40,

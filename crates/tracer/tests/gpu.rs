@@ -13,19 +13,7 @@ use lucerna_tracer::{PreparedScene, Tally};
 use wgpu::util::DeviceExt;
 
 fn context() -> Option<lucerna_gpu::GpuContext> {
-    match lucerna_gpu::open() {
-        Ok(ctx) => {
-            eprintln!("adapter: {}", ctx.describe());
-            Some(ctx)
-        }
-        Err(e) if std::env::var_os("LUCERNA_SKIP_GPU_TESTS").is_some() => {
-            eprintln!("skipping GPU test: {e}");
-            None
-        }
-        Err(e) => panic!(
-            "no GPU adapter ({e}); install Mesa (llvmpipe/lavapipe) or set LUCERNA_SKIP_GPU_TESTS=1"
-        ),
-    }
+    lucerna_gpu::open_for_tests()
 }
 
 #[test]
