@@ -9,8 +9,8 @@ use lucerna_photometry::CubeMapLayout;
 use wgpu::util::DeviceExt;
 
 use crate::{
-    AUTO_MIN_KEEP, AUTO_Z, FilterSettings, Filtered, Threshold, pyramid_resolutions,
-    pyramid_solid_angles, renormalise, thresholds,
+    AUTO_MIN_KEEP, AUTO_Z, FilterSettings, Filtered, Threshold, automatic_coarse_cap,
+    pyramid_resolutions, pyramid_solid_angles, renormalise, thresholds,
 };
 
 /// Per-level parameters (48 bytes), WGSL twin `LevelParams`.
@@ -222,6 +222,8 @@ impl GpuFilter {
     /// Filters counts (texel order of the layout given to `new`).
     pub fn filter(&self, counts: &[u64], settings: &FilterSettings) -> Result<Filtered, GpuError> {
         let (threshold, border_threshold) = thresholds(settings.threshold);
+        let automatic = settings.threshold == Threshold::Automatic;
+        let coarse_cap = automatic_coarse_cap(counts);
         let levels = self.resolutions.len();
         let level0: Vec<f32> = counts.iter().map(|&c| c as f32).collect();
         let queue = &self.ctx.queue;
@@ -233,7 +235,11 @@ impl GpuFilter {
                 resolution: self.resolutions[k],
                 coarse_offset: self.offsets[coarse],
                 coarse_resolution: self.resolutions[coarse],
-                threshold: threshold as f32,
+                threshold: if automatic && k >= settings.first_border_level {
+                    coarse_cap as f32
+                } else {
+                    threshold as f32
+                },
                 border_threshold: border_threshold as f32,
                 automatic: u32::from(settings.threshold == Threshold::Automatic),
                 border_test: u32::from(k >= settings.first_border_level),

@@ -36,7 +36,8 @@ pub enum Threshold {
     /// count is what Poisson noise around the upsampled estimate would
     /// give (|c − E| ≤ z·√(E + 1), E = estimate × texel solid angle),
     /// and kept when it deviates significantly (real structure: a caustic,
-    /// a cut-off) or holds more than [`AUTO_MAX`] photons. No user
+    /// a cut-off) or holds more than [`AUTO_MAX`] photons (on levels ≥ 2,
+    /// more than [`automatic_coarse_cap`]). No user
     /// threshold; smooth regions get smoothed as much as a high threshold
     /// would, structured ones as little as a low one.
     Automatic,
@@ -106,6 +107,23 @@ pub fn thresholds(threshold: Threshold) -> (f64, f64) {
         Threshold::Fixed(t) => (t, t),
         Threshold::Automatic => (AUTO_MAX, AUTO_BORDER),
     }
+}
+
+/// The automatic mode's cap on levels ≥ 2: it grows slowly with the photons
+/// per lit texel m (64 at m ≤ 1, up to [`AUTO_MAX`]), as the best fixed
+/// threshold does (100 at 1 photon per texel, 250 at 10 in
+/// `lucerna filter-bench`).
+pub fn automatic_coarse_cap(counts: &[u64]) -> f64 {
+    let (lit, sum) = counts
+        .iter()
+        .filter(|&&c| c > 0)
+        .fold((0u64, 0u64), |(n, s), &c| (n + 1, s + c));
+    let m = if lit > 0 {
+        sum as f64 / lit as f64
+    } else {
+        0.0
+    };
+    (64.0 * m.max(1.0).powf(0.4)).clamp(64.0, AUTO_MAX)
 }
 
 /// Builds the pull pyramid: level k+1 sums 2×2 texels of level k.
@@ -276,6 +294,7 @@ pub fn filter(layout: CubeMapLayout, counts: &[u64], settings: &FilterSettings) 
     let (threshold, border_threshold) = thresholds(settings.threshold);
     debug_assert_eq!(counts.len(), layout.texel_count());
     let automatic = settings.threshold == Threshold::Automatic;
+    let coarse_cap = automatic_coarse_cap(counts);
     let levels = pull(layout, counts);
     let top = levels.len() - 1;
     let mut intensity: Vec<f64> = levels[top]
@@ -293,7 +312,15 @@ pub fn filter(layout: CubeMapLayout, counts: &[u64], settings: &FilterSettings) 
             .into_par_iter()
             .map(|t| {
                 let own = safe_intensity(level.counts[t], level.omega[t]);
-                if level.counts[t] >= threshold {
+                // The automatic mode caps the count only on the two finest
+                // levels; above them the border test and the Poisson test
+                // decide alone.
+                let cap = if automatic && k >= settings.first_border_level {
+                    coarse_cap
+                } else {
+                    threshold
+                };
+                if level.counts[t] >= cap {
                     return (own, false);
                 }
                 let (face, i, j) = level.layout.texel_coordinates(t);
