@@ -102,3 +102,19 @@ fn obj_groups_get_their_own_materials() {
     let (lo, hi) = t.mesh.bounds().unwrap();
     assert!((hi.x - 0.055).abs() < 1e-6 && (lo.x + 0.055).abs() < 1e-6);
 }
+
+#[cfg(unix)]
+#[test]
+fn saved_files_are_readable_by_others() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("out.txt");
+    lucerna_scene::write_atomically(&path, b"hello").expect("written");
+    assert_eq!(std::fs::read(&path).expect("read"), b"hello");
+    let mode = std::fs::metadata(&path)
+        .expect("metadata")
+        .permissions()
+        .mode()
+        & 0o777;
+    assert_eq!(mode & 0o044, 0o044, "mode {mode:o}");
+}
