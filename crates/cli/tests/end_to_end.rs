@@ -321,12 +321,27 @@ fn ctrl_c_stops_a_bake_cleanly_and_still_writes() {
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
-    std::thread::sleep(std::time::Duration::from_millis(1500));
+    // The Ctrl+C handler is in place once the bake says what it traces on.
+    let mut child = child;
+    let mut stderr = std::io::BufReader::new(child.stderr.take().unwrap());
+    let mut line = String::new();
+    while std::io::BufRead::read_line(&mut stderr, &mut line).unwrap() > 0
+        && !line.contains("tracing on")
+    {
+        line.clear();
+    }
+    assert!(
+        line.contains("tracing on"),
+        "the bake never started tracing"
+    );
+    std::thread::sleep(std::time::Duration::from_millis(300));
     let status = Command::new("kill")
         .args(["-INT", &child.id().to_string()])
         .status()
         .unwrap();
     assert!(status.success());
+    // Keep draining stderr so the progress bar never blocks on a full pipe.
+    std::thread::spawn(move || std::io::copy(&mut stderr, &mut std::io::sink()));
     let start = std::time::Instant::now();
     let out = child.wait_with_output().unwrap();
     assert!(

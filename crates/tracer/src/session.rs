@@ -258,11 +258,8 @@ impl Session {
         self.bounces += tally.bounces;
         self.rays += tally.rays;
         self.iteration += 1;
-        // Aim the next iteration at the time budget, changing by at most 4×.
-        let seconds = elapsed.as_secs_f64().max(1e-4);
-        let scale = (self.target_iteration_time.as_secs_f64() / seconds).clamp(0.25, 4.0);
         self.photons_per_iteration =
-            (f64::from(photons) * scale).clamp(1024.0, f64::from(1u32 << 30)) as u32;
+            next_iteration_size(photons, elapsed, self.target_iteration_time);
         Ok(self.report(photons.into(), elapsed))
     }
 
@@ -286,6 +283,14 @@ impl Session {
             peak_relative_error: peak_relative_error(&self.map),
         }
     }
+}
+
+/// Photons for the next iteration: aimed at the time budget from the last
+/// one's rate, changing by at most 4× per step, within [1024, 2³⁰].
+pub fn next_iteration_size(photons: u32, elapsed: Duration, target: Duration) -> u32 {
+    let seconds = elapsed.as_secs_f64().max(1e-4);
+    let scale = (target.as_secs_f64() / seconds).clamp(0.25, 4.0);
+    (f64::from(photons) * scale).clamp(1024.0, f64::from(1u32 << 30)) as u32
 }
 
 /// Binomial standard error of the escaped fraction, relative.

@@ -56,22 +56,21 @@ fn iterations_accumulate_and_noise_falls() {
 
 #[test]
 fn iteration_size_follows_the_time_budget() {
-    let settings = TraceSettings {
-        seed: 1,
-        max_bounces: 32,
-        layout: CubeMapLayout::new(16),
-    };
-    let mut fast = Session::start(prepared("parabolic_spot.toml"), settings);
-    fast.target_iteration_time = Duration::from_millis(5);
-    let mut slow = Session::start(prepared("parabolic_spot.toml"), settings);
-    slow.target_iteration_time = Duration::from_millis(80);
-    let (mut a, mut b) = (0, 0);
-    for _ in 0..6 {
-        a = fast.iterate().unwrap().photons;
-        b = slow.iterate().unwrap().photons;
+    use lucerna_tracer::session::next_iteration_size;
+    let ms = Duration::from_millis;
+    // 100 000 photons took 50 ms: a 100 ms budget doubles the next batch.
+    assert_eq!(next_iteration_size(100_000, ms(50), ms(100)), 200_000);
+    // Far off: at most 4× per step, either way.
+    assert_eq!(next_iteration_size(100_000, ms(1), ms(100)), 400_000);
+    assert_eq!(next_iteration_size(100_000, ms(1000), ms(40)), 25_000);
+    // Bounded below and above.
+    assert_eq!(next_iteration_size(1000, ms(1000), ms(1)), 1024);
+    assert_eq!(next_iteration_size(1 << 30, ms(1), ms(1000)), 1 << 30);
+    // Converges: a tracer of 10 M photons/s settles at the budget's worth.
+    let mut n = 65_536u32;
+    for _ in 0..12 {
+        let elapsed = Duration::from_secs_f64(f64::from(n) / 10e6);
+        n = next_iteration_size(n, elapsed, ms(40));
     }
-    assert!(
-        b > 4 * a,
-        "an 80 ms budget traces more per iteration than 5 ms: {b} vs {a}"
-    );
+    assert!((n as f64 - 400_000.0).abs() < 1000.0, "{n}");
 }
