@@ -6,6 +6,7 @@ mod commands;
 use clap::Parser;
 
 fn main() -> std::process::ExitCode {
+    quiet_mesa_device_select();
     let cli = commands::Cli::parse();
     match commands::run(cli) {
         Ok(()) => std::process::ExitCode::SUCCESS,
@@ -15,6 +16,20 @@ fn main() -> std::process::ExitCode {
                 eprintln!("  caused by: {cause}");
             }
             std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+/// Mesa's Vulkan device-select layer prints "XDG_RUNTIME_DIR is invalid"
+/// (twice, as an "error") on machines without a session, which reads like
+/// a failure of ours; it has a documented switch to stay out of the way.
+fn quiet_mesa_device_select() {
+    if std::env::var_os("NODEVICE_SELECT").is_none() {
+        #[allow(unsafe_code)]
+        // SAFETY: called first thing in main, before any other thread
+        // exists, so nothing reads the environment concurrently.
+        unsafe {
+            std::env::set_var("NODEVICE_SELECT", "1");
         }
     }
 }
