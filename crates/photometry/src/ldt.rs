@@ -289,8 +289,8 @@ pub fn write_ldt(p: &Photometry) -> String {
         .enumerate()
         .all(|(i, &c)| (c - i as f64 * step).abs() < 1e-6);
     let g = &table.gammas_deg;
-    let g_step = g[1] - g[0];
-    let uniform_g = g.windows(2).all(|w| (w[1] - w[0] - g_step).abs() < 1e-6) && g[0] == 0.0;
+    // EULUMDAT's Dg means angles 0, Dg, 2·Dg, …: equal steps from 0.
+    let g_step = table.uniform_gamma_step().filter(|_| g[0] == 0.0);
     let mut lamps = m.lamps.clone();
     if lamps.is_empty() || lamps[0].flux_lm <= 0.0 || m.absolute {
         let first = lamps.first().cloned();
@@ -330,7 +330,7 @@ pub fn write_ldt(p: &Photometry) -> String {
         mc.to_string(),
         format_number(if uniform_c { step } else { 0.0 }, 8),
         g.len().to_string(),
-        format_number(if uniform_g { g_step } else { 0.0 }, 8),
+        format_number(g_step.unwrap_or(0.0), 8),
         text(&m.test_report),
         text(&m.luminaire),
         text(&m.catalog_number),

@@ -359,6 +359,11 @@ impl CandelaTable {
         }
     }
 
+    /// The γ spacing when the angles are equally spaced.
+    pub fn uniform_gamma_step(&self) -> Option<f64> {
+        uniform_step(&self.gammas_deg)
+    }
+
     /// Whether the C-planes are equally spaced around the full circle.
     pub fn uniform_c_step(&self) -> Option<f64> {
         let c = &self.c_planes_deg;
@@ -379,6 +384,16 @@ impl CandelaTable {
             ..self.clone()
         }
     }
+}
+
+/// The common difference of ascending `values`, if they are equally spaced
+/// (within 1e-6°).
+pub fn uniform_step(values: &[f64]) -> Option<f64> {
+    let step = values.get(1)? - values[0];
+    values
+        .windows(2)
+        .all(|w| (w[1] - w[0] - step).abs() < 1e-6)
+        .then_some(step)
 }
 
 /// C-planes 0, step, … below 360° (a single plane for step 0).
@@ -533,9 +548,4 @@ pub fn cube_map_from_table(table: &CandelaTable, layout: CubeMapLayout) -> Vec<f
             table.intensity(c.to_degrees(), g.to_degrees())
         })
         .collect()
-}
-
-/// Solid angle (sr) of a polar cap of half-angle `gamma` (radians).
-pub fn cap_solid_angle(gamma: f64) -> f64 {
-    TAU * (1.0 - gamma.cos())
 }

@@ -6,6 +6,7 @@ use std::time::{Duration, Instant};
 
 use lucerna_gpu::{GpuContext, GpuError};
 use lucerna_photometry::IntensityMap;
+use lucerna_photometry::cubemap::rectangle_solid_angle;
 
 use crate::cpu::{Tally, TraceSettings, trace_batch};
 use crate::gpu::GpuTracer;
@@ -28,7 +29,8 @@ impl Backend {
         }
     }
 
-    fn trace(
+    /// Traces photons `0 .. count` of `iteration`.
+    pub fn trace(
         &self,
         scene: &PreparedScene,
         settings: &TraceSettings,
@@ -305,24 +307,32 @@ pub fn flux_relative_error(map: &IntensityMap) -> f64 {
 }
 
 /// Poisson error 1/√n of the brightest block of texels (blocks of 1/8 of a
-/// face edge, solid-angle weighted), relative.
+/// face edge, compared per steradian), relative. A block's solid angle is
+/// the exact solid angle of its face rectangle, so this costs a few hundred
+/// `atan2` per iteration rather than one per texel.
 pub fn peak_relative_error(map: &IntensityMap) -> f64 {
     let n = map.layout.resolution as usize;
     let b = (n / 8).max(1);
     let blocks = n.div_ceil(b);
+    let step = 2.0 / n as f64;
     let mut best_intensity = 0.0;
     let mut best_count = 0u64;
     for face in 0..6 {
         for by in 0..blocks {
             for bx in 0..blocks {
-                let (mut count, mut omega) = (0u64, 0.0);
-                for y in by * b..((by + 1) * b).min(n) {
-                    for x in bx * b..((bx + 1) * b).min(n) {
-                        let t = face * n * n + y * n + x;
-                        count += map.counts[t];
-                        omega += map.layout.texel_solid_angle(t);
+                let (x1, y1) = (((bx + 1) * b).min(n), ((by + 1) * b).min(n));
+                let mut count = 0u64;
+                for y in by * b..y1 {
+                    for x in bx * b..x1 {
+                        count += map.counts[face * n * n + y * n + x];
                     }
                 }
+                let omega = rectangle_solid_angle(
+                    -1.0 + (bx * b) as f64 * step,
+                    -1.0 + (by * b) as f64 * step,
+                    -1.0 + x1 as f64 * step,
+                    -1.0 + y1 as f64 * step,
+                );
                 let intensity = count as f64 / omega;
                 if intensity > best_intensity {
                     best_intensity = intensity;

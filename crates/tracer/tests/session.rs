@@ -74,3 +74,44 @@ fn iteration_size_follows_the_time_budget() {
     }
     assert!((n as f64 - 400_000.0).abs() < 1000.0, "{n}");
 }
+
+#[test]
+fn peak_error_compares_blocks_per_steradian() {
+    use lucerna_photometry::IntensityMap;
+    use lucerna_tracer::session::peak_relative_error;
+    // 64² per face: blocks of 8×8 texels. A corner block has ~3.7× less
+    // solid angle than a centre block, so fewer photons there can still be
+    // the brighter direction.
+    let layout = CubeMapLayout::new(64);
+    let block_omega = |bx: u32, by: u32| -> f64 {
+        (0..8)
+            .flat_map(|y| (0..8).map(move |x| (x, y)))
+            .map(|(x, y)| {
+                layout.texel_solid_angle(layout.texel_index(
+                    lucerna_photometry::CubeFace::NegZ,
+                    bx * 8 + x,
+                    by * 8 + y,
+                ))
+            })
+            .sum()
+    };
+    let (centre, corner) = (block_omega(3, 3), block_omega(0, 0));
+    assert!(centre / corner > 3.0);
+    let mut map = IntensityMap::new(layout, 1.0);
+    let fill = |map: &mut IntensityMap, bx: u32, by: u32, per_texel: u64| {
+        for y in 0..8 {
+            for x in 0..8 {
+                map.counts[layout.texel_index(
+                    lucerna_photometry::CubeFace::NegZ,
+                    bx * 8 + x,
+                    by * 8 + y,
+                )] = per_texel;
+            }
+        }
+    };
+    fill(&mut map, 3, 3, 100); // 6400 photons over the larger solid angle
+    fill(&mut map, 0, 0, 50); // 3200 photons, but brighter per steradian
+    assert!(3200.0 / corner > 6400.0 / centre);
+    map.photons_emitted = map.photons_escaped();
+    assert!((peak_relative_error(&map) - 1.0 / 3200f64.sqrt()).abs() < 1e-12);
+}

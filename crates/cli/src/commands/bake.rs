@@ -282,12 +282,9 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
         None => map.candela(),
     };
     let photometry = photometry_from_candela(&map, &candela, &scene, &tessellated, &options);
-    let flux = photometry.table.flux_lm();
-    let per_klm = if flux > 0.0 {
-        1000.0 / map.emitter_flux_lm
-    } else {
-        1.0
-    };
+    // cd/klm of the lamp (emitter) flux, as in the LDT; validation keeps
+    // the flux > 0.
+    let per_klm = 1000.0 / map.emitter_flux_lm;
     let title = format!("{} - {} photons", scene.name, map.photons_emitted);
     let outputs: Vec<(String, Vec<u8>)> = vec![
         (

@@ -47,10 +47,7 @@ fn run(
 ) -> Result<(f64, Tally)> {
     let batch = 1u32 << 20;
     let trace = |iteration: u32, count: u32| -> Result<Tally> {
-        Ok(match backend {
-            Backend::Cpu => lucerna_tracer::trace_batch(prepared, settings, iteration, 0, count),
-            Backend::Gpu(g) => g.trace_batch(iteration, 0, count)?,
-        })
+        Ok(backend.trace(prepared, settings, iteration, count)?)
     };
     trace(u32::MAX, 10_000)?;
     let start = Instant::now();

@@ -33,14 +33,6 @@ pub struct InfoReport {
     warnings: Vec<String>,
 }
 
-fn uniform_step(values: &[f64]) -> Option<f64> {
-    let step = values.get(1)? - values[0];
-    values
-        .windows(2)
-        .all(|w| (w[1] - w[0] - step).abs() < 1e-6)
-        .then_some(step)
-}
-
 pub fn read(path: &Path) -> Result<Photometry> {
     let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
     read_photometry(&bytes)
@@ -61,7 +53,7 @@ pub fn report(path: &Path) -> Result<InfoReport> {
         c_step_deg: t.uniform_c_step().filter(|s| *s > 0.0),
         gammas: g.len(),
         gamma_range_deg: [g[0], g[g.len() - 1]],
-        gamma_step_deg: uniform_step(g),
+        gamma_step_deg: t.uniform_gamma_step(),
         photometry: if p.meta.absolute {
             "absolute"
         } else {
