@@ -1,0 +1,23 @@
+//! Lucerna's preview room: photometric polygonal lights shaded with the
+//! cubature of Luksch, Prost and Wimmer 2020 (diffuse) and Linearly
+//! Transformed Cosines (specular, eq. 12–16), work-plane illuminance
+//! figures, Monte Carlo and far-field references, a CPU renderer and its
+//! WGSL twin (`gpu`, `shaders/room.wgsl`).
+
+pub mod cubature;
+pub mod gpu;
+pub mod light;
+pub mod ltc;
+pub mod model;
+pub mod profile;
+pub mod reference;
+pub mod render;
+pub mod scene;
+pub mod work_plane;
+
+pub use light::{Opening, PlacedLight};
+pub use model::{RoomFile, RoomFileError, load_room, parse_room};
+pub use profile::ProfileGrid;
+pub use render::{Frame, Shading, render_cpu, tone_map};
+pub use scene::RoomScene;
+pub use work_plane::{IlluminanceFigures, WorkPlaneGrid, work_plane_cpu};

@@ -1,0 +1,100 @@
+//! Illuminance on the work-plane grid and the figures lighting designers
+//! check against EN 12464-1: Emin, Eavg, Emax and the uniformity
+//! U0 = Emin / Eavg.
+
+use glam::DVec3;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::render::{Shading, light_illuminance};
+use crate::scene::RoomScene;
+
+/// Illuminance (lx) at the grid points, row by row (y), x fastest.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WorkPlaneGrid {
+    pub xs: Vec<f64>,
+    pub ys: Vec<f64>,
+    pub height_m: f64,
+    pub lux: Vec<f64>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct IlluminanceFigures {
+    pub e_min_lx: f64,
+    pub e_avg_lx: f64,
+    pub e_max_lx: f64,
+    /// Emin / Eavg.
+    pub u0: f64,
+    pub points: usize,
+}
+
+/// Grid points at the centres of cells of about `spacing_m`, inside the
+/// border band, along one side of the room.
+pub fn grid_coordinates(length: f64, border: f64, spacing: f64) -> Vec<f64> {
+    let span = (length - 2.0 * border).max(0.0);
+    let n = ((span / spacing).round() as usize).max(1);
+    (0..n)
+        .map(|i| border + (i as f64 + 0.5) * span / n as f64)
+        .collect()
+}
+
+/// The work-plane points (facing up) of a room.
+pub fn grid_points(scene: &RoomScene) -> (Vec<f64>, Vec<f64>) {
+    let w = scene.work_plane;
+    (
+        grid_coordinates(scene.size.x, w.border_m, w.spacing_m),
+        grid_coordinates(scene.size.y, w.border_m, w.spacing_m),
+    )
+}
+
+/// Illuminance on the work plane by the CPU shading.
+pub fn work_plane_cpu(scene: &RoomScene, shading: Shading) -> WorkPlaneGrid {
+    let (xs, ys) = grid_points(scene);
+    let h = scene.work_plane.height_m;
+    let lux = ys
+        .par_iter()
+        .flat_map_iter(|&y| {
+            xs.iter().map(move |&x| {
+                let p = DVec3::new(x, y, h);
+                scene
+                    .lights
+                    .iter()
+                    .map(|l| light_illuminance(l, p, DVec3::Z, shading).lux)
+                    .sum::<f64>()
+            })
+        })
+        .collect();
+    WorkPlaneGrid {
+        xs,
+        ys,
+        height_m: h,
+        lux,
+    }
+}
+
+impl WorkPlaneGrid {
+    pub fn figures(&self) -> IlluminanceFigures {
+        let n = self.lux.len().max(1);
+        let e_min = self.lux.iter().copied().fold(f64::INFINITY, f64::min);
+        let e_max = self.lux.iter().copied().fold(0.0, f64::max);
+        let e_avg = self.lux.iter().sum::<f64>() / n as f64;
+        IlluminanceFigures {
+            e_min_lx: if e_min.is_finite() { e_min } else { 0.0 },
+            e_avg_lx: e_avg,
+            e_max_lx: e_max,
+            u0: if e_avg > 0.0 { e_min / e_avg } else { 0.0 },
+            points: self.lux.len(),
+        }
+    }
+
+    /// `x_m,y_m,lux` rows after a header, for spreadsheets.
+    pub fn csv(&self) -> String {
+        let mut s = String::from("x_m,y_m,illuminance_lx\n");
+        for (j, y) in self.ys.iter().enumerate() {
+            for (i, x) in self.xs.iter().enumerate() {
+                s.push_str(&format!("{x:.3},{y:.3},{:.3}\n", self.lux[j * self.xs.len() + i]));
+            }
+        }
+        s
+    }
+}
