@@ -5,6 +5,7 @@
 //! WGSL twin (`gpu`, `shaders/room.wgsl`).
 
 pub mod cubature;
+pub mod evaluation;
 pub mod gpu;
 pub mod light;
 pub mod ltc;

@@ -50,7 +50,10 @@ impl LtcTable {
         let n = (LTC_SIZE - 1) as f64;
         let u = roughness.clamp(0.0, 1.0) * n;
         let v = (1.0 - cos_theta.clamp(0.0, 1.0)).sqrt() * n;
-        let (u0, v0) = ((u.floor() as usize).min(LTC_SIZE - 2), (v.floor() as usize).min(LTC_SIZE - 2));
+        let (u0, v0) = (
+            (u.floor() as usize).min(LTC_SIZE - 2),
+            (v.floor() as usize).min(LTC_SIZE - 2),
+        );
         let (tu, tv) = (u - u0 as f64, v - v0 as f64);
         let at = |a: usize, t: usize| &self.entries[a + LTC_SIZE * t];
         let mut out = [0.0; 8];

@@ -285,15 +285,44 @@ pub fn validate(room: &RoomFile) -> Vec<String> {
     check(&mut p, "room.width_m", r.width_m, 0.1, MAX_ROOM_M);
     check(&mut p, "room.depth_m", r.depth_m, 0.1, MAX_ROOM_M);
     check(&mut p, "room.height_m", r.height_m, 0.1, MAX_ROOM_M);
-    for (name, s) in [("floor", r.floor), ("walls", r.walls), ("ceiling", r.ceiling)] {
-        check(&mut p, &format!("room.{name}.reflectance"), s.reflectance, 0.0, 1.0);
-        check(&mut p, &format!("room.{name}.specular"), s.specular, 0.0, 1.0);
-        check(&mut p, &format!("room.{name}.roughness"), s.roughness, 0.0, 1.0);
+    for (name, s) in [
+        ("floor", r.floor),
+        ("walls", r.walls),
+        ("ceiling", r.ceiling),
+    ] {
+        check(
+            &mut p,
+            &format!("room.{name}.reflectance"),
+            s.reflectance,
+            0.0,
+            1.0,
+        );
+        check(
+            &mut p,
+            &format!("room.{name}.specular"),
+            s.specular,
+            0.0,
+            1.0,
+        );
+        check(
+            &mut p,
+            &format!("room.{name}.roughness"),
+            s.roughness,
+            0.0,
+            1.0,
+        );
     }
     let w = &room.work_plane;
     check(&mut p, "work_plane.height_m", w.height_m, 0.0, r.height_m);
-    check(&mut p, "work_plane.spacing_m", w.spacing_m, 0.01, MAX_ROOM_M);
-    check(&mut p, 
+    check(
+        &mut p,
+        "work_plane.spacing_m",
+        w.spacing_m,
+        0.01,
+        MAX_ROOM_M,
+    );
+    check(
+        &mut p,
         "work_plane.border_m",
         w.border_m,
         0.0,
@@ -302,8 +331,15 @@ pub fn validate(room: &RoomFile) -> Vec<String> {
     let c = &room.camera;
     let size = [r.width_m, r.depth_m, r.height_m];
     for k in 0..3 {
-        check(&mut p, &format!("camera.position[{k}]"), c.position[k], 0.0, size[k]);
-        check(&mut p, 
+        check(
+            &mut p,
+            &format!("camera.position[{k}]"),
+            c.position[k],
+            0.0,
+            size[k],
+        );
+        check(
+            &mut p,
             &format!("camera.look_at[{k}]"),
             c.look_at[k],
             -MAX_ROOM_M,
@@ -329,8 +365,15 @@ pub fn validate(room: &RoomFile) -> Vec<String> {
             ));
         }
         for k in 0..3 {
-            check(&mut p, &f(&format!("position[{k}]")), l.position[k], -MAX_ROOM_M, MAX_ROOM_M);
-            check(&mut p, 
+            check(
+                &mut p,
+                &f(&format!("position[{k}]")),
+                l.position[k],
+                -MAX_ROOM_M,
+                MAX_ROOM_M,
+            );
+            check(
+                &mut p,
                 &f(&format!("rotation_deg[{k}]")),
                 l.rotation_deg[k],
                 -360.0,
@@ -351,8 +394,20 @@ pub fn validate(room: &RoomFile) -> Vec<String> {
         let copies = match l.array {
             Some(a) => {
                 for k in 0..2 {
-                    check(&mut p, &f(&format!("array.count[{k}]")), a.count[k] as f64, 1.0, 64.0);
-                    check(&mut p, &f(&format!("array.spacing_m[{k}]")), a.spacing_m[k], 0.0, MAX_ROOM_M);
+                    check(
+                        &mut p,
+                        &f(&format!("array.count[{k}]")),
+                        a.count[k] as f64,
+                        1.0,
+                        64.0,
+                    );
+                    check(
+                        &mut p,
+                        &f(&format!("array.spacing_m[{k}]")),
+                        a.spacing_m[k],
+                        0.0,
+                        MAX_ROOM_M,
+                    );
                 }
                 a.count[0] as usize * a.count[1] as usize
             }

@@ -12,6 +12,14 @@ pub const GAMMA_STEP_DEG: f64 = 0.5;
 /// C step of the grid (degrees) for tables that vary with C.
 pub const C_STEP_DEG: f64 = 2.5;
 
+/// Prefiltered levels beyond the raw grid: level k averages the profile
+/// over spherical caps of radius `BLUR_BASE_DEG · 2^(k−1)`.
+pub const BLUR_LEVELS: usize = 7;
+/// Cap radius of the first prefiltered level (degrees).
+pub const BLUR_BASE_DEG: f64 = 1.0;
+/// Points per cap when each level is averaged from the one below.
+const CAP_POINTS: usize = 24;
+
 /// Candela on `c_count × gamma_count` grid points: C = i·c_step over
 /// [0°, 360°] (the last column repeats C = 0°), γ = j·γ step over [0°, 180°].
 #[derive(Debug, Clone, PartialEq)]
@@ -23,6 +31,16 @@ pub struct ProfileGrid {
     pub gamma_step_deg: f64,
     /// Row-major by C column: `candela[c * gamma_count + g]`.
     pub candela: Vec<f32>,
+    /// The candela grid, then `BLUR_LEVELS` prefiltered grids (same
+    /// layout): level k averages the profile over caps of radius
+    /// `BLUR_BASE_DEG · 2^(k−1)`.
+    pub candela_levels: Vec<f32>,
+    /// |cos γ| averaged over the same caps: I / |cos γ| is the opening's
+    /// luminance times its area, the quantity a cubature triangle
+    /// averages; the ratio of the two prefiltered grids estimates it
+    /// without dividing by zero in the opening's plane, and exactly for a
+    /// Lambertian opening.
+    pub cosine_levels: Vec<f32>,
 }
 
 impl ProfileGrid {
@@ -37,7 +55,11 @@ impl ProfileGrid {
         };
         let mut candela = Vec::with_capacity(c_count * gamma_count);
         for i in 0..c_count {
-            let c = if rotational { 0.0 } else { i as f64 * C_STEP_DEG };
+            let c = if rotational {
+                0.0
+            } else {
+                i as f64 * C_STEP_DEG
+            };
             for j in 0..gamma_count {
                 let g = j as f64 * GAMMA_STEP_DEG;
                 candela.push(table.intensity(c % 360.0, g).max(0.0) as f32);
@@ -49,7 +71,10 @@ impl ProfileGrid {
             c_step_deg: C_STEP_DEG,
             gamma_step_deg: GAMMA_STEP_DEG,
             candela,
+            candela_levels: Vec::new(),
+            cosine_levels: Vec::new(),
         }
+        .with_prefiltered_levels()
     }
 
     /// A profile from a function of (C°, γ°), for tests and analytic cases.
@@ -72,20 +97,110 @@ impl ProfileGrid {
             c_step_deg: C_STEP_DEG,
             gamma_step_deg: GAMMA_STEP_DEG,
             candela,
+            candela_levels: Vec::new(),
+            cosine_levels: Vec::new(),
         }
+        .with_prefiltered_levels()
+    }
+
+    /// Values per level.
+    pub fn level_len(&self) -> usize {
+        self.c_count * self.gamma_count
+    }
+
+    /// Grid direction of node (c index, γ index) in luminaire coordinates.
+    fn node_direction(&self, ci: usize, gi: usize) -> DVec3 {
+        let c = (ci as f64 * self.c_step_deg).to_radians();
+        let g = (gi as f64 * self.gamma_step_deg).to_radians();
+        DVec3::new(g.sin() * c.cos(), g.sin() * c.sin(), -g.cos())
+    }
+
+    /// Appends the prefiltered levels: each averages the level below over
+    /// caps twice as wide (a mip chain on the sphere), so that a lookup
+    /// standing for a large solid angle returns that region's mean
+    /// intensity rather than one narrow peak (the paper's future work,
+    /// section 8).
+    fn with_prefiltered_levels(mut self) -> ProfileGrid {
+        let n = self.level_len();
+        self.candela_levels = self.candela.clone();
+        self.cosine_levels = Vec::with_capacity(n * (BLUR_LEVELS + 1));
+        for _ci in 0..self.c_count {
+            for gi in 0..self.gamma_count {
+                let cos = (gi as f64 * self.gamma_step_deg).to_radians().cos().abs();
+                self.cosine_levels.push(cos as f32);
+            }
+        }
+        let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+        for level in 1..=BLUR_LEVELS {
+            let radius = (BLUR_BASE_DEG * 2f64.powi(level as i32 - 1)).to_radians();
+            let mut next_candela = Vec::with_capacity(n);
+            let mut next_cosine = Vec::with_capacity(n);
+            for ci in 0..self.c_count {
+                for gi in 0..self.gamma_count {
+                    let axis = self.node_direction(ci, gi);
+                    let u = axis.any_orthonormal_vector();
+                    let v = axis.cross(u);
+                    let (mut sum_i, mut sum_c) = (0.0, 0.0);
+                    for k in 0..CAP_POINTS {
+                        // Uniform over the cap's area (Fibonacci spiral).
+                        let t = (k as f64 + 0.5) / CAP_POINTS as f64;
+                        let cos_r = 1.0 - t * (1.0 - radius.cos());
+                        let sin_r = (1.0 - cos_r * cos_r).max(0.0).sqrt();
+                        let phi = k as f64 * golden;
+                        let mut d = axis * cos_r + (u * phi.cos() + v * phi.sin()) * sin_r;
+                        // Stay in the node's hemisphere: the front and back
+                        // of the opening are never seen together.
+                        if d.z * axis.z < 0.0 {
+                            d.z = -d.z;
+                        }
+                        sum_i += self.sample(&self.candela_levels, d, level - 1);
+                        sum_c += self.sample(&self.cosine_levels, d, level - 1);
+                    }
+                    next_candela.push((sum_i / CAP_POINTS as f64) as f32);
+                    next_cosine.push((sum_c / CAP_POINTS as f64) as f32);
+                }
+            }
+            self.candela_levels.extend(next_candela);
+            self.cosine_levels.extend(next_cosine);
+        }
+        self
     }
 
     /// Intensity (cd) towards a unit direction in luminaire coordinates
     /// (x = C0, y = C90, z up; γ = 0 is nadir, −z).
     pub fn candela(&self, d: DVec3) -> f64 {
+        self.sample(&self.candela, d, 0)
+    }
+
+    /// I / |cos γ| (cd) over a cap of about `radius_rad` around `d`: the
+    /// ratio of the prefiltered intensity and cosine (trilinear between
+    /// levels).
+    pub fn projected_filtered(&self, d: DVec3, radius_rad: f64) -> f64 {
+        let level = filter_level(radius_rad);
+        let l0 = (level.floor() as usize).min(BLUR_LEVELS);
+        let t = level - l0 as f64;
+        let (mut i, mut c) = (
+            self.sample(&self.candela_levels, d, l0),
+            self.sample(&self.cosine_levels, d, l0),
+        );
+        if t > 0.0 && l0 < BLUR_LEVELS {
+            i = i * (1.0 - t) + self.sample(&self.candela_levels, d, l0 + 1) * t;
+            c = c * (1.0 - t) + self.sample(&self.cosine_levels, d, l0 + 1) * t;
+        }
+        if c > 1e-9 { i / c } else { 0.0 }
+    }
+
+    /// Bilinear lookup in one level of a grid stack.
+    fn sample(&self, grids: &[f32], d: DVec3, level: usize) -> f64 {
+        let base = level * self.level_len();
         let horizontal = (d.x * d.x + d.y * d.y).sqrt();
         let gamma = horizontal.atan2(-d.z).to_degrees();
         let gf = (gamma / self.gamma_step_deg).clamp(0.0, (self.gamma_count - 1) as f64);
         let g0 = (gf.floor() as usize).min(self.gamma_count - 2);
         let tg = gf - g0 as f64;
         if self.c_count == 1 {
-            let a = self.candela[g0] as f64;
-            let b = self.candela[g0 + 1] as f64;
+            let a = grids[base + g0] as f64;
+            let b = grids[base + g0 + 1] as f64;
             return a + (b - a) * tg;
         }
         let c = if horizontal > 0.0 {
@@ -96,7 +211,7 @@ impl ProfileGrid {
         let cf = (c / self.c_step_deg).clamp(0.0, (self.c_count - 1) as f64);
         let c0 = (cf.floor() as usize).min(self.c_count - 2);
         let tc = cf - c0 as f64;
-        let at = |ci: usize, gi: usize| self.candela[ci * self.gamma_count + gi] as f64;
+        let at = |ci: usize, gi: usize| grids[base + ci * self.gamma_count + gi] as f64;
         let low = at(c0, g0) + (at(c0, g0 + 1) - at(c0, g0)) * tg;
         let high = at(c0 + 1, g0) + (at(c0 + 1, g0 + 1) - at(c0 + 1, g0)) * tg;
         low + (high - low) * tc
@@ -105,5 +220,16 @@ impl ProfileGrid {
     /// Largest tabulated intensity (cd).
     pub fn peak_candela(&self) -> f64 {
         self.candela.iter().fold(0.0f64, |m, &v| m.max(v as f64))
+    }
+}
+
+/// Fractional level for a filter radius: 0 below `BLUR_BASE_DEG / 2`, then
+/// one level per doubling.
+pub fn filter_level(radius_rad: f64) -> f64 {
+    let r = radius_rad.to_degrees() / BLUR_BASE_DEG;
+    if r <= 0.5 {
+        0.0
+    } else {
+        (r.log2() + 1.0).clamp(0.0, BLUR_LEVELS as f64)
     }
 }

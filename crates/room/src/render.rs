@@ -74,7 +74,12 @@ impl ViewRays {
 }
 
 /// Illuminance from one light at a point, by the chosen shading.
-pub fn light_illuminance(light: &PlacedLight, x: DVec3, n: DVec3, shading: Shading) -> CubatureResult {
+pub fn light_illuminance(
+    light: &PlacedLight,
+    x: DVec3,
+    n: DVec3,
+    shading: Shading,
+) -> CubatureResult {
     match shading {
         Shading::Cubature => cubature::illuminance(light, x, n),
         Shading::PointLight => cubature::point_illuminance(light, x, n),

@@ -43,10 +43,9 @@ impl RoomScene {
             let table = phot.table.scaled(spec.flux_factor);
             let profile = Arc::new(ProfileGrid::from_table(&table));
             let opening = match spec.opening {
-                Some(OpeningSpec::Rectangle { length_m, width_m }) => Opening::Rectangle {
-                    length_m,
-                    width_m,
-                },
+                Some(OpeningSpec::Rectangle { length_m, width_m }) => {
+                    Opening::Rectangle { length_m, width_m }
+                }
                 Some(OpeningSpec::Disk { diameter_m }) => Opening::Disk { diameter_m },
                 Some(OpeningSpec::Point) => Opening::Point,
                 None => opening_from_dimensions(phot.meta.luminous_area),

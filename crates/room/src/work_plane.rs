@@ -92,7 +92,10 @@ impl WorkPlaneGrid {
         let mut s = String::from("x_m,y_m,illuminance_lx\n");
         for (j, y) in self.ys.iter().enumerate() {
             for (i, x) in self.xs.iter().enumerate() {
-                s.push_str(&format!("{x:.3},{y:.3},{:.3}\n", self.lux[j * self.xs.len() + i]));
+                s.push_str(&format!(
+                    "{x:.3},{y:.3},{:.3}\n",
+                    self.lux[j * self.xs.len() + i]
+                ));
             }
         }
         s
