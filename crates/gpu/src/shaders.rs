@@ -9,6 +9,8 @@ pub const RNG: &str = include_str!("../../../shaders/rng.wgsl");
 pub const TRACER: &str = include_str!("../../../shaders/tracer.wgsl");
 /// The pull-push filter's kernels.
 pub const FILTER: &str = include_str!("../../../shaders/filter.wgsl");
+/// The preview room's renderer (cubature + LTC).
+pub const ROOM: &str = include_str!("../../../shaders/room.wgsl");
 /// Test kernel mapping directions to texels.
 pub const CUBEMAP_TEST: &str = include_str!("../../../shaders/cubemap_test.wgsl");
 
@@ -22,6 +24,11 @@ pub fn filter() -> String {
     [CUBEMAP, FILTER].join("\n")
 }
 
+/// The preview room's kernels (self-contained).
+pub fn room() -> String {
+    ROOM.to_owned()
+}
+
 /// The cube-map test kernel with its module.
 pub fn cubemap_test() -> String {
     [CUBEMAP, CUBEMAP_TEST].join("\n")
@@ -33,5 +40,6 @@ pub fn all() -> Vec<(&'static str, String)> {
         ("tracer", tracer()),
         ("filter", filter()),
         ("cubemap_test", cubemap_test()),
+        ("room", room()),
     ]
 }

@@ -14,7 +14,7 @@ use crate::light::{Opening, PlacedLight};
 /// Shading points nearer the light's plane than this fraction of the
 /// opening's size are moved off it (section 5.3): the radiance
 /// substitution L = I / (A cos) is singular in the plane.
-pub const PLANE_EPSILON: f64 = 1e-4;
+pub const PLANE_EPSILON: f64 = 1e-3;
 
 /// What the cubature gives at one shading point.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -167,9 +167,10 @@ pub fn illuminance_with(
     // Section 5.3: keep the shading point off the light's plane.
     let epsilon = PLANE_EPSILON * light.size_m();
     let height = (x - light.position).dot(normal_a);
+    // Always to the front: the sign of a height within rounding of zero is
+    // noise, and the two sides read different hemispheres of the profile.
     let x = if height.abs() < epsilon {
-        let side = if height < 0.0 { -1.0 } else { 1.0 };
-        x + normal_a * (side * epsilon - height)
+        x + normal_a * (epsilon - height)
     } else {
         x
     };

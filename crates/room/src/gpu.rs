@@ -1,1 +1,403 @@
-//! placeholder
+//! Driver of `shaders/room.wgsl`: uploads the room (lights, prefiltered
+//! profiles, the LTC table) and runs the per-pixel renderer or the
+//! per-point illuminance kernel.
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use bytemuck::{Pod, Zeroable};
+use glam::DVec3;
+use lucerna_gpu::{GpuContext, GpuError};
+use wgpu::util::DeviceExt;
+
+use crate::light::PlacedLight;
+use crate::ltc::ggx_table;
+use crate::profile::ProfileGrid;
+use crate::render::{Frame, Shading, ViewRays};
+use crate::scene::RoomScene;
+
+/// WGSL twin `Params` (208 bytes).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+struct Params {
+    origin: [f32; 4],
+    forward: [f32; 4],
+    right: [f32; 4],
+    up: [f32; 4],
+    room: [f32; 4],
+    surfaces: [[f32; 4]; 6],
+    width: u32,
+    height: u32,
+    light_count: u32,
+    mode: u32,
+    tan_half_fov: f32,
+    aspect: f32,
+    point_count: u32,
+    pad: u32,
+}
+const _: () = assert!(std::mem::size_of::<Params>() == 208);
+
+/// WGSL twin `Light` (288 bytes).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+struct GpuLight {
+    col0: [f32; 4],
+    col1: [f32; 4],
+    col2: [f32; 4],
+    position: [f32; 4],
+    info: [u32; 4],
+    steps: [f32; 4],
+    vertices: [[f32; 4]; 12],
+}
+const _: () = assert!(std::mem::size_of::<GpuLight>() == 288);
+
+fn v4(v: DVec3, w: f32) -> [f32; 4] {
+    [v.x as f32, v.y as f32, v.z as f32, w]
+}
+
+/// The room's lights and profiles on the device.
+#[derive(Debug)]
+pub struct UploadedRoom {
+    lights: wgpu::Buffer,
+    profiles: wgpu::Buffer,
+    light_count: u32,
+    scene_params: Params,
+}
+
+/// The compiled kernels and the LTC table.
+#[derive(Debug)]
+pub struct GpuRoomRenderer {
+    ctx: GpuContext,
+    layout: wgpu::BindGroupLayout,
+    render: wgpu::ComputePipeline,
+    points: wgpu::ComputePipeline,
+    ltc: wgpu::Buffer,
+}
+
+impl GpuRoomRenderer {
+    pub fn new(ctx: GpuContext) -> Result<GpuRoomRenderer, GpuError> {
+        let device = &ctx.device;
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("room.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(lucerna_gpu::shaders::room().into()),
+        });
+        let entry = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let read = wgpu::BufferBindingType::Storage { read_only: true };
+        // One explicit layout for both entry points.
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("room bindings"),
+            entries: &[
+                entry(0, wgpu::BufferBindingType::Uniform),
+                entry(1, read),
+                entry(2, read),
+                entry(3, read),
+                entry(4, wgpu::BufferBindingType::Storage { read_only: false }),
+                entry(5, read),
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("room"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = |name: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(name),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(name),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let render = pipeline("render");
+        let points = pipeline("shade_points");
+        let table: Vec<f32> = ggx_table().entries.iter().flatten().copied().collect();
+        let ltc = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("ltc"),
+            contents: bytemuck::cast_slice(&table),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        Ok(GpuRoomRenderer {
+            ctx,
+            layout,
+            render,
+            points,
+            ltc,
+        })
+    }
+
+    pub fn context(&self) -> &GpuContext {
+        &self.ctx
+    }
+
+    /// Uploads lights and their profiles (each distinct profile once).
+    pub fn upload(&self, scene: &RoomScene) -> UploadedRoom {
+        let mut data: Vec<f32> = Vec::new();
+        let mut seen: Vec<(*const ProfileGrid, u32)> = Vec::new();
+        let mut lights = Vec::with_capacity(scene.lights.len());
+        for light in &scene.lights {
+            let key = Arc::as_ptr(&light.profile);
+            let offset = match seen.iter().find(|(k, _)| *k == key) {
+                Some(&(_, o)) => o,
+                None => {
+                    let o = data.len() as u32;
+                    data.extend_from_slice(&light.profile.candela_levels);
+                    data.extend_from_slice(&light.profile.cosine_levels);
+                    seen.push((key, o));
+                    o
+                }
+            };
+            lights.push(gpu_light(light, offset));
+        }
+        if lights.is_empty() {
+            lights.push(GpuLight::zeroed());
+        }
+        if data.is_empty() {
+            data.push(0.0);
+        }
+        let device = &self.ctx.device;
+        let lights_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("room lights"),
+            contents: bytemuck::cast_slice(&lights),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let profiles = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("room profiles"),
+            contents: bytemuck::cast_slice(&data),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let mut surfaces = [[0.0f32; 4]; 6];
+        for (slot, s) in surfaces.iter_mut().zip(&scene.surfaces) {
+            *slot = [
+                s.reflectance as f32,
+                s.specular as f32,
+                s.roughness as f32,
+                0.0,
+            ];
+        }
+        let scene_params = Params {
+            origin: [0.0; 4],
+            forward: [0.0; 4],
+            right: [0.0; 4],
+            up: [0.0; 4],
+            room: v4(scene.size, 0.0),
+            surfaces,
+            width: 0,
+            height: 0,
+            light_count: scene.lights.len() as u32,
+            mode: 0,
+            tan_half_fov: 0.0,
+            aspect: 1.0,
+            point_count: 0,
+            pad: 0,
+        };
+        UploadedRoom {
+            lights: lights_buffer,
+            profiles,
+            light_count: scene.lights.len() as u32,
+            scene_params,
+        }
+    }
+
+    fn run(
+        &self,
+        room: &UploadedRoom,
+        params: Params,
+        points: &[[f32; 4]],
+        outputs: u32,
+        render: bool,
+    ) -> Result<(Vec<[f32; 4]>, Duration), GpuError> {
+        let device = &self.ctx.device;
+        let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("room params"),
+            contents: bytemuck::bytes_of(&params),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let dummy = [[0.0f32; 4]; 2];
+        let points_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("room points"),
+            contents: bytemuck::cast_slice(if points.is_empty() { &dummy } else { points }),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let size = 16 * outputs.max(1) as u64;
+        let output = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("room output"),
+            size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("room readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("room"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: uniform.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: room.lights.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: room.profiles.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: self.ltc.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: output.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: points_buffer.as_entire_binding(),
+                },
+            ],
+        });
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("room"),
+        });
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: None,
+                timestamp_writes: None,
+            });
+            pass.set_bind_group(0, &bind, &[]);
+            if render {
+                pass.set_pipeline(&self.render);
+                pass.dispatch_workgroups(params.width.div_ceil(8), params.height.div_ceil(8), 1);
+            } else {
+                pass.set_pipeline(&self.points);
+                let groups = outputs.div_ceil(64).max(1);
+                let x = groups.min(65_535);
+                pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
+            }
+        }
+        let start = Instant::now();
+        self.ctx.queue.submit([encoder.finish()]);
+        self.ctx
+            .device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError::Failed(e.to_string()))?;
+        let elapsed = start.elapsed();
+        let mut copy = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("room readback"),
+        });
+        copy.copy_buffer_to_buffer(&output, 0, &readback, 0, Some(size));
+        self.ctx.queue.submit([copy.finish()]);
+        let bytes = lucerna_gpu::read_buffer(&self.ctx, &readback)?;
+        Ok((bytemuck::cast_slice(&bytes).to_vec(), elapsed))
+    }
+
+    /// Renders the camera's view; also returns the kernel's time (submit
+    /// to completion, without the read-back).
+    pub fn render(
+        &self,
+        scene: &RoomScene,
+        room: &UploadedRoom,
+        width: u32,
+        height: u32,
+        shading: Shading,
+    ) -> Result<(Frame, Duration), GpuError> {
+        let rays = ViewRays::new(scene, width, height);
+        let mut params = room.scene_params;
+        params.origin = v4(rays.origin, 0.0);
+        params.forward = v4(rays.forward, 0.0);
+        params.right = v4(rays.right, 0.0);
+        params.up = v4(rays.up, 0.0);
+        params.width = width;
+        params.height = height;
+        params.light_count = room.light_count;
+        params.mode = mode(shading);
+        params.tan_half_fov = rays.tan_half_fov as f32;
+        params.aspect = rays.aspect as f32;
+        let (out, elapsed) = self.run(room, params, &[], width * height, true)?;
+        Ok((
+            Frame {
+                width,
+                height,
+                luminance: out.iter().map(|p| p[0]).collect(),
+                illuminance: out.iter().map(|p| p[1]).collect(),
+            },
+            elapsed,
+        ))
+    }
+
+    /// Illuminance (lx) and cosine-weighted solid angle at points with
+    /// normals, summed over the room's lights.
+    pub fn shade_points(
+        &self,
+        room: &UploadedRoom,
+        points: &[(DVec3, DVec3)],
+        shading: Shading,
+    ) -> Result<Vec<(f64, f64)>, GpuError> {
+        let mut packed = Vec::with_capacity(points.len() * 2);
+        for (x, n) in points {
+            packed.push(v4(*x, 1.0));
+            packed.push(v4(*n, 0.0));
+        }
+        let mut params = room.scene_params;
+        params.light_count = room.light_count;
+        params.mode = mode(shading);
+        params.point_count = points.len() as u32;
+        let (out, _) = self.run(room, params, &packed, points.len() as u32, false)?;
+        Ok(out
+            .iter()
+            .take(points.len())
+            .map(|p| (p[0] as f64, p[1] as f64))
+            .collect())
+    }
+}
+
+fn mode(shading: Shading) -> u32 {
+    match shading {
+        Shading::Cubature => 0,
+        Shading::PointLight => 1,
+    }
+}
+
+fn gpu_light(light: &PlacedLight, profile_offset: u32) -> GpuLight {
+    let polygon = light.world_polygon();
+    let mut vertices = [[0.0f32; 4]; 12];
+    for (slot, v) in vertices.iter_mut().zip(&polygon) {
+        *slot = v4(*v, 1.0);
+    }
+    let r = light.rotation;
+    GpuLight {
+        col0: v4(r.x_axis, 0.0),
+        col1: v4(r.y_axis, 0.0),
+        col2: v4(r.z_axis, 0.0),
+        position: v4(light.position, light.opening.area_m2() as f32),
+        info: [
+            polygon.len().min(12) as u32,
+            profile_offset,
+            light.profile.c_count as u32,
+            light.profile.gamma_count as u32,
+        ],
+        steps: [
+            light.profile.c_step_deg as f32,
+            light.profile.gamma_step_deg as f32,
+            light.size_m() as f32,
+            0.0,
+        ],
+        vertices,
+    }
+}

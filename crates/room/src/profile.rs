@@ -187,6 +187,7 @@ impl ProfileGrid {
             i = i * (1.0 - t) + self.sample(&self.candela_levels, d, l0 + 1) * t;
             c = c * (1.0 - t) + self.sample(&self.cosine_levels, d, l0 + 1) * t;
         }
+        // A flat opening seen exactly edge-on has I/cos = 0/0.
         if c > 1e-9 { i / c } else { 0.0 }
     }
 
