@@ -10,6 +10,7 @@ mod bench;
 mod convert;
 mod filter_bench;
 mod info;
+mod render;
 mod validate;
 
 #[derive(Debug, Parser)]
@@ -51,6 +52,12 @@ enum Command {
     /// fixed and automatic thresholds over photon counts (CSV + PNG), and
     /// filter timings.
     FilterBench(filter_bench::FilterBenchArgs),
+    /// Light a room with photometric profiles (cubature + LTC) and write a
+    /// PNG view, the work-plane lux grid and Emin/Eavg/Emax/U0.
+    Render(render::RenderArgs),
+    /// Frame times of the room renderer for 1, 4 and 16 luminaires, next
+    /// to the point-light baseline, per backend.
+    RenderBench(render::RenderBenchArgs),
     /// Convert between IES (LM-63-2002, LM-63-2019) and EULUMDAT, keeping
     /// the metadata both formats hold.
     Convert {
@@ -74,6 +81,8 @@ pub fn run(cli: Cli) -> Result<()> {
             }
             Ok(())
         }
+        Command::Render(args) => render::render(&args),
+        Command::RenderBench(args) => render::render_bench(&args),
         Command::Info { file, json } => {
             let report = info::report(&file)?;
             if json {

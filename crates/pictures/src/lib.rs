@@ -6,7 +6,9 @@ pub mod chart;
 pub mod cube;
 pub mod exr_map;
 pub mod polar;
+pub mod room;
 
 pub use cube::cube_map_png;
 pub use exr_map::{ExrError, intensity_map_exr};
 pub use polar::polar_png;
+pub use room::{illuminance_png, room_view_png};

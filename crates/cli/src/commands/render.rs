@@ -1,0 +1,288 @@
+//! `lucerna render`: light a room with photometric profiles and write the
+//! view (tone-mapped or false-colour lux), the work-plane grid and its
+//! EN 12464-1 figures; `lucerna render-bench`: frame times per backend.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use lucerna_photometry::{CubeMapLayout, Photometry, read_photometry};
+use lucerna_room::gpu::GpuRoomRenderer;
+use lucerna_room::model::{SourceKind, load_room};
+use lucerna_room::{RoomScene, Shading, render_cpu, tone_map, work_plane_cpu};
+use lucerna_scene::{load_scene, tessellate, write_atomically};
+use lucerna_tracer::export::{ExportOptions, photometry_from_candela};
+use lucerna_tracer::{BackendRequest, PreparedScene, Session, TraceSettings, choose_backend};
+
+/// Who shades the room.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum RenderBackend {
+    /// The WGSL renderer on a GPU adapter (a software one included).
+    Gpu,
+    /// The CPU implementation (rayon).
+    Cpu,
+    /// The GPU adapter if one opens, else the CPU.
+    Auto,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct RenderArgs {
+    /// The room (TOML).
+    pub room: PathBuf,
+    /// Output PNG.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Show illuminance (lx) in false colour instead of the tone-mapped view.
+    #[arg(long)]
+    pub false_colour: bool,
+    /// Write the work-plane illuminance grid as CSV.
+    #[arg(long)]
+    pub lux_grid: Option<PathBuf>,
+    /// Image size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    pub size: (u32, u32),
+    #[arg(long, value_enum, default_value_t = RenderBackend::Auto)]
+    pub backend: RenderBackend,
+    /// Shade as point lights (far-field photometry) instead of the cubature.
+    #[arg(long)]
+    pub point_lights: bool,
+    /// Photons per luminaire given as a scene to bake.
+    #[arg(long, default_value_t = 2_000_000)]
+    pub photons: u64,
+}
+
+/// "1280x720".
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("'{s}' is not WIDTHxHEIGHT"))?;
+    let w: u32 = w
+        .trim()
+        .parse()
+        .map_err(|_| format!("bad width in '{s}'"))?;
+    let h: u32 = h
+        .trim()
+        .parse()
+        .map_err(|_| format!("bad height in '{s}'"))?;
+    if !(8..=8192).contains(&w) || !(8..=8192).contains(&h) {
+        return Err(format!("size {w}x{h} outside 8..8192"));
+    }
+    Ok((w, h))
+}
+
+/// Traces a luminaire scene into photometry (auto backend, filtered map).
+fn bake_profile(path: &Path, photons: u64) -> Result<Photometry> {
+    let scene = load_scene(path)?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let tessellated = tessellate(&scene, dir)?;
+    let prepared = PreparedScene::new(&scene, &tessellated, dir)?;
+    let settings = TraceSettings {
+        seed: 1,
+        max_bounces: 64,
+        layout: CubeMapLayout::new(128),
+    };
+    let (backend, _) = choose_backend(BackendRequest::Auto, &prepared, &settings)?;
+    let mut session = Session::with_backend(prepared, settings, backend);
+    while session.map().photons_emitted < photons {
+        let left = photons - session.map().photons_emitted;
+        session.iterate_at_most(left)?;
+    }
+    let map = session.snapshot();
+    let filter = lucerna_filter::FilterSettings {
+        threshold: lucerna_filter::Threshold::Automatic,
+        ..Default::default()
+    };
+    let (candela, _) = lucerna_filter::filter_map(&map, &filter);
+    let options = ExportOptions {
+        c_step_deg: 5.0,
+        gamma_step_deg: None,
+        symmetrise: None,
+        date: String::new(),
+        seed: 1,
+        scene_file: path.display().to_string(),
+    };
+    Ok(photometry_from_candela(
+        &map,
+        &candela,
+        &scene,
+        &tessellated,
+        &options,
+    ))
+}
+
+/// Loads the room and every luminaire's profile.
+pub fn load_room_scene(path: &Path, photons: u64) -> Result<RoomScene> {
+    let room = load_room(path)?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    let mut profiles = Vec::new();
+    for (i, spec) in room.luminaires.iter().enumerate() {
+        let Some((kind, source)) = spec.source_path(base) else {
+            bail!("luminaire[{i}] has no profile");
+        };
+        let phot = match kind {
+            SourceKind::PhotometricFile => {
+                let bytes = std::fs::read(&source)
+                    .with_context(|| format!("cannot read {}", source.display()))?;
+                read_photometry(&bytes).with_context(|| format!("{}", source.display()))?
+            }
+            SourceKind::LuminaireScene => {
+                eprintln!("baking {} ({photons} photons)", source.display());
+                bake_profile(&source, photons)
+                    .with_context(|| format!("cannot bake {}", source.display()))?
+            }
+        };
+        profiles.push(phot);
+    }
+    Ok(RoomScene::new(&room, &profiles))
+}
+
+pub fn render(args: &RenderArgs) -> Result<()> {
+    let scene = load_room_scene(&args.room, args.photons)?;
+    let (w, h) = args.size;
+    let shading = if args.point_lights {
+        Shading::PointLight
+    } else {
+        Shading::Cubature
+    };
+    let gpu = match args.backend {
+        RenderBackend::Cpu => None,
+        RenderBackend::Gpu => Some(GpuRoomRenderer::new(lucerna_gpu::open()?)?),
+        RenderBackend::Auto => lucerna_gpu::open()
+            .ok()
+            .and_then(|ctx| GpuRoomRenderer::new(ctx).ok()),
+    };
+    let start = Instant::now();
+    let (frame, backend) = match &gpu {
+        Some(r) => {
+            let uploaded = r.upload(&scene);
+            let (frame, _) = r.render(&scene, &uploaded, w, h, shading)?;
+            (frame, r.context().describe())
+        }
+        None => (render_cpu(&scene, w, h, shading), "CPU".to_owned()),
+    };
+    eprintln!(
+        "rendered {w}x{h}, {} luminaires, on {backend} in {:.0} ms",
+        scene.lights.len(),
+        start.elapsed().as_secs_f64() * 1e3
+    );
+    let grid = work_plane_cpu(&scene, shading);
+    let f = grid.figures();
+    println!(
+        "work plane at {:.2} m, {} points ({:.2} m border): Emin {:.1} lx, Eavg {:.1} lx, Emax {:.1} lx, U0 = Emin/Eavg {:.2} (direct light only)",
+        grid.height_m,
+        f.points,
+        scene.work_plane.border_m,
+        f.e_min_lx,
+        f.e_avg_lx,
+        f.e_max_lx,
+        f.u0
+    );
+    let name = args
+        .room
+        .file_stem()
+        .map_or(String::new(), |s| s.to_string_lossy().into_owned());
+    let caption = format!(
+        "{name}: Eavg {:.0} lx, Emin {:.0} lx, U0 {:.2} on the work plane ({})",
+        f.e_avg_lx,
+        f.e_min_lx,
+        f.u0,
+        if args.point_lights {
+            "point lights"
+        } else {
+            "cubature"
+        }
+    );
+    let png = if args.false_colour {
+        lucerna_pictures::illuminance_png(w, h, &frame.illuminance, &caption)?
+    } else {
+        lucerna_pictures::room_view_png(w, h, &tone_map(&frame), &caption)?
+    };
+    write_atomically(&args.out, &png)
+        .with_context(|| format!("cannot write {}", args.out.display()))?;
+    eprintln!("wrote {}", args.out.display());
+    if let Some(csv) = &args.lux_grid {
+        write_atomically(csv, grid.csv().as_bytes())
+            .with_context(|| format!("cannot write {}", csv.display()))?;
+        eprintln!("wrote {}", csv.display());
+    }
+    Ok(())
+}
+
+#[derive(Debug, clap::Args)]
+pub struct RenderBenchArgs {
+    /// The room whose first luminaire is repeated 1, 4 and 16 times.
+    #[arg(default_value = "assets/rooms/office.toml")]
+    pub room: PathBuf,
+    /// Image size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Skip the CPU renderer (slow at 1280x720 with 16 luminaires).
+    #[arg(long)]
+    pub gpu_only: bool,
+}
+
+/// Milliseconds per frame for 1, 4 and 16 luminaires, cubature and the
+/// point-light baseline, on each backend.
+pub fn render_bench(args: &RenderBenchArgs) -> Result<()> {
+    let base = load_room_scene(&args.room, 2_000_000)?;
+    let Some(first) = base.lights.first().cloned() else {
+        bail!("the room has no luminaire");
+    };
+    let (w, h) = args.size;
+    let gpu = lucerna_gpu::open()
+        .ok()
+        .and_then(|ctx| GpuRoomRenderer::new(ctx).ok());
+    println!("frame times at {w}x{h} (ms per frame; GPU: kernel submit to completion, best of 3)");
+    println!("backend                                  lights  cubature  point  ratio");
+    for count in [1usize, 4, 16] {
+        let mut scene = base.clone();
+        scene.lights = (0..count)
+            .map(|i| {
+                let mut l = first.clone();
+                let (gx, gy) = ((i % 4) as f64, (i / 4) as f64);
+                l.position.x = scene.size.x * (gx + 0.5) / 4.0;
+                l.position.y = scene.size.y * (gy + 0.5) / 4.0;
+                l
+            })
+            .collect();
+        if let Some(r) = &gpu {
+            let uploaded = r.upload(&scene);
+            let mut best = [f64::INFINITY; 2];
+            for (k, shading) in [Shading::Cubature, Shading::PointLight]
+                .into_iter()
+                .enumerate()
+            {
+                for _ in 0..3 {
+                    let (_, t) = r.render(&scene, &uploaded, w, h, shading)?;
+                    best[k] = best[k].min(t.as_secs_f64() * 1e3);
+                }
+            }
+            println!(
+                "{:40} {count:6}  {:8.1}  {:5.1}  {:5.2}",
+                r.context().describe(),
+                best[0],
+                best[1],
+                best[0] / best[1]
+            );
+        }
+        if !args.gpu_only {
+            let mut t = [0.0; 2];
+            for (k, shading) in [Shading::Cubature, Shading::PointLight]
+                .into_iter()
+                .enumerate()
+            {
+                let start = Instant::now();
+                let _ = render_cpu(&scene, w, h, shading);
+                t[k] = start.elapsed().as_secs_f64() * 1e3;
+            }
+            println!(
+                "{:40} {count:6}  {:8.1}  {:5.1}  {:5.2}",
+                format!("CPU ({} threads)", rayon::current_num_threads()),
+                t[0],
+                t[1],
+                t[0] / t[1]
+            );
+        }
+    }
+    Ok(())
+}
