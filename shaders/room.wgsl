@@ -40,7 +40,7 @@ struct Light {
     position: vec4<f32>,
     // vertex count, profile offset (floats), C columns, γ rows
     info: vec4<u32>,
-    // C step (deg), γ step (deg), size (m), unused
+    // C step (deg), γ step (deg), size (m), pieces
     steps: vec4<f32>,
     vertices: array<vec4<f32>, 12>,
 }
@@ -162,6 +162,35 @@ fn point_illuminance(l: Light, x: vec3<f32>, n: vec3<f32>) -> f32 {
     return candela(l, to_luminaire(l, omega)) * cos_x / d2;
 }
 
+// Vertex i of piece j of k of the opening: elongated rectangles are cut
+// into strips across their longer sides (twin of `light::split_quad`).
+fn piece_vertex(l: Light, j: u32, k: u32, i: u32) -> vec3<f32> {
+    if k <= 1u || l.info.x != 4u {
+        return l.vertices[i].xyz;
+    }
+    let v0 = l.vertices[0].xyz;
+    let v1 = l.vertices[1].xyz;
+    let v3 = l.vertices[3].xyz;
+    let e01 = v1 - v0;
+    let e03 = v3 - v0;
+    let t0 = f32(j) / f32(k);
+    let t1 = f32(j + 1u) / f32(k);
+    if dot(e01, e01) > dot(e03, e03) {
+        switch i {
+            case 0u: { return v0 + e01 * t0; }
+            case 1u: { return v0 + e01 * t1; }
+            case 2u: { return v3 + e01 * t1; }
+            default: { return v3 + e01 * t0; }
+        }
+    }
+    switch i {
+        case 0u: { return v0 + e03 * t0; }
+        case 1u: { return v1 + e03 * t0; }
+        case 2u: { return v1 + e03 * t1; }
+        default: { return v0 + e03 * t1; }
+    }
+}
+
 // Illuminance at x (normal n); `clipped` is scratch space.
 fn illuminance(l: Light, x_in: vec3<f32>, n: vec3<f32>, clipped: ptr<function, array<vec3<f32>, 16>>) -> Cubature {
     var result = Cubature(0.0, 0.0);
@@ -178,73 +207,76 @@ fn illuminance(l: Light, x_in: vec3<f32>, n: vec3<f32>, clipped: ptr<function, a
     if abs(height) < epsilon {
         x = x_in + normal_a * (epsilon - height);
     }
-    // Clip the opening (relative to x) by x's horizon.
-    var m = 0u;
-    for (var i = 0u; i < count; i++) {
-        let a = l.vertices[i].xyz - x;
-        let b = l.vertices[(i + 1u) % count].xyz - x;
-        let da = dot(a, n);
-        let db = dot(b, n);
-        if da >= 0.0 {
-            (*clipped)[m] = a;
-            m++;
-        }
-        if (da >= 0.0) != (db >= 0.0) {
-            (*clipped)[m] = a + (b - a) * (da / (da - db));
-            m++;
-        }
-    }
-    if m < 3u {
-        return result;
-    }
-    // Closest point of the visible polygon to x's projection on the plane.
-    let q = -normal_a * dot(x - l.position.xyz, normal_a);
-    var inside = true;
-    var orientation = 0.0;
-    for (var i = 0u; i < m; i++) {
-        let a = (*clipped)[i];
-        let b = (*clipped)[(i + 1u) % m];
-        let s = dot(cross(b - a, q - a), normal_a);
-        if s != 0.0 {
-            if orientation == 0.0 {
-                orientation = sign(s);
-            } else if sign(s) != orientation {
-                inside = false;
+    let pieces = max(u32(l.steps.w), 1u);
+    for (var piece = 0u; piece < pieces; piece++) {
+        // Clip the opening (relative to x) by x's horizon.
+        var m = 0u;
+        for (var i = 0u; i < count; i++) {
+            let a = piece_vertex(l, piece, pieces, i) - x;
+            let b = piece_vertex(l, piece, pieces, (i + 1u) % count) - x;
+            let da = dot(a, n);
+            let db = dot(b, n);
+            if da >= 0.0 {
+                (*clipped)[m] = a;
+                m++;
+            }
+            if (da >= 0.0) != (db >= 0.0) {
+                (*clipped)[m] = a + (b - a) * (da / (da - db));
+                m++;
             }
         }
-    }
-    var closest = q;
-    if !inside {
-        var best = 1e30;
+        if m < 3u {
+            continue;
+        }
+        // Closest point of the visible polygon to x's projection on the plane.
+        let q = -normal_a * dot(x - l.position.xyz, normal_a);
+        var inside = true;
+        var orientation = 0.0;
         for (var i = 0u; i < m; i++) {
             let a = (*clipped)[i];
-            let ab = (*clipped)[(i + 1u) % m] - a;
-            let len2 = dot(ab, ab);
-            var t = 0.0;
-            if len2 > 0.0 {
-                t = clamp(dot(q - a, ab) / len2, 0.0, 1.0);
-            }
-            let p = a + ab * t;
-            let d = dot(p - q, p - q);
-            if d < best {
-                best = d;
-                closest = p;
+            let b = (*clipped)[(i + 1u) % m];
+            let s = dot(cross(b - a, q - a), normal_a);
+            if s != 0.0 {
+                if orientation == 0.0 {
+                    orientation = sign(s);
+                } else if sign(s) != orientation {
+                    inside = false;
+                }
             }
         }
-    }
-    let dc = safe_normalize(closest);
-    var prev = safe_normalize((*clipped)[m - 1u]);
-    for (var i = 0u; i < m; i++) {
-        let cur = safe_normalize((*clipped)[i]);
-        let weight = triangle_cosine_solid_angle(dc, prev, cur, n);
-        if weight > 0.0 {
-            let omega = triangle_solid_angle(dc, prev, cur);
-            let radius = sqrt(omega / PI);
-            let centre = to_luminaire(l, -safe_normalize(dc + prev + cur));
-            result.lux += projected_filtered(l, centre, radius) / area * weight;
+        var closest = q;
+        if !inside {
+            var best = 1e30;
+            for (var i = 0u; i < m; i++) {
+                let a = (*clipped)[i];
+                let ab = (*clipped)[(i + 1u) % m] - a;
+                let len2 = dot(ab, ab);
+                var t = 0.0;
+                if len2 > 0.0 {
+                    t = clamp(dot(q - a, ab) / len2, 0.0, 1.0);
+                }
+                let p = a + ab * t;
+                let d = dot(p - q, p - q);
+                if d < best {
+                    best = d;
+                    closest = p;
+                }
+            }
         }
-        result.cosine_solid_angle += weight;
-        prev = cur;
+        let dc = safe_normalize(closest);
+        var prev = safe_normalize((*clipped)[m - 1u]);
+        for (var i = 0u; i < m; i++) {
+            let cur = safe_normalize((*clipped)[i]);
+            let weight = triangle_cosine_solid_angle(dc, prev, cur, n);
+            if weight > 0.0 {
+                let omega = triangle_solid_angle(dc, prev, cur);
+                let radius = sqrt(omega / PI);
+                let centre = to_luminaire(l, -safe_normalize(dc + prev + cur));
+                result.lux += projected_filtered(l, centre, radius) / area * weight;
+            }
+            result.cosine_solid_angle += weight;
+            prev = cur;
+        }
     }
     return result;
 }

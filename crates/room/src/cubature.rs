@@ -9,7 +9,7 @@
 
 use glam::DVec3;
 
-use crate::light::{Opening, PlacedLight};
+use crate::light::{Opening, PlacedLight, split_quad};
 
 /// Shading points nearer the light's plane than this fraction of the
 /// opening's size are moved off it (section 5.3): the radiance
@@ -174,7 +174,28 @@ pub fn illuminance_with(
     } else {
         x
     };
-    let visible = clip_polygon(&polygon, |p| (p - x).dot(n));
+    let mut total = CubatureResult::default();
+    for piece in split_quad(&polygon, light.piece_count()) {
+        let r = piece_illuminance(light, &piece, area, x, n, rule);
+        total.lux += r.lux;
+        total.cosine_solid_angle += r.cosine_solid_angle;
+    }
+    total
+}
+
+/// One convex piece of the opening (room coordinates) seen from x:
+/// horizon clip, closest point, fan, and the rule's weights. `area` is the
+/// whole opening's (the profile is the whole luminaire's).
+fn piece_illuminance(
+    light: &PlacedLight,
+    polygon: &[DVec3],
+    area: f64,
+    x: DVec3,
+    n: DVec3,
+    rule: CubatureRule,
+) -> CubatureResult {
+    let normal_a = light.normal();
+    let visible = clip_polygon(polygon, |p| (p - x).dot(n));
     if visible.len() < 3 {
         return CubatureResult::default();
     }

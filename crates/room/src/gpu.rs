@@ -15,6 +15,7 @@ use crate::ltc::ggx_table;
 use crate::profile::ProfileGrid;
 use crate::render::{Frame, Shading, ViewRays};
 use crate::scene::RoomScene;
+use crate::work_plane::{WorkPlaneGrid, grid_points};
 
 /// WGSL twin `Params` (208 bytes).
 #[repr(C)]
@@ -367,6 +368,34 @@ impl GpuRoomRenderer {
     }
 }
 
+impl GpuRoomRenderer {
+    /// The work-plane grid shaded on the device.
+    pub fn work_plane(
+        &self,
+        scene: &RoomScene,
+        room: &UploadedRoom,
+        shading: Shading,
+    ) -> Result<WorkPlaneGrid, GpuError> {
+        let (xs, ys) = grid_points(scene);
+        let h = scene.work_plane.height_m;
+        let points: Vec<(DVec3, DVec3)> = ys
+            .iter()
+            .flat_map(|&y| xs.iter().map(move |&x| (DVec3::new(x, y, h), DVec3::Z)))
+            .collect();
+        let lux = self
+            .shade_points(room, &points, shading)?
+            .into_iter()
+            .map(|(e, _)| e)
+            .collect();
+        Ok(WorkPlaneGrid {
+            xs,
+            ys,
+            height_m: h,
+            lux,
+        })
+    }
+}
+
 fn mode(shading: Shading) -> u32 {
     match shading {
         Shading::Cubature => 0,
@@ -396,7 +425,7 @@ fn gpu_light(light: &PlacedLight, profile_offset: u32) -> GpuLight {
             light.profile.c_step_deg as f32,
             light.profile.gamma_step_deg as f32,
             light.size_m() as f32,
-            0.0,
+            light.piece_count() as f32,
         ],
         vertices,
     }

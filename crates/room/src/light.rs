@@ -11,6 +11,13 @@ use crate::profile::ProfileGrid;
 /// area as the disk). The cubature's cost grows with the vertex count.
 pub const DISK_SIDES: usize = 12;
 
+/// Longest side over shortest side of the pieces an elongated rectangular
+/// opening is cut into: one closest point cannot shape the light of a
+/// linear luminaire along its whole length.
+pub const MAX_PIECE_ASPECT: f64 = 2.0;
+/// Most pieces per opening.
+pub const MAX_PIECES: usize = 8;
+
 /// The luminous opening in luminaire coordinates (the z = 0 plane, centred
 /// on the origin): what the cubature integrates over.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -101,6 +108,23 @@ impl PlacedLight {
         self.profile.candela(self.rotation.transpose() * world_dir)
     }
 
+    /// Number of pieces the cubature shades separately (rectangles longer
+    /// than `MAX_PIECE_ASPECT` : 1 are cut across their long side).
+    pub fn piece_count(&self) -> usize {
+        match self.opening {
+            Opening::Rectangle { length_m, width_m } => {
+                let (long, short) = (length_m.max(width_m), length_m.min(width_m).max(1e-9));
+                ((long / short / MAX_PIECE_ASPECT).ceil() as usize).clamp(1, MAX_PIECES)
+            }
+            _ => 1,
+        }
+    }
+
+    /// The opening as `piece_count()` convex polygons in room coordinates.
+    pub fn world_pieces(&self) -> Vec<Vec<DVec3>> {
+        split_quad(&self.world_polygon(), self.piece_count())
+    }
+
     /// Largest extent of the opening (m).
     pub fn size_m(&self) -> f64 {
         match self.opening {
@@ -109,4 +133,27 @@ impl PlacedLight {
             Opening::Point => 0.0,
         }
     }
+}
+
+/// Cuts a quadrilateral (a parallelogram, vertices in order) into `k`
+/// strips across its longer pair of sides, keeping the orientation; any
+/// other polygon, or k = 1, is returned whole. Twin of the shader's
+/// `piece_vertices`.
+pub fn split_quad(polygon: &[DVec3], k: usize) -> Vec<Vec<DVec3>> {
+    if polygon.len() != 4 || k <= 1 {
+        return vec![polygon.to_vec()];
+    }
+    let (v0, v1, v3) = (polygon[0], polygon[1], polygon[3]);
+    let e01 = v1 - v0;
+    let e03 = v3 - v0;
+    (0..k)
+        .map(|j| {
+            let (t0, t1) = (j as f64 / k as f64, (j + 1) as f64 / k as f64);
+            if e01.length_squared() > e03.length_squared() {
+                vec![v0 + e01 * t0, v0 + e01 * t1, v3 + e01 * t1, v3 + e01 * t0]
+            } else {
+                vec![v0 + e03 * t0, v1 + e03 * t0, v1 + e03 * t1, v0 + e03 * t1]
+            }
+        })
+        .collect()
 }

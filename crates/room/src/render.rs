@@ -116,10 +116,11 @@ pub fn shade_ray(scene: &RoomScene, origin: DVec3, dir: DVec3, shading: Shading)
     let hit = scene.cast(origin, dir);
     let mut nearest_light: Option<(f64, f64)> = None;
     for light in &scene.lights {
-        if let Some((t, l)) = opening_hit(light, origin, dir) {
-            if t < hit.distance && nearest_light.is_none_or(|(bt, _)| t < bt) {
-                nearest_light = Some((t, l));
-            }
+        if let Some((t, l)) = opening_hit(light, origin, dir)
+            && t < hit.distance
+            && nearest_light.is_none_or(|(bt, _)| t < bt)
+        {
+            nearest_light = Some((t, l));
         }
     }
     if let Some((_, l)) = nearest_light {

@@ -72,6 +72,40 @@ pub fn work_plane_cpu(scene: &RoomScene, shading: Shading) -> WorkPlaneGrid {
     }
 }
 
+/// The work plane by Monte Carlo integration of eq. 1 over every opening
+/// (`samples` per light and point): the reference for the figures.
+pub fn work_plane_reference(scene: &RoomScene, samples: usize) -> WorkPlaneGrid {
+    let (xs, ys) = grid_points(scene);
+    let h = scene.work_plane.height_m;
+    let nx = xs.len();
+    let lux = (0..xs.len() * ys.len())
+        .into_par_iter()
+        .map(|k| {
+            let p = DVec3::new(xs[k % nx], ys[k / nx], h);
+            scene
+                .lights
+                .iter()
+                .enumerate()
+                .map(|(i, l)| {
+                    crate::reference::monte_carlo_illuminance(
+                        l,
+                        p,
+                        DVec3::Z,
+                        samples,
+                        (k * 7919 + i) as u64,
+                    )
+                })
+                .sum::<f64>()
+        })
+        .collect();
+    WorkPlaneGrid {
+        xs,
+        ys,
+        height_m: h,
+        lux,
+    }
+}
+
 impl WorkPlaneGrid {
     pub fn figures(&self) -> IlluminanceFigures {
         let n = self.lux.len().max(1);

@@ -33,7 +33,9 @@ fn ggx_cos(l: DVec3, v: DVec3, roughness: f64, f0: f64) -> f64 {
 /// dω = |cos θ_A| dA / r²).
 fn brute_force(polygon: &[DVec3], v: DVec3, roughness: f64, f0: f64, radiance: f64) -> f64 {
     let mut rng = SplitMix(9);
-    let normal = (polygon[1] - polygon[0]).cross(polygon[2] - polygon[0]).normalize();
+    let normal = (polygon[1] - polygon[0])
+        .cross(polygon[2] - polygon[0])
+        .normalize();
     let mut sum = 0.0;
     let mut area_total = 0.0;
     let n = 200_000;
@@ -117,15 +119,28 @@ fn rectangle_light_matches_brute_force_ggx() {
     };
     let mut worst = 0.0f64;
     let mut sum = 0.0;
-    for (roughness, theta, cx) in [(0.4, 30.0, -0.9), (0.6, 45.0, -1.5), (0.8, 20.0, 0.0), (0.5, 60.0, -2.0), (0.7, 0.0, 0.3)] {
+    for (roughness, theta, cx) in [
+        (0.4, 30.0, -0.9),
+        (0.6, 45.0, -1.5),
+        (0.8, 20.0, 0.0),
+        (0.5, 60.0, -2.0),
+        (0.7, 0.0, 0.3),
+    ] {
         let v = view(theta);
         let polygon = rect(cx, 0.1, 1.5);
         let ltc = specular_radiance(&polygon, DVec3::ZERO, DVec3::Z, v, roughness, 0.04, 100.0);
         let bf = brute_force(&polygon, v, roughness, 0.04, 100.0);
         let err = (ltc - bf).abs() / bf;
-        eprintln!("roughness {roughness}, θv {theta}°, light at x = {cx}: LTC {ltc:.4}, brute force {bf:.4} ({:.1} %)", 100.0 * err);
+        eprintln!(
+            "roughness {roughness}, θv {theta}°, light at x = {cx}: LTC {ltc:.4}, brute force {bf:.4} ({:.1} %)",
+            100.0 * err
+        );
         worst = worst.max(err);
         sum += err;
     }
-    assert!(worst < 0.25 && sum / 5.0 < 0.1, "worst {worst}, mean {}", sum / 5.0);
+    assert!(
+        worst < 0.25 && sum / 5.0 < 0.1,
+        "worst {worst}, mean {}",
+        sum / 5.0
+    );
 }

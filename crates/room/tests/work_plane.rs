@@ -1,0 +1,73 @@
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+//! Work-plane figures (Emin, Eavg, Emax, U0) of the example rooms: the
+//! cubature against the Monte Carlo reference, the GPU against the CPU.
+
+use std::path::Path;
+
+use lucerna_photometry::read_photometry;
+use lucerna_room::gpu::GpuRoomRenderer;
+use lucerna_room::model::load_room;
+use lucerna_room::work_plane::work_plane_reference;
+use lucerna_room::{IlluminanceFigures, RoomScene, Shading, work_plane_cpu};
+
+fn room(name: &str) -> RoomScene {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/rooms");
+    let room = load_room(&dir.join(name)).unwrap();
+    let phot: Vec<_> = room
+        .luminaires
+        .iter()
+        .map(|l| {
+            let (_, p) = l.source_path(&dir).unwrap();
+            read_photometry(&std::fs::read(p).unwrap()).unwrap()
+        })
+        .collect();
+    RoomScene::new(&room, &phot)
+}
+
+fn close(a: IlluminanceFigures, b: IlluminanceFigures, tolerance: f64) -> Result<(), String> {
+    for (name, x, y) in [
+        ("Emin", a.e_min_lx, b.e_min_lx),
+        ("Eavg", a.e_avg_lx, b.e_avg_lx),
+        ("Emax", a.e_max_lx, b.e_max_lx),
+        ("U0", a.u0, b.u0),
+    ] {
+        if (x - y).abs() > tolerance * y.abs() {
+            return Err(format!("{name}: {x} vs {y}"));
+        }
+    }
+    Ok(())
+}
+
+#[test]
+fn cubature_figures_match_the_monte_carlo_reference_within_one_percent() {
+    for name in ["office.toml", "corridor.toml"] {
+        let scene = room(name);
+        let cubature = work_plane_cpu(&scene, Shading::Cubature).figures();
+        let reference = work_plane_reference(&scene, 1024).figures();
+        let point = work_plane_cpu(&scene, Shading::PointLight).figures();
+        eprintln!(
+            "{name}: cubature {cubature:?}\n  reference {reference:?}\n  point lights {point:?}"
+        );
+        close(cubature, reference, 0.01).unwrap();
+    }
+}
+
+#[test]
+fn gpu_figures_match_the_cpu_within_one_percent() {
+    let Some(ctx) = lucerna_gpu::open_for_tests() else {
+        return;
+    };
+    let renderer = GpuRoomRenderer::new(ctx).unwrap();
+    for name in ["office.toml", "corridor.toml"] {
+        let scene = room(name);
+        let uploaded = renderer.upload(&scene);
+        for shading in [Shading::Cubature, Shading::PointLight] {
+            let gpu = renderer
+                .work_plane(&scene, &uploaded, shading)
+                .unwrap()
+                .figures();
+            let cpu = work_plane_cpu(&scene, shading).figures();
+            close(gpu, cpu, 0.01).unwrap();
+        }
+    }
+}
