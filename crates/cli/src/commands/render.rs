@@ -258,7 +258,7 @@ pub fn render_bench(args: &RenderBenchArgs) -> Result<()> {
                 }
             }
             println!(
-                "{:40} {count:6}  {:8.1}  {:5.1}  {:5.2}",
+                "{:40} {count:6}  {:8.2}  {:6.2}  {:5.2}",
                 r.context().describe(),
                 best[0],
                 best[1],
@@ -276,7 +276,7 @@ pub fn render_bench(args: &RenderBenchArgs) -> Result<()> {
                 t[k] = start.elapsed().as_secs_f64() * 1e3;
             }
             println!(
-                "{:40} {count:6}  {:8.1}  {:5.1}  {:5.2}",
+                "{:40} {count:6}  {:8.2}  {:6.2}  {:5.2}",
                 format!("CPU ({} threads)", rayon::current_num_threads()),
                 t[0],
                 t[1],

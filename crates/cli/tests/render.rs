@@ -1,0 +1,255 @@
+#![allow(clippy::unwrap_used, clippy::expect_used)] // reason: test helpers may panic
+//! End-to-end: `lucerna render` and `lucerna render-bench` on the example
+//! rooms, and on broken room files.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn lucerna(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_lucerna"))
+        .args(args)
+        .output()
+        .expect("the lucerna binary runs")
+}
+
+fn assets() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets")
+}
+
+fn text(o: &[u8]) -> String {
+    String::from_utf8_lossy(o).into_owned()
+}
+
+/// Width and height from a PNG's IHDR chunk.
+fn png_size(bytes: &[u8]) -> (u32, u32) {
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "not a PNG");
+    let w = u32::from_be_bytes(bytes[16..20].try_into().unwrap());
+    let h = u32::from_be_bytes(bytes[20..24].try_into().unwrap());
+    (w, h)
+}
+
+/// The number after `key` in the figures line.
+fn figure(stdout: &str, key: &str) -> f64 {
+    let rest = stdout
+        .split(key)
+        .nth(1)
+        .unwrap_or_else(|| panic!("no {key} in {stdout}"));
+    rest.trim_start()
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .trim_end_matches(',')
+        .parse()
+        .unwrap()
+}
+
+#[test]
+fn render_writes_views_and_a_lux_grid_that_agree_with_the_figures() {
+    let dir = tempfile::tempdir().unwrap();
+    let room = assets().join("rooms/office.toml");
+    let png = dir.path().join("office.png");
+    let csv = dir.path().join("grid.csv");
+    let out = lucerna(&[
+        "render",
+        room.to_str().unwrap(),
+        "--out",
+        png.to_str().unwrap(),
+        "--lux-grid",
+        csv.to_str().unwrap(),
+        "--size",
+        "160x90",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    let (w, h) = png_size(&std::fs::read(&png).unwrap());
+    assert_eq!((w, h), (160, 90 + 22), "view plus caption strip");
+    // The grid's mean, min and max are the printed figures.
+    let grid = std::fs::read_to_string(&csv).unwrap();
+    let lux: Vec<f64> = grid
+        .lines()
+        .skip(1)
+        .map(|l| l.rsplit(',').next().unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(
+        lux.len(),
+        20 * 15,
+        "5 m × 3.8 m inside the border at 0.25 m"
+    );
+    let mean = lux.iter().sum::<f64>() / lux.len() as f64;
+    let min = lux.iter().copied().fold(f64::INFINITY, f64::min);
+    assert!((mean - figure(&stdout, "Eavg")).abs() < 0.1, "{stdout}");
+    assert!((min - figure(&stdout, "Emin")).abs() < 0.1, "{stdout}");
+    let u0 = figure(&stdout, "Emin/Eavg");
+    assert!((u0 - min / mean).abs() < 0.01);
+
+    let fc = dir.path().join("office_lux.png");
+    let out = lucerna(&[
+        "render",
+        room.to_str().unwrap(),
+        "--out",
+        fc.to_str().unwrap(),
+        "--false-colour",
+        "--size",
+        "160x90",
+        "--backend",
+        "cpu",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert_eq!(
+        png_size(&std::fs::read(&fc).unwrap()),
+        (160 + 110, 90 + 22),
+        "legend beside"
+    );
+}
+
+#[test]
+fn render_bakes_a_luminaire_scene_given_as_profile() {
+    let dir = tempfile::tempdir().unwrap();
+    let room = std::fs::read_to_string(assets().join("rooms/office.toml"))
+        .unwrap()
+        .replace(
+            "profile = \"../profiles/examples/faceted_downlight.ies\"",
+            &format!(
+                "luminaire = \"{}\"",
+                assets().join("luminaires/faceted_downlight.toml").display()
+            ),
+        );
+    let path = dir.path().join("baked.toml");
+    std::fs::write(&path, room).unwrap();
+    let png = dir.path().join("baked.png");
+    let out = lucerna(&[
+        "render",
+        path.to_str().unwrap(),
+        "--out",
+        png.to_str().unwrap(),
+        "--size",
+        "64x36",
+        "--photons",
+        "300000",
+        "--backend",
+        "cpu",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    // The baked profile lights the office like the committed bake of the
+    // same luminaire (2·10⁷ photons) within the noise of 3·10⁵ photons.
+    let eavg = figure(&text(&out.stdout), "Eavg");
+    let reference = lucerna(&[
+        "render",
+        assets().join("rooms/office.toml").to_str().unwrap(),
+        "--out",
+        dir.path().join("ref.png").to_str().unwrap(),
+        "--size",
+        "64x36",
+        "--backend",
+        "cpu",
+    ]);
+    let eavg_ref = figure(&text(&reference.stdout), "Eavg");
+    assert!(
+        (eavg - eavg_ref).abs() / eavg_ref < 0.03,
+        "{eavg} vs {eavg_ref}"
+    );
+}
+
+#[test]
+fn broken_rooms_fail_clearly_and_write_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = std::fs::read_to_string(assets().join("rooms/office.toml")).unwrap();
+    let base = assets().join("rooms");
+    let cases = [
+        (
+            good.replace("fov_deg = 70", "fov_deg = 70\nzoom = 2"),
+            "line 24",
+        ),
+        (
+            good.replace("reflectance = 0.5", "reflectance = 1.5"),
+            "room.walls.reflectance",
+        ),
+        (
+            good.replace("width_m = 6.0", "width_m = nan"),
+            "room.width_m",
+        ),
+        (
+            good.replace("position = [0.4, 0.4, 1.6]", "position = [9.0, 0.4, 1.6]"),
+            "camera.position[0]",
+        ),
+        (
+            good.replace("faceted_downlight.ies", "missing.ies"),
+            "missing.ies",
+        ),
+        (
+            good.replace("count = [3, 2]", "count = [300, 2]"),
+            "array.count[0]",
+        ),
+        (
+            good.replace(
+                "[[luminaire]]\nprofile",
+                "[[luminaire]]\nluminaire = \"x.toml\"\nprofile",
+            ),
+            "exactly one",
+        ),
+        ("version = 1\n[room\n".to_owned(), "line 2"),
+    ];
+    for (i, (room, expected)) in cases.iter().enumerate() {
+        // Inside the assets' rooms directory so the relative profile paths
+        // resolve; removed again below.
+        let path = base.join(format!("_broken_{i}_{}.toml", std::process::id()));
+        std::fs::write(&path, room).unwrap();
+        let png = dir.path().join(format!("{i}.png"));
+        let out = lucerna(&[
+            "render",
+            path.to_str().unwrap(),
+            "--out",
+            png.to_str().unwrap(),
+            "--size",
+            "32x18",
+        ]);
+        std::fs::remove_file(&path).unwrap();
+        assert!(!out.status.success(), "case {i} rendered");
+        let err = text(&out.stderr);
+        assert!(
+            err.contains(expected),
+            "case {i}: expected {expected:?} in {err}"
+        );
+        assert!(!png.exists(), "case {i} wrote an image");
+    }
+    let out = lucerna(&["render", "nope.toml", "--out", "x.png", "--size", "10by10"]);
+    assert!(!out.status.success());
+    assert!(text(&out.stderr).contains("WIDTHxHEIGHT"));
+}
+
+#[test]
+fn render_bench_reports_every_light_count_and_backend() {
+    let out = lucerna(&[
+        "render-bench",
+        assets().join("rooms/office.toml").to_str().unwrap(),
+        "--size",
+        "64x36",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    for backend in ["CPU", "llvmpipe"] {
+        let rows: Vec<&str> = stdout.lines().filter(|l| l.contains(backend)).collect();
+        if backend == "llvmpipe"
+            && rows.is_empty()
+            && std::env::var_os("LUCERNA_SKIP_GPU_TESTS").is_some()
+        {
+            continue;
+        }
+        assert_eq!(rows.len(), 3, "{backend}: {stdout}");
+        for (row, lights) in rows.iter().zip([1, 4, 16]) {
+            let cols: Vec<f64> = row
+                .split_whitespace()
+                .rev()
+                .take(4)
+                .map(|c| c.parse().unwrap())
+                .collect();
+            // ratio, point, cubature, lights (read from the right)
+            assert_eq!(cols[3] as usize, lights, "{row}");
+            // The ratio is cubature / point, within the printed rounding.
+            let (ratio, point, cubature) = (cols[0], cols[1], cols[2]);
+            assert!(point > 0.0 && cubature > 0.0, "{row}");
+            let slack = ratio * (0.005 / cubature + 0.005 / point) + 0.01;
+            assert!((ratio - cubature / point).abs() <= slack, "{row}");
+        }
+    }
+}
