@@ -34,8 +34,7 @@ fn figure(stdout: &str, key: &str) -> f64 {
         .split(key)
         .nth(1)
         .unwrap_or_else(|| panic!("no {key} in {stdout}"));
-    rest.trim_start()
-        .split_whitespace()
+    rest.split_whitespace()
         .next()
         .unwrap()
         .trim_end_matches(',')
