@@ -18,8 +18,6 @@ struct Params {
     up: vec4<f32>,
     // width, depth, height (m)
     room: vec4<f32>,
-    // per surface: diffuse reflectance, F0, roughness
-    surfaces: array<vec4<f32>, 6>,
     width: u32,
     height: u32,
     light_count: u32,
@@ -28,7 +26,8 @@ struct Params {
     tan_half_fov: f32,
     aspect: f32,
     point_count: u32,
-    pad: u32,
+    // 0: the box room; else the OBJ room's triangles
+    triangle_count: u32,
 }
 
 struct Light {
@@ -51,6 +50,11 @@ struct Light {
 @group(0) @binding(3) var<storage, read> ltc: array<vec4<f32>>;
 @group(0) @binding(4) var<storage, read_write> output: array<vec4<f32>>;
 @group(0) @binding(5) var<storage, read> points: array<vec4<f32>>;
+// per surface: diffuse reflectance, F0, roughness (floor, ceiling, walls
+// x = 0, x = width, y = 0, y = depth, then the OBJ's materials)
+@group(0) @binding(6) var<storage, read> surfaces: array<vec4<f32>>;
+// OBJ room: three vertices per triangle, the first's w = surface index
+@group(0) @binding(7) var<storage, read> triangles: array<vec4<f32>>;
 
 fn to_luminaire(l: Light, d: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(dot(l.col0.xyz, d), dot(l.col1.xyz, d), dot(l.col2.xyz, d));
@@ -392,7 +396,35 @@ fn shade_ray(origin: vec3<f32>, dir: vec3<f32>) -> vec2<f32> {
     var distance = 1e30;
     var surface = 0u;
     var normal = vec3<f32>(0.0, 0.0, 1.0);
-    for (var axis = 0u; axis < 3u; axis++) {
+    for (var k = 0u; k < params.triangle_count; k++) {
+        let a = triangles[3u * k];
+        let e1 = triangles[3u * k + 1u].xyz - a.xyz;
+        let e2 = triangles[3u * k + 2u].xyz - a.xyz;
+        let p = cross(dir, e2);
+        let det = dot(e1, p);
+        if abs(det) < 1e-14 {
+            continue;
+        }
+        let inv = 1.0 / det;
+        let sv = origin - a.xyz;
+        let u = dot(sv, p) * inv;
+        if u < 0.0 || u > 1.0 {
+            continue;
+        }
+        let q = cross(sv, e1);
+        let v = dot(dir, q) * inv;
+        if v < 0.0 || u + v > 1.0 {
+            continue;
+        }
+        let d = dot(e2, q) * inv;
+        if d > 1e-6 && d < distance {
+            distance = d;
+            surface = u32(a.w);
+            let n = normalize(cross(e1, e2));
+            normal = select(n, -n, dot(n, dir) > 0.0);
+        }
+    }
+    for (var axis = 0u; axis < 3u && params.triangle_count == 0u; axis++) {
         let d = dir[axis];
         if d == 0.0 {
             continue;
@@ -427,8 +459,11 @@ fn shade_ray(origin: vec3<f32>, dir: vec3<f32>) -> vec2<f32> {
     if light_luminance >= 0.0 {
         return vec2<f32>(light_luminance, -1.0);
     }
+    if distance >= 1e29 {
+        return vec2<f32>(0.0, 0.0);
+    }
     let x = origin + dir * distance;
-    let material = params.surfaces[surface];
+    let material = surfaces[surface];
     var lux = 0.0;
     var luminance = 0.0;
     var clipped: array<vec3<f32>, 16>;

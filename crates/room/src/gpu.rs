@@ -17,7 +17,7 @@ use crate::render::{Frame, Shading, ViewRays};
 use crate::scene::RoomScene;
 use crate::work_plane::{WorkPlaneGrid, grid_points};
 
-/// WGSL twin `Params` (208 bytes).
+/// WGSL twin `Params` (112 bytes).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 struct Params {
@@ -26,7 +26,6 @@ struct Params {
     right: [f32; 4],
     up: [f32; 4],
     room: [f32; 4],
-    surfaces: [[f32; 4]; 6],
     width: u32,
     height: u32,
     light_count: u32,
@@ -34,9 +33,9 @@ struct Params {
     tan_half_fov: f32,
     aspect: f32,
     point_count: u32,
-    pad: u32,
+    triangle_count: u32,
 }
-const _: () = assert!(std::mem::size_of::<Params>() == 208);
+const _: () = assert!(std::mem::size_of::<Params>() == 112);
 
 /// WGSL twin `Light` (288 bytes).
 #[repr(C)]
@@ -61,6 +60,8 @@ fn v4(v: DVec3, w: f32) -> [f32; 4] {
 pub struct UploadedRoom {
     lights: wgpu::Buffer,
     profiles: wgpu::Buffer,
+    surfaces: wgpu::Buffer,
+    triangles: wgpu::Buffer,
     light_count: u32,
     scene_params: Params,
 }
@@ -103,6 +104,8 @@ impl GpuRoomRenderer {
                 entry(3, read),
                 entry(4, wgpu::BufferBindingType::Storage { read_only: false }),
                 entry(5, read),
+                entry(6, read),
+                entry(7, read),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -177,22 +180,46 @@ impl GpuRoomRenderer {
             contents: bytemuck::cast_slice(&data),
             usage: wgpu::BufferUsages::STORAGE,
         });
-        let mut surfaces = [[0.0f32; 4]; 6];
-        for (slot, s) in surfaces.iter_mut().zip(&scene.surfaces) {
-            *slot = [
-                s.reflectance as f32,
-                s.specular as f32,
-                s.roughness as f32,
-                0.0,
-            ];
+        let surface_data: Vec<[f32; 4]> = scene
+            .surfaces
+            .iter()
+            .map(|s| {
+                [
+                    s.reflectance as f32,
+                    s.specular as f32,
+                    s.roughness as f32,
+                    0.0,
+                ]
+            })
+            .collect();
+        let surfaces = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("room surfaces"),
+            contents: bytemuck::cast_slice(&surface_data),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let mut triangle_data: Vec<[f32; 4]> = Vec::new();
+        if let Some(mesh) = &scene.mesh {
+            for (t, &surface) in mesh.triangles.iter().zip(&mesh.surface) {
+                triangle_data.push(v4(t[0], surface as f32));
+                triangle_data.push(v4(t[1], 0.0));
+                triangle_data.push(v4(t[2], 0.0));
+            }
         }
+        let triangle_count = (triangle_data.len() / 3) as u32;
+        if triangle_data.is_empty() {
+            triangle_data.push([0.0; 4]);
+        }
+        let triangles = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("room triangles"),
+            contents: bytemuck::cast_slice(&triangle_data),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
         let scene_params = Params {
             origin: [0.0; 4],
             forward: [0.0; 4],
             right: [0.0; 4],
             up: [0.0; 4],
             room: v4(scene.size, 0.0),
-            surfaces,
             width: 0,
             height: 0,
             light_count: scene.lights.len() as u32,
@@ -200,11 +227,13 @@ impl GpuRoomRenderer {
             tan_half_fov: 0.0,
             aspect: 1.0,
             point_count: 0,
-            pad: 0,
+            triangle_count,
         };
         UploadedRoom {
             lights: lights_buffer,
             profiles,
+            surfaces,
+            triangles,
             light_count: scene.lights.len() as u32,
             scene_params,
         }
@@ -270,6 +299,14 @@ impl GpuRoomRenderer {
                 wgpu::BindGroupEntry {
                     binding: 5,
                     resource: points_buffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: room.surfaces.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 7,
+                    resource: room.triangles.as_entire_binding(),
                 },
             ],
         });

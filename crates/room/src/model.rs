@@ -2,6 +2,7 @@
 //! camera, and luminaires placed by position and rotation, each with a
 //! profile from an IES/LDT file or from a luminaire scene to bake.
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
@@ -42,6 +43,22 @@ pub struct BoxRoom {
     pub walls: Surface,
     #[serde(default = "Surface::ceiling")]
     pub ceiling: Surface,
+    /// An OBJ file (relative to the room file) whose triangles replace the
+    /// box's six surfaces in the views; the box still bounds the camera
+    /// and the work plane.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub obj: Option<String>,
+    /// Multiplies the OBJ's coordinates (0.001 for millimetres).
+    #[serde(default = "one", skip_serializing_if = "is_one")]
+    pub obj_scale: f64,
+    /// Surfaces of the OBJ's objects/groups by name, else by `usemtl`
+    /// name; anything unnamed here is a wall.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub materials: BTreeMap<String, Surface>,
+}
+
+fn is_one(v: &f64) -> bool {
+    *v == 1.0
 }
 
 /// A room surface: diffuse reflectance plus an optional GGX specular layer.
@@ -285,33 +302,27 @@ pub fn validate(room: &RoomFile) -> Vec<String> {
     check(&mut p, "room.width_m", r.width_m, 0.1, MAX_ROOM_M);
     check(&mut p, "room.depth_m", r.depth_m, 0.1, MAX_ROOM_M);
     check(&mut p, "room.height_m", r.height_m, 0.1, MAX_ROOM_M);
-    for (name, s) in [
+    let named = r
+        .materials
+        .iter()
+        .map(|(k, s)| (format!("materials.{k}"), *s));
+    let fixed = [
         ("floor", r.floor),
         ("walls", r.walls),
         ("ceiling", r.ceiling),
-    ] {
-        check(
-            &mut p,
-            &format!("room.{name}.reflectance"),
-            s.reflectance,
-            0.0,
-            1.0,
-        );
-        check(
-            &mut p,
-            &format!("room.{name}.specular"),
-            s.specular,
-            0.0,
-            1.0,
-        );
-        check(
-            &mut p,
-            &format!("room.{name}.roughness"),
-            s.roughness,
-            0.0,
-            1.0,
-        );
+    ]
+    .into_iter()
+    .map(|(k, s)| (k.to_owned(), s));
+    for (name, s) in fixed.chain(named) {
+        for (what, v) in [
+            ("reflectance", s.reflectance),
+            ("specular", s.specular),
+            ("roughness", s.roughness),
+        ] {
+            check(&mut p, &format!("room.{name}.{what}"), v, 0.0, 1.0);
+        }
     }
+    check(&mut p, "room.obj_scale", r.obj_scale, 1e-4, 1e4);
     let w = &room.work_plane;
     check(&mut p, "work_plane.height_m", w.height_m, 0.0, r.height_m);
     check(

@@ -126,6 +126,9 @@ pub fn shade_ray(scene: &RoomScene, origin: DVec3, dir: DVec3, shading: Shading)
     if let Some((_, l)) = nearest_light {
         return (l, -1.0);
     }
+    if !hit.distance.is_finite() {
+        return (0.0, 0.0); // out through a gap in an OBJ room
+    }
     let x = origin + dir * hit.distance;
     let n = hit.normal;
     let surface = scene.surfaces[hit.surface];

@@ -1,13 +1,14 @@
 //! The room ready to shade: box geometry with its six surfaces, the placed
 //! lights (profiles sampled on the shading grid), camera and work plane.
 
+use std::path::Path;
 use std::sync::Arc;
 
 use glam::DVec3;
 use lucerna_photometry::{Dimensions, Photometry};
 
 use crate::light::{Opening, PlacedLight};
-use crate::model::{Camera, OpeningSpec, RoomFile, Surface, WorkPlane};
+use crate::model::{Camera, OpeningSpec, RoomFile, RoomFileError, Surface, WorkPlane};
 use crate::profile::ProfileGrid;
 
 /// Surface indices: floor (z = 0), ceiling (z = height), walls at x = 0,
@@ -19,7 +20,10 @@ pub const CEILING: usize = 1;
 pub struct RoomScene {
     /// (width, depth, height) in metres.
     pub size: DVec3,
-    pub surfaces: [Surface; 6],
+    /// Floor, ceiling, the four walls, then the OBJ's named materials.
+    pub surfaces: Vec<Surface>,
+    /// Triangles replacing the box in the views (an OBJ room).
+    pub mesh: Option<RoomMesh>,
     pub lights: Vec<PlacedLight>,
     pub camera: Camera,
     pub work_plane: WorkPlane,
@@ -63,7 +67,11 @@ impl RoomScene {
         let r = &room.room;
         RoomScene {
             size: DVec3::new(r.width_m, r.depth_m, r.height_m),
-            surfaces: [r.floor, r.ceiling, r.walls, r.walls, r.walls, r.walls],
+            surfaces: [r.floor, r.ceiling, r.walls, r.walls, r.walls, r.walls]
+                .into_iter()
+                .chain(r.materials.values().copied())
+                .collect(),
+            mesh: None,
             lights,
             camera: room.camera,
             work_plane: room.work_plane,
@@ -72,6 +80,9 @@ impl RoomScene {
 
     /// The first room surface along a ray from inside the room.
     pub fn cast(&self, origin: DVec3, dir: DVec3) -> SurfaceHit {
+        if let Some(mesh) = &self.mesh {
+            return mesh.cast(origin, dir);
+        }
         let mut best = SurfaceHit {
             distance: f64::INFINITY,
             surface: FLOOR,
@@ -126,4 +137,108 @@ pub fn opening_from_dimensions(d: Dimensions) -> Opening {
     } else {
         Opening::Point
     }
+}
+
+/// Most triangles of an OBJ room: views cast every ray against every
+/// triangle (no acceleration structure), so this keeps a frame bounded.
+pub const MAX_ROOM_TRIANGLES: usize = 20_000;
+
+/// An OBJ room: triangles with a surface index each.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RoomMesh {
+    pub triangles: Vec<[DVec3; 3]>,
+    /// Index into `RoomScene::surfaces`.
+    pub surface: Vec<u32>,
+}
+
+impl RoomMesh {
+    /// Nearest triangle along a ray (Möller–Trumbore), its normal turned
+    /// towards the ray's origin; nothing hit gives an infinitely far floor.
+    pub fn cast(&self, origin: DVec3, dir: DVec3) -> SurfaceHit {
+        let mut best = SurfaceHit {
+            distance: f64::INFINITY,
+            surface: FLOOR,
+            normal: DVec3::Z,
+        };
+        for (k, t) in self.triangles.iter().enumerate() {
+            let e1 = t[1] - t[0];
+            let e2 = t[2] - t[0];
+            let p = dir.cross(e2);
+            let det = e1.dot(p);
+            if det.abs() < 1e-14 {
+                continue;
+            }
+            let inv = 1.0 / det;
+            let s = origin - t[0];
+            let u = s.dot(p) * inv;
+            if !(0.0..=1.0).contains(&u) {
+                continue;
+            }
+            let q = s.cross(e1);
+            let v = dir.dot(q) * inv;
+            if v < 0.0 || u + v > 1.0 {
+                continue;
+            }
+            let d = e2.dot(q) * inv;
+            if d > 1e-9 && d < best.distance {
+                let n = e1.cross(e2).normalize();
+                best = SurfaceHit {
+                    distance: d,
+                    surface: self.surface[k] as usize,
+                    normal: if n.dot(dir) > 0.0 { -n } else { n },
+                };
+            }
+        }
+        best
+    }
+}
+
+/// Loads the OBJ a room file names (if any): each object/group takes the
+/// surface named after it, else after its `usemtl` material, else the
+/// walls'. Zero-area triangles are dropped.
+pub fn load_room_mesh(room: &RoomFile, base: &Path) -> Result<Option<RoomMesh>, RoomFileError> {
+    let Some(obj) = &room.room.obj else {
+        return Ok(None);
+    };
+    let path = base.join(obj);
+    let groups = lucerna_scene::obj::load_obj(&path).map_err(|e| RoomFileError::Invalid {
+        path: path.clone(),
+        problems: e.to_string(),
+    })?;
+    let names: Vec<&String> = room.room.materials.keys().collect();
+    let scale = room.room.obj_scale;
+    let mut mesh = RoomMesh {
+        triangles: Vec::new(),
+        surface: Vec::new(),
+    };
+    for g in &groups {
+        let by_name = |n: &str| names.iter().position(|k| k.as_str() == n);
+        let surface = by_name(&g.name)
+            .or_else(|| g.obj_material.as_deref().and_then(by_name))
+            .map_or(2, |i| 6 + i) as u32;
+        for t in &g.mesh.triangles {
+            let v = t.map(|i| g.mesh.positions[i as usize].as_dvec3() * scale);
+            if (v[1] - v[0]).cross(v[2] - v[0]).length_squared() <= 0.0 {
+                continue;
+            }
+            mesh.triangles.push(v);
+            mesh.surface.push(surface);
+        }
+    }
+    if mesh.triangles.is_empty() {
+        return Err(RoomFileError::Invalid {
+            path,
+            problems: "the OBJ has no triangles with area".to_owned(),
+        });
+    }
+    if mesh.triangles.len() > MAX_ROOM_TRIANGLES {
+        return Err(RoomFileError::Invalid {
+            path,
+            problems: format!(
+                "{} triangles; at most {MAX_ROOM_TRIANGLES} (every view ray is tested against each)",
+                mesh.triangles.len()
+            ),
+        });
+    }
+    Ok(Some(mesh))
 }

@@ -133,7 +133,9 @@ pub fn load_room_scene(path: &Path, photons: u64) -> Result<RoomScene> {
         };
         profiles.push(phot);
     }
-    Ok(RoomScene::new(&room, &profiles))
+    let mut scene = RoomScene::new(&room, &profiles);
+    scene.mesh = lucerna_room::scene::load_room_mesh(&room, base)?;
+    Ok(scene)
 }
 
 pub fn render(args: &RenderArgs) -> Result<()> {
