@@ -252,3 +252,26 @@ fn render_bench_reports_every_light_count_and_backend() {
         }
     }
 }
+
+#[test]
+fn render_writes_a_work_plane_plan() {
+    let dir = tempfile::tempdir().unwrap();
+    let plan = dir.path().join("plan.png");
+    let out = lucerna(&[
+        "render",
+        assets().join("rooms/corridor.toml").to_str().unwrap(),
+        "--out",
+        dir.path().join("view.png").to_str().unwrap(),
+        "--size",
+        "32x18",
+        "--backend",
+        "cpu",
+        "--work-plane-png",
+        plan.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let (w, h) = png_size(&std::fs::read(&plan).unwrap());
+    // 12 m deep at 60 px/m plus margins and caption; wide enough for the caption.
+    assert_eq!(h, 720 + 32 + 22);
+    assert!(w > 400, "{w}");
+}

@@ -78,3 +78,107 @@ pub fn illuminance_png(
     c.text(6, i64::from(height) + 7, caption, 1, BLACK);
     c.png()
 }
+
+/// Top view of the work-plane grid: each grid point's cell in false colour
+/// (same linear lux scale as the view), its value printed where the cell
+/// is wide enough, the figures in the caption. `xs`, `ys` are the grid
+/// coordinates (m), `lux` row by row (y), x fastest; `room` is the room's
+/// (width, depth) in metres, drawn as the outline; `luminaires` are plan
+/// positions (m) drawn as crosses.
+pub fn work_plane_png(
+    xs: &[f64],
+    ys: &[f64],
+    lux: &[f64],
+    room: (f64, f64),
+    luminaires: &[(f64, f64)],
+    caption: &str,
+) -> Result<Vec<u8>, image::ImageError> {
+    let px_per_m = (720.0 / room.0.max(room.1)).clamp(20.0, 400.0);
+    let (w, h) = (
+        (room.0 * px_per_m).ceil() as u32,
+        (room.1 * px_per_m).ceil() as u32,
+    );
+    let margin = 16u32;
+    let width = (w + 2 * margin + LEGEND_W).max(Canvas::text_width(caption, 1) as u32 + 12);
+    let height = h + 2 * margin + CAPTION_H;
+    let mut c = Canvas::new(width, height, WHITE);
+    let max = lux.iter().copied().fold(0.0, f64::max);
+    let step = nice_step(max.max(1e-3) / 8.0);
+    let top = (max / step).ceil().max(1.0) * step;
+    let cell = |v: &[f64], i: usize| -> (f64, f64) {
+        // Cell edges halfway to the neighbours (or as wide as the step).
+        let half = if v.len() > 1 {
+            (v[1] - v[0]) / 2.0
+        } else {
+            0.25
+        };
+        (v[i] - half, v[i] + half)
+    };
+    // y up in the room, down on the picture.
+    let to_px = |x: f64, y: f64| {
+        (
+            i64::from(margin) + (x * px_per_m).round() as i64,
+            i64::from(margin) + ((room.1 - y) * px_per_m).round() as i64,
+        )
+    };
+    for (j, _) in ys.iter().enumerate() {
+        for (i, _) in xs.iter().enumerate() {
+            let v = lux[j * xs.len() + i];
+            let (x0, x1) = cell(xs, i);
+            let (y0, y1) = cell(ys, j);
+            let (px0, py1) = to_px(x0, y0);
+            let (px1, py0) = to_px(x1, y1);
+            c.fill_rect(
+                px0,
+                py0,
+                px1 - px0,
+                py1 - py0,
+                false_colour((v / top) as f32),
+            );
+            let text = format!("{v:.0}");
+            if px1 - px0 > Canvas::text_width(&text, 1) + 4 && py1 - py0 > 12 {
+                let tx = (px0 + px1) / 2 - Canvas::text_width(&text, 1) / 2;
+                c.text(tx, (py0 + py1) / 2 - 4, &text, 1, BLACK);
+            }
+        }
+    }
+    // Room outline.
+    let (ox0, oy1) = to_px(0.0, 0.0);
+    let (ox1, oy0) = to_px(room.0, room.1);
+    for (a, b) in [
+        ((ox0, oy0), (ox1, oy0)),
+        ((ox1, oy0), (ox1, oy1)),
+        ((ox1, oy1), (ox0, oy1)),
+        ((ox0, oy1), (ox0, oy0)),
+    ] {
+        c.line(a.0 as f32, a.1 as f32, b.0 as f32, b.1 as f32, 1.5, BLACK);
+    }
+    for &(x, y) in luminaires {
+        let (px, py) = to_px(x, y);
+        let (px, py) = (px as f32, py as f32);
+        c.line(px - 6.0, py - 6.0, px + 6.0, py + 6.0, 2.0, WHITE);
+        c.line(px - 6.0, py + 6.0, px + 6.0, py - 6.0, 2.0, WHITE);
+        c.line(px - 5.0, py - 5.0, px + 5.0, py + 5.0, 1.0, BLACK);
+        c.line(px - 5.0, py + 5.0, px + 5.0, py - 5.0, 1.0, BLACK);
+    }
+    let (bx, by, bh) = (i64::from(w + 2 * margin) + 8, 20i64, i64::from(h) - 20);
+    c.text(bx, 4, "lux", 1, BLACK);
+    for k in 0..bh.max(1) {
+        c.fill_rect(
+            bx,
+            by + k,
+            18,
+            1,
+            false_colour(1.0 - k as f32 / bh.max(1) as f32),
+        );
+    }
+    let mut v = 0.0;
+    while v <= top + 1e-9 {
+        let y = by + bh - ((v / top) * bh as f64).round() as i64;
+        c.fill_rect(bx + 18, y, 5, 1, BLACK);
+        c.text(bx + 26, y - 3, &label(v), 1, BLACK);
+        v += step;
+    }
+    c.text(6, i64::from(h + 2 * margin) + 7, caption, 1, BLACK);
+    c.png()
+}

@@ -21,7 +21,8 @@ pub enum RenderBackend {
     Gpu,
     /// The CPU implementation (rayon).
     Cpu,
-    /// The GPU adapter if one opens, else the CPU.
+    /// A hardware GPU if one opens, else the CPU (which renders faster
+    /// than a software adapter: `lucerna render-bench` measures both).
     Auto,
 }
 
@@ -38,6 +39,10 @@ pub struct RenderArgs {
     /// Write the work-plane illuminance grid as CSV.
     #[arg(long)]
     pub lux_grid: Option<PathBuf>,
+    /// Write a top view of the work-plane grid (false colour, lux per
+    /// cell, figures) as PNG.
+    #[arg(long)]
+    pub work_plane_png: Option<PathBuf>,
     /// Image size, WIDTHxHEIGHT.
     #[arg(long, default_value = "1280x720", value_parser = parse_size)]
     pub size: (u32, u32),
@@ -151,6 +156,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         RenderBackend::Gpu => Some(GpuRoomRenderer::new(lucerna_gpu::open()?)?),
         RenderBackend::Auto => lucerna_gpu::open()
             .ok()
+            .filter(|ctx| !ctx.is_software())
             .and_then(|ctx| GpuRoomRenderer::new(ctx).ok()),
     };
     let start = Instant::now();
@@ -202,6 +208,26 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     write_atomically(&args.out, &png)
         .with_context(|| format!("cannot write {}", args.out.display()))?;
     eprintln!("wrote {}", args.out.display());
+    if let Some(path) = &args.work_plane_png {
+        let caption = format!(
+            "{name}: work plane {:.2} m, Emin {:.0} lx, Eavg {:.0} lx, Emax {:.0} lx, U0 {:.2}",
+            grid.height_m, f.e_min_lx, f.e_avg_lx, f.e_max_lx, f.u0
+        );
+        let png = lucerna_pictures::work_plane_png(
+            &grid.xs,
+            &grid.ys,
+            &grid.lux,
+            (scene.size.x, scene.size.y),
+            &scene
+                .lights
+                .iter()
+                .map(|l| (l.position.x, l.position.y))
+                .collect::<Vec<_>>(),
+            &caption,
+        )?;
+        write_atomically(path, &png).with_context(|| format!("cannot write {}", path.display()))?;
+        eprintln!("wrote {}", path.display());
+    }
     if let Some(csv) = &args.lux_grid {
         write_atomically(csv, grid.csv().as_bytes())
             .with_context(|| format!("cannot write {}", csv.display()))?;
