@@ -60,19 +60,24 @@ fn to_luminaire(l: Light, d: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(dot(l.col0.xyz, d), dot(l.col1.xyz, d), dot(l.col2.xyz, d));
 }
 
-// Bilinear lookup in one grid of a profile stack (`grid` counts grids).
-fn sample_grid(l: Light, grid: u32, d: vec3<f32>) -> f32 {
+// A direction's cell in a profile's C-γ grid: lower indices (x = C,
+// y = γ) and fractions within the cell (z = C, w = γ).
+struct Cell {
+    c0: u32,
+    g0: u32,
+    tc: f32,
+    tg: f32,
+}
+
+fn grid_cell(l: Light, d: vec3<f32>) -> Cell {
     let c_count = l.info.z;
     let g_count = l.info.w;
-    let base = l.info.y + grid * c_count * g_count;
     let horizontal = sqrt(d.x * d.x + d.y * d.y);
     let gamma = degrees(atan2(horizontal, -d.z));
     let gf = clamp(gamma / l.steps.y, 0.0, f32(g_count - 1u));
     let g0 = min(u32(floor(gf)), g_count - 2u);
-    let tg = gf - f32(g0);
     if c_count == 1u {
-        let a = profiles[base + g0];
-        return a + (profiles[base + g0 + 1u] - a) * tg;
+        return Cell(0u, g0, 0.0, gf - f32(g0));
     }
     var c = 0.0;
     if horizontal > 0.0 {
@@ -83,14 +88,27 @@ fn sample_grid(l: Light, grid: u32, d: vec3<f32>) -> f32 {
     }
     let cf = clamp(c / l.steps.x, 0.0, f32(c_count - 1u));
     let c0 = min(u32(floor(cf)), c_count - 2u);
-    let tc = cf - f32(c0);
-    let i00 = profiles[base + c0 * g_count + g0];
-    let i01 = profiles[base + c0 * g_count + g0 + 1u];
-    let i10 = profiles[base + (c0 + 1u) * g_count + g0];
-    let i11 = profiles[base + (c0 + 1u) * g_count + g0 + 1u];
-    let low = i00 + (i01 - i00) * tg;
-    let high = i10 + (i11 - i10) * tg;
-    return low + (high - low) * tc;
+    return Cell(c0, g0, cf - f32(c0), gf - f32(g0));
+}
+
+// Bilinear lookup in one grid of a profile stack (`grid` counts grids).
+fn sample_cell(l: Light, grid: u32, cell: Cell) -> f32 {
+    let g_count = l.info.w;
+    let base = l.info.y + grid * l.info.z * g_count;
+    let i00 = profiles[base + cell.c0 * g_count + cell.g0];
+    let i01 = profiles[base + cell.c0 * g_count + cell.g0 + 1u];
+    let low = i00 + (i01 - i00) * cell.tg;
+    if l.info.z == 1u {
+        return low;
+    }
+    let i10 = profiles[base + (cell.c0 + 1u) * g_count + cell.g0];
+    let i11 = profiles[base + (cell.c0 + 1u) * g_count + cell.g0 + 1u];
+    let high = i10 + (i11 - i10) * cell.tg;
+    return low + (high - low) * cell.tc;
+}
+
+fn sample_grid(l: Light, grid: u32, d: vec3<f32>) -> f32 {
+    return sample_cell(l, grid, grid_cell(l, d));
 }
 
 fn candela(l: Light, lum_dir: vec3<f32>) -> f32 {
@@ -111,11 +129,12 @@ fn projected_filtered(l: Light, d: vec3<f32>, radius: f32) -> f32 {
     let l0 = min(u32(floor(level)), BLUR_LEVELS);
     let t = level - f32(l0);
     let cosine = BLUR_LEVELS + 1u;
-    var i = sample_grid(l, l0, d);
-    var c = sample_grid(l, cosine + l0, d);
+    let cell = grid_cell(l, d);
+    var i = sample_cell(l, l0, cell);
+    var c = sample_cell(l, cosine + l0, cell);
     if t > 0.0 && l0 < BLUR_LEVELS {
-        i = i * (1.0 - t) + sample_grid(l, l0 + 1u, d) * t;
-        c = c * (1.0 - t) + sample_grid(l, cosine + l0 + 1u, d) * t;
+        i = i * (1.0 - t) + sample_cell(l, l0 + 1u, cell) * t;
+        c = c * (1.0 - t) + sample_cell(l, cosine + l0 + 1u, cell) * t;
     }
     if c > 1e-9 {
         return i / c;

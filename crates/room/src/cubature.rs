@@ -9,7 +9,7 @@
 
 use glam::DVec3;
 
-use crate::light::{Opening, PlacedLight, split_quad};
+use crate::light::{Opening, PlacedLight, Polygon, quad_piece};
 
 /// Shading points nearer the light's plane than this fraction of the
 /// opening's size are moved off it (section 5.3): the radiance
@@ -83,8 +83,8 @@ pub fn triangle_solid_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
 
 /// The part of a convex polygon on the positive side of a plane
 /// (`signed(p) ≥ 0`), Sutherland–Hodgman.
-pub fn clip_polygon(polygon: &[DVec3], signed: impl Fn(DVec3) -> f64) -> Vec<DVec3> {
-    let mut out = Vec::with_capacity(polygon.len() + 1);
+pub fn clip_polygon(polygon: &[DVec3], signed: impl Fn(DVec3) -> f64) -> Polygon {
+    let mut out = Polygon::new();
     for i in 0..polygon.len() {
         let a = polygon[i];
         let b = polygon[(i + 1) % polygon.len()];
@@ -175,7 +175,9 @@ pub fn illuminance_with(
         x
     };
     let mut total = CubatureResult::default();
-    for piece in split_quad(&polygon, light.piece_count()) {
+    let k = light.piece_count();
+    for j in 0..k {
+        let piece = quad_piece(&polygon, k, j);
         let r = piece_illuminance(light, &piece, area, x, n, rule);
         total.lux += r.lux;
         total.cosine_solid_angle += r.cosine_solid_angle;

@@ -4,6 +4,11 @@
 use std::sync::Arc;
 
 use glam::{DMat3, DVec3};
+use smallvec::SmallVec;
+
+/// A polygon's vertices without a heap allocation in the common case
+/// (rectangles have 4 vertices, 5 after clipping; disks spill to the heap).
+pub type Polygon = SmallVec<[DVec3; 6]>;
 
 use crate::profile::ProfileGrid;
 
@@ -33,16 +38,18 @@ pub enum Opening {
 impl Opening {
     /// The opening's vertices, counter-clockwise seen from below (about −z,
     /// the emitting normal), in luminaire coordinates.
-    pub fn polygon(self) -> Vec<DVec3> {
+    pub fn polygon(self) -> Polygon {
         match self {
             Opening::Rectangle { length_m, width_m } => {
                 let (a, b) = (length_m / 2.0, width_m / 2.0);
-                vec![
+                [
                     DVec3::new(-a, -b, 0.0),
                     DVec3::new(-a, b, 0.0),
                     DVec3::new(a, b, 0.0),
                     DVec3::new(a, -b, 0.0),
                 ]
+                .into_iter()
+                .collect()
             }
             Opening::Disk { diameter_m } => {
                 let n = DISK_SIDES as f64;
@@ -56,7 +63,7 @@ impl Opening {
                     })
                     .collect()
             }
-            Opening::Point => Vec::new(),
+            Opening::Point => Polygon::new(),
         }
     }
 
@@ -90,7 +97,7 @@ impl PlacedLight {
     }
 
     /// Opening vertices in room coordinates.
-    pub fn world_polygon(&self) -> Vec<DVec3> {
+    pub fn world_polygon(&self) -> Polygon {
         self.opening
             .polygon()
             .into_iter()
@@ -121,8 +128,10 @@ impl PlacedLight {
     }
 
     /// The opening as `piece_count()` convex polygons in room coordinates.
-    pub fn world_pieces(&self) -> Vec<Vec<DVec3>> {
-        split_quad(&self.world_polygon(), self.piece_count())
+    pub fn world_pieces(&self) -> Vec<Polygon> {
+        let polygon = self.world_polygon();
+        let k = self.piece_count();
+        (0..k).map(|j| quad_piece(&polygon, k, j)).collect()
     }
 
     /// Largest extent of the opening (m).
@@ -135,25 +144,22 @@ impl PlacedLight {
     }
 }
 
-/// Cuts a quadrilateral (a parallelogram, vertices in order) into `k`
-/// strips across its longer pair of sides, keeping the orientation; any
-/// other polygon, or k = 1, is returned whole. Twin of the shader's
-/// `piece_vertices`.
-pub fn split_quad(polygon: &[DVec3], k: usize) -> Vec<Vec<DVec3>> {
+/// Piece `j` of `k` of a quadrilateral (a parallelogram, vertices in
+/// order) cut into strips across its longer pair of sides, keeping the
+/// orientation; any other polygon, or k = 1, is returned whole. Twin of
+/// the shader's `piece_vertex`.
+pub fn quad_piece(polygon: &[DVec3], k: usize, j: usize) -> Polygon {
     if polygon.len() != 4 || k <= 1 {
-        return vec![polygon.to_vec()];
+        return polygon.iter().copied().collect();
     }
     let (v0, v1, v3) = (polygon[0], polygon[1], polygon[3]);
     let e01 = v1 - v0;
     let e03 = v3 - v0;
-    (0..k)
-        .map(|j| {
-            let (t0, t1) = (j as f64 / k as f64, (j + 1) as f64 / k as f64);
-            if e01.length_squared() > e03.length_squared() {
-                vec![v0 + e01 * t0, v0 + e01 * t1, v3 + e01 * t1, v3 + e01 * t0]
-            } else {
-                vec![v0 + e03 * t0, v1 + e03 * t0, v1 + e03 * t1, v0 + e03 * t1]
-            }
-        })
-        .collect()
+    let (t0, t1) = (j as f64 / k as f64, (j + 1) as f64 / k as f64);
+    let corners = if e01.length_squared() > e03.length_squared() {
+        [v0 + e01 * t0, v0 + e01 * t1, v3 + e01 * t1, v3 + e01 * t0]
+    } else {
+        [v0 + e03 * t0, v1 + e03 * t0, v1 + e03 * t1, v0 + e03 * t1]
+    };
+    corners.into_iter().collect()
 }

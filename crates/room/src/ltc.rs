@@ -120,7 +120,7 @@ pub fn specular_radiance(
         DVec3::new(0.0, 1.0, 0.0),
         DVec3::new(t[2], 0.0, t[3]),
     );
-    let local: Vec<DVec3> = polygon
+    let local: crate::light::Polygon = polygon
         .iter()
         .map(|&p| {
             let d = p - x;

@@ -179,13 +179,14 @@ impl ProfileGrid {
         let level = filter_level(radius_rad);
         let l0 = (level.floor() as usize).min(BLUR_LEVELS);
         let t = level - l0 as f64;
+        let cell = self.cell(d);
         let (mut i, mut c) = (
-            self.sample(&self.candela_levels, d, l0),
-            self.sample(&self.cosine_levels, d, l0),
+            self.sample_at(&self.candela_levels, cell, l0),
+            self.sample_at(&self.cosine_levels, cell, l0),
         );
         if t > 0.0 && l0 < BLUR_LEVELS {
-            i = i * (1.0 - t) + self.sample(&self.candela_levels, d, l0 + 1) * t;
-            c = c * (1.0 - t) + self.sample(&self.cosine_levels, d, l0 + 1) * t;
+            i = i * (1.0 - t) + self.sample_at(&self.candela_levels, cell, l0 + 1) * t;
+            c = c * (1.0 - t) + self.sample_at(&self.cosine_levels, cell, l0 + 1) * t;
         }
         // A flat opening seen exactly edge-on has I/cos = 0/0.
         if c > 1e-9 { i / c } else { 0.0 }
@@ -193,16 +194,24 @@ impl ProfileGrid {
 
     /// Bilinear lookup in one level of a grid stack.
     fn sample(&self, grids: &[f32], d: DVec3, level: usize) -> f64 {
-        let base = level * self.level_len();
+        self.sample_at(grids, self.cell(d), level)
+    }
+
+    /// The grid cell of a direction: lower C and γ indices and the
+    /// fractions within the cell (computed once, read in several grids).
+    fn cell(&self, d: DVec3) -> Cell {
         let horizontal = (d.x * d.x + d.y * d.y).sqrt();
         let gamma = horizontal.atan2(-d.z).to_degrees();
         let gf = (gamma / self.gamma_step_deg).clamp(0.0, (self.gamma_count - 1) as f64);
         let g0 = (gf.floor() as usize).min(self.gamma_count - 2);
         let tg = gf - g0 as f64;
         if self.c_count == 1 {
-            let a = grids[base + g0] as f64;
-            let b = grids[base + g0 + 1] as f64;
-            return a + (b - a) * tg;
+            return Cell {
+                c0: 0,
+                tc: 0.0,
+                g0,
+                tg,
+            };
         }
         let c = if horizontal > 0.0 {
             d.y.atan2(d.x).to_degrees().rem_euclid(360.0)
@@ -211,9 +220,22 @@ impl ProfileGrid {
         };
         let cf = (c / self.c_step_deg).clamp(0.0, (self.c_count - 1) as f64);
         let c0 = (cf.floor() as usize).min(self.c_count - 2);
-        let tc = cf - c0 as f64;
+        Cell {
+            c0,
+            tc: cf - c0 as f64,
+            g0,
+            tg,
+        }
+    }
+
+    fn sample_at(&self, grids: &[f32], cell: Cell, level: usize) -> f64 {
+        let base = level * self.level_len();
+        let Cell { c0, tc, g0, tg } = cell;
         let at = |ci: usize, gi: usize| grids[base + ci * self.gamma_count + gi] as f64;
         let low = at(c0, g0) + (at(c0, g0 + 1) - at(c0, g0)) * tg;
+        if self.c_count == 1 {
+            return low;
+        }
         let high = at(c0 + 1, g0) + (at(c0 + 1, g0 + 1) - at(c0 + 1, g0)) * tg;
         low + (high - low) * tc
     }
@@ -222,6 +244,15 @@ impl ProfileGrid {
     pub fn peak_candela(&self) -> f64 {
         self.candela.iter().fold(0.0f64, |m, &v| m.max(v as f64))
     }
+}
+
+/// A direction's place in the C-γ grid.
+#[derive(Debug, Clone, Copy)]
+struct Cell {
+    c0: usize,
+    tc: f64,
+    g0: usize,
+    tg: f64,
 }
 
 /// Fractional level for a filter radius: 0 below `BLUR_BASE_DEG / 2`, then
