@@ -10,6 +10,7 @@ mod bench;
 mod convert;
 mod filter_bench;
 mod info;
+mod near_field;
 mod render;
 mod validate;
 
@@ -55,6 +56,10 @@ enum Command {
     /// Light a room with photometric profiles (cubature + LTC) and write a
     /// PNG view, the work-plane lux grid and Emin/Eavg/Emax/U0.
     Render(render::RenderArgs),
+    /// The near-field evaluation of the cubature paper (section 6,
+    /// Figure 10) on our profiles: NRMS per profile and height against
+    /// Monte Carlo, CSV and pictures.
+    NearFieldEval(near_field::NearFieldArgs),
     /// Frame times of the room renderer for 1, 4 and 16 luminaires, next
     /// to the point-light baseline, per backend.
     RenderBench(render::RenderBenchArgs),
@@ -83,6 +88,7 @@ pub fn run(cli: Cli) -> Result<()> {
         }
         Command::Render(args) => render::render(&args),
         Command::RenderBench(args) => render::render_bench(&args),
+        Command::NearFieldEval(args) => near_field::near_field_eval(&args),
         Command::Info { file, json } => {
             let report = info::report(&file)?;
             if json {

@@ -11,4 +11,4 @@ pub mod room;
 pub use cube::cube_map_png;
 pub use exr_map::{ExrError, intensity_map_exr};
 pub use polar::polar_png;
-pub use room::{illuminance_png, room_view_png, work_plane_png};
+pub use room::{illuminance_png, image_rows_png, room_view_png, work_plane_png};

@@ -182,3 +182,52 @@ pub fn work_plane_png(
     c.text(6, i64::from(h + 2 * margin) + 7, caption, 1, BLACK);
     c.png()
 }
+
+/// Rows of square illuminance images side by side (each row `cols` images
+/// of `side` × `side` values, row-major, stitched horizontally), on one
+/// logarithmic false-colour scale over three decades below the first row's
+/// maximum, each row labelled: for comparing a method with its reference.
+pub fn image_rows_png(
+    rows: &[(&str, &[f64])],
+    cols: usize,
+    side: usize,
+    px: u32,
+    caption: &str,
+) -> Result<Vec<u8>, image::ImageError> {
+    let label_w = 110u32;
+    let width = (label_w + cols as u32 * (px + 4)).max(Canvas::text_width(caption, 1) as u32 + 12);
+    let height = rows.len() as u32 * (px + 4) + CAPTION_H + 4;
+    let mut c = Canvas::new(width, height, WHITE);
+    let max = rows
+        .first()
+        .map_or(1.0, |r| r.1.iter().copied().fold(0.0, f64::max))
+        .max(1e-12);
+    let scale = |v: f64| -> f32 {
+        if v <= 0.0 {
+            0.0
+        } else {
+            ((v / max).log10() / 3.0 + 1.0).clamp(0.0, 1.0) as f32
+        }
+    };
+    for (r, (name, values)) in rows.iter().enumerate() {
+        let y0 = 2 + r as u32 * (px + 4);
+        c.text(4, i64::from(y0 + px / 2) - 4, name, 1, BLACK);
+        for k in 0..cols {
+            let x0 = label_w + k as u32 * (px + 4);
+            for py in 0..px {
+                for pxi in 0..px {
+                    let i = (pxi as usize * side) / px as usize;
+                    // Image rows run along +y; draw +y upwards.
+                    let j = side - 1 - (py as usize * side) / px as usize;
+                    let v = values
+                        .get(k * side * side + j * side + i)
+                        .copied()
+                        .unwrap_or(0.0);
+                    put(&mut c, x0 + pxi, y0 + py, false_colour(scale(v)));
+                }
+            }
+        }
+    }
+    c.text(6, i64::from(height - CAPTION_H) + 7, caption, 1, BLACK);
+    c.png()
+}

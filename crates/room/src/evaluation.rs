@@ -3,7 +3,8 @@
 //! the angle between its normal and the ground's is π/2, 5π/8, 3π/4, 7π/8
 //! or π, the ground seen over a 5 × 5 region centred below the light. The
 //! cubature's illuminance images are compared with Monte Carlo integration
-//! of eq. 1; the five orientations are stitched into one image per height,
+//! of eq. 1 (MIS of area and profile sampling, `reference::mis_illuminance`,
+//! which narrow beams need); the five orientations are stitched into one image per height,
 //! as in the paper's Figure 10.
 
 use std::sync::Arc;
@@ -11,10 +12,10 @@ use std::sync::Arc;
 use glam::{DMat3, DVec3};
 use rayon::prelude::*;
 
-use crate::cubature::{CubatureRule, illuminance_with};
+use crate::cubature::{CubatureRule, illuminance_with, point_illuminance};
 use crate::light::{Opening, PlacedLight};
 use crate::profile::ProfileGrid;
-use crate::reference::monte_carlo_illuminance;
+use crate::reference::{ProfileDirectionSampler, mis_illuminance, monte_carlo_illuminance};
 
 pub const HEIGHTS: [f64; 3] = [0.1, 1.0, 2.5];
 /// Angles between the opening's normal and the ground's normal (× π).
@@ -27,7 +28,7 @@ pub const REGION: f64 = 5.0;
 pub struct NearFieldSettings {
     /// Ground samples per side of each image.
     pub pixels: usize,
-    /// Monte Carlo samples on the opening per ground sample.
+    /// Samples per technique of the MIS reference per ground sample.
     pub reference_samples: usize,
 }
 
@@ -66,6 +67,8 @@ pub struct StitchedImages {
     pub paper: Vec<f64>,
     pub exact_cosine: Vec<f64>,
     pub prefiltered: Vec<f64>,
+    /// The far-field (point-light) baseline.
+    pub point: Vec<f64>,
 }
 
 pub fn stitched_images(
@@ -79,27 +82,47 @@ pub fn stitched_images(
         paper: Vec::new(),
         exact_cosine: Vec::new(),
         prefiltered: Vec::new(),
+        point: Vec::new(),
     };
+    let sampler = ProfileDirectionSampler::new(profile);
     for (k, &o) in ORIENTATIONS.iter().enumerate() {
         let light = evaluation_light(profile.clone(), height, o);
-        let rows: Vec<(f64, f64, f64, f64)> = points
+        let rows: Vec<(f64, f64, f64, f64, f64)> = points
             .par_iter()
             .enumerate()
             .map(|(i, &x)| {
                 let seed = (k * points.len() + i) as u64;
                 (
-                    monte_carlo_illuminance(&light, x, DVec3::Z, settings.reference_samples, seed),
+                    match &sampler {
+                        Some(sampler) => mis_illuminance(
+                            &light,
+                            sampler,
+                            x,
+                            DVec3::Z,
+                            settings.reference_samples,
+                            seed,
+                        ),
+                        None => monte_carlo_illuminance(
+                            &light,
+                            x,
+                            DVec3::Z,
+                            settings.reference_samples,
+                            seed,
+                        ),
+                    },
                     illuminance_with(&light, x, DVec3::Z, CubatureRule::Paper).lux,
                     illuminance_with(&light, x, DVec3::Z, CubatureRule::ExactCosine).lux,
                     illuminance_with(&light, x, DVec3::Z, CubatureRule::Prefiltered).lux,
+                    point_illuminance(&light, x, DVec3::Z).lux,
                 )
             })
             .collect();
-        for (r, p, e, f) in rows {
+        for (r, p, e, f, q) in rows {
             images.reference.push(r);
             images.paper.push(p);
             images.exact_cosine.push(e);
             images.prefiltered.push(f);
+            images.point.push(q);
         }
     }
     images

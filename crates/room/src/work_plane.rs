@@ -73,11 +73,18 @@ pub fn work_plane_cpu(scene: &RoomScene, shading: Shading) -> WorkPlaneGrid {
 }
 
 /// The work plane by Monte Carlo integration of eq. 1 over every opening
-/// (`samples` per light and point): the reference for the figures.
+/// (MIS of area and profile sampling, `samples` per technique, light and
+/// point): the reference for the figures.
 pub fn work_plane_reference(scene: &RoomScene, samples: usize) -> WorkPlaneGrid {
+    use crate::reference::{ProfileDirectionSampler, mis_illuminance, monte_carlo_illuminance};
     let (xs, ys) = grid_points(scene);
     let h = scene.work_plane.height_m;
     let nx = xs.len();
+    let samplers: Vec<Option<ProfileDirectionSampler>> = scene
+        .lights
+        .iter()
+        .map(|l| ProfileDirectionSampler::new(&l.profile))
+        .collect();
     let lux = (0..xs.len() * ys.len())
         .into_par_iter()
         .map(|k| {
@@ -85,15 +92,14 @@ pub fn work_plane_reference(scene: &RoomScene, samples: usize) -> WorkPlaneGrid 
             scene
                 .lights
                 .iter()
+                .zip(&samplers)
                 .enumerate()
-                .map(|(i, l)| {
-                    crate::reference::monte_carlo_illuminance(
-                        l,
-                        p,
-                        DVec3::Z,
-                        samples,
-                        (k * 7919 + i) as u64,
-                    )
+                .map(|(i, (l, sampler))| {
+                    let seed = (k * 7919 + i) as u64;
+                    match sampler {
+                        Some(s) => mis_illuminance(l, s, p, DVec3::Z, samples, seed),
+                        None => monte_carlo_illuminance(l, p, DVec3::Z, samples, seed),
+                    }
                 })
                 .sum::<f64>()
         })
