@@ -275,3 +275,31 @@ fn render_writes_a_work_plane_plan() {
     assert_eq!(h, 720 + 32 + 22);
     assert!(w > 400, "{w}");
 }
+
+#[test]
+fn near_field_eval_writes_its_table_and_pictures() {
+    let dir = tempfile::tempdir().unwrap();
+    let profile = assets().join("profiles/samples/rab_indoor3_2002_full360.ies");
+    let out = lucerna(&[
+        "near-field-eval",
+        profile.to_str().unwrap(),
+        "--pixels",
+        "8",
+        "--samples",
+        "64",
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let csv = std::fs::read_to_string(dir.path().join("near_field_nrms.csv")).unwrap();
+    let rows: Vec<&str> = csv.lines().skip(1).collect();
+    assert_eq!(rows.len(), 3, "{csv}");
+    for (row, h) in rows.iter().zip(["0.1", "1", "2.5"]) {
+        let cols: Vec<&str> = row.split(',').collect();
+        assert_eq!(cols[1], h);
+        let values: Vec<f64> = cols[2..].iter().map(|c| c.parse().unwrap()).collect();
+        assert!(values.iter().all(|v| v.is_finite() && *v >= 0.0), "{row}");
+    }
+    let png = std::fs::read(dir.path().join("rab_indoor3_2002_full360_h0.1.png")).unwrap();
+    assert_eq!(&png[..4], b"\x89PNG");
+}
