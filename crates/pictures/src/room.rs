@@ -10,6 +10,23 @@ fn put(c: &mut Canvas, x: u32, y: u32, rgb: [u8; 3]) {
     c.fill_rect(i64::from(x), i64::from(y), 1, 1, rgb);
 }
 
+/// A vertical colour bar from 0 to `top` lx at x = `bx`, `height` pixels
+/// tall below its "lux" title, ticked every `step` lx.
+fn lux_legend(c: &mut Canvas, bx: i64, height: i64, top: f64, step: f64) {
+    let (by, bh) = (20i64, height.max(1));
+    c.text(bx, 4, "lux", 1, BLACK);
+    for k in 0..bh {
+        c.fill_rect(bx, by + k, 18, 1, false_colour(1.0 - k as f32 / bh as f32));
+    }
+    let mut v = 0.0;
+    while v <= top + 1e-9 {
+        let y = by + bh - ((v / top) * bh as f64).round() as i64;
+        c.fill_rect(bx + 18, y, 5, 1, BLACK);
+        c.text(bx + 26, y - 3, &label(v), 1, BLACK);
+        v += step;
+    }
+}
+
 /// The tone-mapped view (`rgb`: 8-bit, row-major) under a caption strip.
 pub fn room_view_png(
     width: u32,
@@ -61,20 +78,13 @@ pub fn illuminance_png(
             put(&mut c, x, y, colour);
         }
     }
-    // Legend: colour bar with round lux values.
-    let (bx, by, bh) = (i64::from(width) + 12, 20i64, i64::from(height) - 40);
-    c.text(bx, 4, "lux", 1, BLACK);
-    for k in 0..bh.max(1) {
-        let t = 1.0 - k as f32 / bh.max(1) as f32;
-        c.fill_rect(bx, by + k, 18, 1, false_colour(t));
-    }
-    let mut v = 0.0;
-    while v <= top + 1e-9 {
-        let y = by + bh - ((v / top) * bh as f64).round() as i64;
-        c.fill_rect(bx + 18, y, 5, 1, BLACK);
-        c.text(bx + 26, y - 3, &label(v), 1, BLACK);
-        v += step;
-    }
+    lux_legend(
+        &mut c,
+        i64::from(width) + 12,
+        i64::from(height) - 40,
+        top,
+        step,
+    );
     c.text(6, i64::from(height) + 7, caption, 1, BLACK);
     c.png()
 }
@@ -161,24 +171,13 @@ pub fn work_plane_png(
         c.line(px - 5.0, py - 5.0, px + 5.0, py + 5.0, 1.0, BLACK);
         c.line(px - 5.0, py + 5.0, px + 5.0, py - 5.0, 1.0, BLACK);
     }
-    let (bx, by, bh) = (i64::from(w + 2 * margin) + 8, 20i64, i64::from(h) - 20);
-    c.text(bx, 4, "lux", 1, BLACK);
-    for k in 0..bh.max(1) {
-        c.fill_rect(
-            bx,
-            by + k,
-            18,
-            1,
-            false_colour(1.0 - k as f32 / bh.max(1) as f32),
-        );
-    }
-    let mut v = 0.0;
-    while v <= top + 1e-9 {
-        let y = by + bh - ((v / top) * bh as f64).round() as i64;
-        c.fill_rect(bx + 18, y, 5, 1, BLACK);
-        c.text(bx + 26, y - 3, &label(v), 1, BLACK);
-        v += step;
-    }
+    lux_legend(
+        &mut c,
+        i64::from(w + 2 * margin) + 8,
+        i64::from(h) - 20,
+        top,
+        step,
+    );
     c.text(6, i64::from(h + 2 * margin) + 7, caption, 1, BLACK);
     c.png()
 }

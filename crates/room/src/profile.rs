@@ -46,38 +46,13 @@ pub struct ProfileGrid {
 impl ProfileGrid {
     /// Samples a candela table (its own linear interpolation) on the grid.
     pub fn from_table(table: &CandelaTable) -> ProfileGrid {
-        let gamma_count = (180.0 / GAMMA_STEP_DEG).round() as usize + 1;
-        let rotational = table.c_planes_deg.len() == 1;
-        let c_count = if rotational {
-            1
-        } else {
-            (360.0 / C_STEP_DEG).round() as usize + 1
-        };
-        let mut candela = Vec::with_capacity(c_count * gamma_count);
-        for i in 0..c_count {
-            let c = if rotational {
-                0.0
-            } else {
-                i as f64 * C_STEP_DEG
-            };
-            for j in 0..gamma_count {
-                let g = j as f64 * GAMMA_STEP_DEG;
-                candela.push(table.intensity(c % 360.0, g).max(0.0) as f32);
-            }
-        }
-        ProfileGrid {
-            c_count,
-            gamma_count,
-            c_step_deg: C_STEP_DEG,
-            gamma_step_deg: GAMMA_STEP_DEG,
-            candela,
-            candela_levels: Vec::new(),
-            cosine_levels: Vec::new(),
-        }
-        .with_prefiltered_levels()
+        ProfileGrid::from_fn(table.c_planes_deg.len() == 1, |c, g| {
+            table.intensity(c % 360.0, g).max(0.0)
+        })
     }
 
-    /// A profile from a function of (C°, γ°), for tests and analytic cases.
+    /// A profile from a function of (C°, γ°); a rotational one is sampled
+    /// at C = 0° only.
     pub fn from_fn(rotational: bool, f: impl Fn(f64, f64) -> f64) -> ProfileGrid {
         let gamma_count = (180.0 / GAMMA_STEP_DEG).round() as usize + 1;
         let c_count = if rotational {

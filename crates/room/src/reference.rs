@@ -22,6 +22,45 @@ impl SplitMix {
     }
 }
 
+/// One fan triangle (a, b, c) of a convex polygon with k × k jittered
+/// strata, k² about its share of the samples.
+#[derive(Debug, Clone, Copy)]
+struct FanStrata {
+    a: DVec3,
+    b: DVec3,
+    c: DVec3,
+    k: usize,
+    area: f64,
+}
+
+impl FanStrata {
+    /// A jittered point of stratum (si, sj), by the area-preserving
+    /// square → triangle map.
+    fn point(&self, si: usize, sj: usize, rng: &mut SplitMix) -> DVec3 {
+        let u = (si as f64 + rng.next_f64()) / self.k as f64;
+        let v = (sj as f64 + rng.next_f64()) / self.k as f64;
+        let su = u.sqrt();
+        self.a * (1.0 - su) + self.b * (su * (1.0 - v)) + self.c * (su * v)
+    }
+}
+
+fn fan_strata(polygon: &[DVec3], area: f64, samples: usize) -> Vec<FanStrata> {
+    (1..polygon.len().saturating_sub(1))
+        .map(|i| {
+            let (a, b, c) = (polygon[0], polygon[i], polygon[i + 1]);
+            let tri_area = 0.5 * (b - a).cross(c - a).length();
+            let k = ((samples as f64 * tri_area / area).sqrt().round() as usize).max(1);
+            FanStrata {
+                a,
+                b,
+                c,
+                k,
+                area: tri_area,
+            }
+        })
+        .collect()
+}
+
 /// Illuminance (lx) at x (unit normal n) by integrating
 /// E = 1/A ∫_A I(x − x′) cos θ / r² dA′ with about `samples` jittered
 /// stratified points on the opening (each fan triangle gets its share).
@@ -39,18 +78,11 @@ pub fn monte_carlo_illuminance(
     let area = light.opening.area_m2();
     let mut rng = SplitMix(seed ^ 0x5DEE_CE66_D1CE_5EED);
     let mut sum = 0.0;
-    for i in 1..polygon.len() - 1 {
-        let (a, b, c) = (polygon[0], polygon[i], polygon[i + 1]);
-        let tri_area = 0.5 * (b - a).cross(c - a).length();
-        let k = ((samples as f64 * tri_area / area).sqrt().ceil() as usize).max(1);
-        let weight = tri_area / (k * k) as f64;
-        for si in 0..k {
-            for sj in 0..k {
-                let u = (si as f64 + rng.next_f64()) / k as f64;
-                let v = (sj as f64 + rng.next_f64()) / k as f64;
-                // Area-preserving square → triangle map.
-                let su = u.sqrt();
-                let p = a * (1.0 - su) + b * (su * (1.0 - v)) + c * (su * v);
+    for fan in fan_strata(&polygon, area, samples) {
+        let weight = fan.area / (fan.k * fan.k) as f64;
+        for si in 0..fan.k {
+            for sj in 0..fan.k {
+                let p = fan.point(si, sj, &mut rng);
                 let to_x = x - p;
                 let r2 = to_x.length_squared();
                 if r2 <= 0.0 {
@@ -222,18 +254,14 @@ pub fn mis_illuminance(
         Some((f, p_area, emit))
     };
     // Stratified k × k points per fan triangle: their density on triangle
-    // i is `share[i]` × N / A per unit area.
-    let fans: Vec<(DVec3, DVec3, DVec3, usize, f64)> = (1..polygon.len() - 1)
-        .map(|i| {
-            let (a, b, c) = (polygon[0], polygon[i], polygon[i + 1]);
-            let tri_area = 0.5 * (b - a).cross(c - a).length();
-            let k = ((n_f * tri_area / area).sqrt().round() as usize).max(1);
-            (a, b, c, k, (k * k) as f64 / (n_f * tri_area / area))
-        })
+    // i is `share` × N / A per unit area.
+    let fans: Vec<(FanStrata, f64)> = fan_strata(&polygon, area, samples)
+        .into_iter()
+        .map(|f| (f, (f.k * f.k) as f64 / (n_f * f.area / area)))
         .collect();
     let share_at = |p: DVec3| -> f64 {
-        for &(a, b, c, _, share) in &fans {
-            let (v0, v1, v2) = (b - a, c - a, p - a);
+        for &(f, share) in &fans {
+            let (v0, v1, v2) = (f.b - f.a, f.c - f.a, p - f.a);
             let (d00, d01, d11) = (v0.dot(v0), v0.dot(v1), v1.dot(v1));
             let (d20, d21) = (v2.dot(v0), v2.dot(v1));
             let den = d00 * d11 - d01 * d01;
@@ -250,13 +278,10 @@ pub fn mis_illuminance(
     };
     let mut sum = 0.0;
     // Technique 1: stratified points on the opening (fan triangles).
-    for &(a, b, c, k, share) in &fans {
-        for si in 0..k {
-            for sj in 0..k {
-                let u = (si as f64 + rng.next_f64()) / k as f64;
-                let v = (sj as f64 + rng.next_f64()) / k as f64;
-                let su = u.sqrt();
-                let p = a * (1.0 - su) + b * (su * (1.0 - v)) + c * (su * v);
+    for &(fan, share) in &fans {
+        for si in 0..fan.k {
+            for sj in 0..fan.k {
+                let p = fan.point(si, sj, &mut rng);
                 if let Some((f, p_area, emit)) = contribution(p) {
                     let p_dir = sampler.pdf(emit);
                     // This triangle's points have density share × N × p_area.
