@@ -28,6 +28,11 @@ struct Params {
     point_count: u32,
     // 0: the box room; else the OBJ room's triangles
     triangle_count: u32,
+    // uniform inter-reflected illuminance added to every surface (lx)
+    indirect_lux: f32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 struct Light {
@@ -483,8 +488,8 @@ fn shade_ray(origin: vec3<f32>, dir: vec3<f32>) -> vec2<f32> {
     }
     let x = origin + dir * distance;
     let material = surfaces[surface];
-    var lux = 0.0;
-    var luminance = 0.0;
+    var lux = params.indirect_lux;
+    var luminance = material.x / PI * params.indirect_lux;
     var clipped: array<vec3<f32>, 16>;
     for (var i = 0u; i < params.light_count; i++) {
         let l = lights[i];

@@ -154,11 +154,13 @@ fn broken_rooms_fail_clearly_and_write_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let good = std::fs::read_to_string(assets().join("rooms/office.toml")).unwrap();
     let base = assets().join("rooms");
+    let zoomed = good.replace("fov_deg = 70", "fov_deg = 70\nzoom = 2");
+    let zoom_line = format!(
+        "line {}",
+        zoomed.lines().position(|l| l.starts_with("zoom")).unwrap() + 1
+    );
     let cases = [
-        (
-            good.replace("fov_deg = 70", "fov_deg = 70\nzoom = 2"),
-            "line 24",
-        ),
+        (zoomed.clone(), zoom_line.as_str()),
         (
             good.replace("reflectance = 0.5", "reflectance = 1.5"),
             "room.walls.reflectance",

@@ -17,7 +17,7 @@ use crate::render::{Frame, Shading, ViewRays};
 use crate::scene::RoomScene;
 use crate::work_plane::{WorkPlaneGrid, grid_points};
 
-/// WGSL twin `Params` (112 bytes).
+/// WGSL twin `Params` (128 bytes).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 struct Params {
@@ -34,8 +34,10 @@ struct Params {
     aspect: f32,
     point_count: u32,
     triangle_count: u32,
+    indirect_lux: f32,
+    pad: [u32; 3],
 }
-const _: () = assert!(std::mem::size_of::<Params>() == 112);
+const _: () = assert!(std::mem::size_of::<Params>() == 128);
 
 /// WGSL twin `Light` (288 bytes).
 #[repr(C)]
@@ -228,6 +230,8 @@ impl GpuRoomRenderer {
             aspect: 1.0,
             point_count: 0,
             triangle_count,
+            indirect_lux: scene.indirect_lux() as f32,
+            pad: [0; 3],
         };
         UploadedRoom {
             lights: lights_buffer,

@@ -55,6 +55,22 @@ pub struct BoxRoom {
     /// name; anything unnamed here is a wall.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub materials: BTreeMap<String, Surface>,
+    /// Inter-reflected light: none (direct only) or a uniform estimate.
+    #[serde(default)]
+    pub indirect: Indirect,
+}
+
+/// How light reflected between the room's surfaces is accounted for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Indirect {
+    /// Direct light only.
+    #[default]
+    None,
+    /// The integrating-sphere estimate: every surface gets the same
+    /// indirect illuminance Φ ρ̄ / (A (1 − ρ̄)), Φ the luminaires' flux, A
+    /// the room's surface area, ρ̄ its area-weighted reflectance.
+    Uniform,
 }
 
 fn is_one(v: &f64) -> bool {

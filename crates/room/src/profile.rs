@@ -215,6 +215,30 @@ impl ProfileGrid {
         low + (high - low) * tc
     }
 
+    /// Luminous flux (lm): the exact integral of the grid's interpolant
+    /// (linear in γ) times sin γ, trapezoidal in C.
+    pub fn flux_lm(&self) -> f64 {
+        let step = self.gamma_step_deg.to_radians();
+        // ∫ over one γ cell of (I0 + (I1 − I0) (γ − g0) / Δ) sin γ dγ.
+        let cell = |g: usize, i0: f64, i1: f64| {
+            let (g0, g1) = (g as f64 * step, (g + 1) as f64 * step);
+            i0 * (g0.cos() - g1.cos()) + (i1 - i0) / step * (g1.sin() - g0.sin() - step * g1.cos())
+        };
+        let column = |c: usize| -> f64 {
+            let at = |g: usize| self.candela[c * self.gamma_count + g] as f64;
+            (0..self.gamma_count - 1)
+                .map(|g| cell(g, at(g), at(g + 1)))
+                .sum()
+        };
+        if self.c_count == 1 {
+            return std::f64::consts::TAU * column(0);
+        }
+        let c_step = self.c_step_deg.to_radians();
+        (0..self.c_count - 1)
+            .map(|c| 0.5 * (column(c) + column(c + 1)) * c_step)
+            .sum()
+    }
+
     /// Largest tabulated intensity (cd).
     pub fn peak_candela(&self) -> f64 {
         self.candela.iter().fold(0.0f64, |m, &v| m.max(v as f64))

@@ -111,8 +111,15 @@ pub fn opening_hit(light: &PlacedLight, origin: DVec3, dir: DVec3) -> Option<(f6
     Some((t, luminance))
 }
 
-/// Luminance and illuminance seen along one view ray.
-pub fn shade_ray(scene: &RoomScene, origin: DVec3, dir: DVec3, shading: Shading) -> (f64, f64) {
+/// Luminance and illuminance seen along one view ray; `indirect_lux` is
+/// added to every surface (see `RoomScene::indirect_lux`).
+pub fn shade_ray(
+    scene: &RoomScene,
+    origin: DVec3,
+    dir: DVec3,
+    shading: Shading,
+    indirect_lux: f64,
+) -> (f64, f64) {
     let hit = scene.cast(origin, dir);
     let mut nearest_light: Option<(f64, f64)> = None;
     for light in &scene.lights {
@@ -133,8 +140,8 @@ pub fn shade_ray(scene: &RoomScene, origin: DVec3, dir: DVec3, shading: Shading)
     let n = hit.normal;
     let surface = scene.surfaces[hit.surface];
     let to_viewer = -dir;
-    let mut lux = 0.0;
-    let mut luminance = 0.0;
+    let mut lux = indirect_lux;
+    let mut luminance = surface.reflectance / std::f64::consts::PI * indirect_lux;
     for light in &scene.lights {
         let r = light_illuminance(light, x, n, shading);
         lux += r.lux;
@@ -157,12 +164,13 @@ pub fn shade_ray(scene: &RoomScene, origin: DVec3, dir: DVec3, shading: Shading)
 /// Renders the camera's view on the CPU (rayon over rows).
 pub fn render_cpu(scene: &RoomScene, width: u32, height: u32, shading: Shading) -> Frame {
     let rays = ViewRays::new(scene, width, height);
+    let indirect = scene.indirect_lux();
     let pixels: Vec<(f32, f32)> = (0..height)
         .into_par_iter()
         .flat_map_iter(|j| {
             (0..width).map(move |i| {
                 let dir = rays.direction(i, j, width, height);
-                let (l, e) = shade_ray(scene, rays.origin, dir, shading);
+                let (l, e) = shade_ray(scene, rays.origin, dir, shading, indirect);
                 (l as f32, e as f32)
             })
         })

@@ -8,7 +8,7 @@ use glam::DVec3;
 use lucerna_photometry::{Dimensions, Photometry};
 
 use crate::light::{Opening, PlacedLight};
-use crate::model::{Camera, OpeningSpec, RoomFile, RoomFileError, Surface, WorkPlane};
+use crate::model::{Camera, Indirect, OpeningSpec, RoomFile, RoomFileError, Surface, WorkPlane};
 use crate::profile::ProfileGrid;
 
 /// Surface indices: floor (z = 0), ceiling (z = height), walls at x = 0,
@@ -27,6 +27,7 @@ pub struct RoomScene {
     pub lights: Vec<PlacedLight>,
     pub camera: Camera,
     pub work_plane: WorkPlane,
+    pub indirect: Indirect,
 }
 
 /// A room surface hit by a view ray.
@@ -75,7 +76,40 @@ impl RoomScene {
             lights,
             camera: room.camera,
             work_plane: room.work_plane,
+            indirect: room.room.indirect,
         }
+    }
+
+    /// Uniform indirect illuminance (lx) by the integrating-sphere formula
+    /// Φ ρ̄ / (A (1 − ρ̄)), or 0 for direct light only.
+    pub fn indirect_lux(&self) -> f64 {
+        if self.indirect == Indirect::None {
+            return 0.0;
+        }
+        let flux: f64 = self.lights.iter().map(|l| l.profile.flux_lm()).sum();
+        let (mut area, mut reflected) = (0.0, 0.0);
+        match &self.mesh {
+            Some(mesh) => {
+                for (t, &s) in mesh.triangles.iter().zip(&mesh.surface) {
+                    let a = 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).length();
+                    area += a;
+                    reflected += a * self.surfaces[s as usize].reflectance;
+                }
+            }
+            None => {
+                let (w, d, h) = (self.size.x, self.size.y, self.size.z);
+                let faces = [w * d, w * d, d * h, d * h, w * h, w * h];
+                for (a, s) in faces.iter().zip(&self.surfaces) {
+                    area += a;
+                    reflected += a * s.reflectance;
+                }
+            }
+        }
+        if area <= 0.0 {
+            return 0.0;
+        }
+        let rho = (reflected / area).min(0.99);
+        flux * rho / (area * (1.0 - rho))
     }
 
     /// The first room surface along a ray from inside the room.

@@ -173,10 +173,19 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         scene.lights.len(),
         start.elapsed().as_secs_f64() * 1e3
     );
-    let grid = work_plane_cpu(&scene, shading);
+    let mut grid = work_plane_cpu(&scene, shading);
+    let indirect = scene.indirect_lux();
+    for e in &mut grid.lux {
+        *e += indirect;
+    }
     let f = grid.figures();
+    let light = if indirect > 0.0 {
+        format!("direct + {indirect:.1} lx uniform indirect")
+    } else {
+        "direct light only".to_owned()
+    };
     println!(
-        "work plane at {:.2} m, {} points ({:.2} m border): Emin {:.1} lx, Eavg {:.1} lx, Emax {:.1} lx, U0 = Emin/Eavg {:.2} (direct light only)",
+        "work plane at {:.2} m, {} points ({:.2} m border): Emin {:.1} lx, Eavg {:.1} lx, Emax {:.1} lx, U0 = Emin/Eavg {:.2} ({light})",
         grid.height_m,
         f.points,
         scene.work_plane.border_m,
