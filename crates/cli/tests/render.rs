@@ -305,3 +305,28 @@ fn near_field_eval_writes_its_table_and_pictures() {
     let png = std::fs::read(dir.path().join("rab_indoor3_2002_full360_h0.1.png")).unwrap();
     assert_eq!(&png[..4], b"\x89PNG");
 }
+
+#[test]
+fn an_image_too_large_for_the_adapter_is_refused_clearly() {
+    // 8192 × 8192 × 16 bytes = 1.07 GB: beyond lavapipe's 128 MiB per
+    // storage buffer (a large hardware GPU might render it; then nothing
+    // to check here).
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("huge.png");
+    let out = lucerna(&[
+        "render",
+        assets().join("rooms/office.toml").to_str().unwrap(),
+        "--out",
+        png.to_str().unwrap(),
+        "--size",
+        "8192x8192",
+        "--backend",
+        "gpu",
+    ]);
+    let err = text(&out.stderr);
+    if out.status.success() || err.contains("no GPU adapter") || err.contains("NoAdapter") {
+        return;
+    }
+    assert!(err.contains("MB of GPU storage needed"), "{err}");
+    assert!(!png.exists());
+}

@@ -146,8 +146,24 @@ impl GpuRoomRenderer {
         &self.ctx
     }
 
+    /// Fails unless a buffer of `bytes` fits the adapter's limits.
+    fn check_size(&self, what: &str, bytes: u64) -> Result<(), GpuError> {
+        let limits = &self.ctx.limits;
+        let max = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        if bytes > max {
+            return Err(GpuError::Failed(format!(
+                "{what}: {:.1} MB of GPU storage needed, this adapter allows {:.1} MB per buffer (render on the CPU instead)",
+                bytes as f64 / 1e6,
+                max as f64 / 1e6
+            )));
+        }
+        Ok(())
+    }
+
     /// Uploads lights and their profiles (each distinct profile once).
-    pub fn upload(&self, scene: &RoomScene) -> UploadedRoom {
+    pub fn upload(&self, scene: &RoomScene) -> Result<UploadedRoom, GpuError> {
         let mut data: Vec<f32> = Vec::new();
         let mut seen: Vec<(*const ProfileGrid, u32)> = Vec::new();
         let mut lights = Vec::with_capacity(scene.lights.len());
@@ -171,6 +187,11 @@ impl GpuRoomRenderer {
         if data.is_empty() {
             data.push(0.0);
         }
+        self.check_size("the room's profiles", 4 * data.len() as u64)?;
+        self.check_size(
+            "the room's lights",
+            std::mem::size_of_val(lights.as_slice()) as u64,
+        )?;
         let device = &self.ctx.device;
         let lights_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("room lights"),
@@ -207,6 +228,7 @@ impl GpuRoomRenderer {
                 triangle_data.push(v4(t[2], 0.0));
             }
         }
+        self.check_size("the room's triangles", 16 * triangle_data.len() as u64)?;
         let triangle_count = (triangle_data.len() / 3) as u32;
         if triangle_data.is_empty() {
             triangle_data.push([0.0; 4]);
@@ -233,14 +255,14 @@ impl GpuRoomRenderer {
             indirect_lux: scene.indirect_lux() as f32,
             pad: [0; 3],
         };
-        UploadedRoom {
+        Ok(UploadedRoom {
             lights: lights_buffer,
             profiles,
             surfaces,
             triangles,
             light_count: scene.lights.len() as u32,
             scene_params,
-        }
+        })
     }
 
     fn run(
@@ -264,6 +286,8 @@ impl GpuRoomRenderer {
             usage: wgpu::BufferUsages::STORAGE,
         });
         let size = 16 * outputs.max(1) as u64;
+        self.check_size("the image", size)?;
+        self.check_size("the points", 16 * points.len() as u64)?;
         let output = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("room output"),
             size,

@@ -56,7 +56,7 @@ fn wgsl_illuminance_matches_the_cpu_at_random_points() {
     };
     let renderer = GpuRoomRenderer::new(ctx).unwrap();
     let scene = scene();
-    let uploaded = renderer.upload(&scene);
+    let uploaded = renderer.upload(&scene).unwrap();
     let mut rng = SplitMix(42);
     let mut points = Vec::new();
     for _ in 0..3000 {
@@ -121,7 +121,7 @@ fn wgsl_frame_matches_the_cpu_frame() {
     };
     let renderer = GpuRoomRenderer::new(ctx).unwrap();
     let scene = scene();
-    let uploaded = renderer.upload(&scene);
+    let uploaded = renderer.upload(&scene).unwrap();
     let (w, h) = (96, 64);
     for shading in [Shading::Cubature, Shading::PointLight] {
         let cpu = render_cpu(&scene, w, h, shading);

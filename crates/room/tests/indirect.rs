@@ -91,7 +91,13 @@ position = [2.5, 2.0, 2.9]
     if let Some(ctx) = lucerna_gpu::open_for_tests() {
         let renderer = GpuRoomRenderer::new(ctx).unwrap();
         let (gpu, _) = renderer
-            .render(&scene, &renderer.upload(&scene), 16, 16, Shading::Cubature)
+            .render(
+                &scene,
+                &renderer.upload(&scene).unwrap(),
+                16,
+                16,
+                Shading::Cubature,
+            )
             .unwrap();
         assert!((gpu.luminance[corner] as f64 - luminance).abs() < 1e-4 * luminance);
     }

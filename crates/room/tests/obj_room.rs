@@ -51,7 +51,7 @@ fn an_obj_of_the_box_renders_the_box_room() {
     let boxed = parse_room(&office, Path::new("office.toml")).unwrap();
     std::fs::write(dir.path().join("box.obj"), office_box_obj(6.0, 4.8, 2.8)).unwrap();
     let with_obj = office
-        .replace("ceiling = { reflectance = 0.7 }", "ceiling = { reflectance = 0.7 }\nobj = \"box.obj\"\n\n[room.materials]\nfloor = { reflectance = 0.2, specular = 0.04, roughness = 0.35 }\nceiling = { reflectance = 0.7 }")
+        .replace("\n[work_plane]", "obj = \"box.obj\"\n\n[room.materials]\nfloor = { reflectance = 0.2, specular = 0.04, roughness = 0.35 }\nceiling = { reflectance = 0.7 }\n\n[work_plane]")
         .replace("../profiles/", &format!("{}/", rooms().join("../profiles").display()));
     let meshed = parse_room(&with_obj, Path::new("meshed.toml")).unwrap();
     let mut mesh_scene = RoomScene::new(&meshed, &profiles(&boxed));
@@ -77,7 +77,7 @@ fn an_obj_of_the_box_renders_the_box_room() {
         let ga = renderer
             .render(
                 &box_scene,
-                &renderer.upload(&box_scene),
+                &renderer.upload(&box_scene).unwrap(),
                 w,
                 h,
                 Shading::Cubature,
@@ -87,7 +87,7 @@ fn an_obj_of_the_box_renders_the_box_room() {
         let gb = renderer
             .render(
                 &mesh_scene,
-                &renderer.upload(&mesh_scene),
+                &renderer.upload(&mesh_scene).unwrap(),
                 w,
                 h,
                 Shading::Cubature,
@@ -125,7 +125,13 @@ fn meeting_room_renders_alike_on_gpu_and_cpu() {
     let (w, h) = (96, 54);
     let cpu = render_cpu(&scene, w, h, Shading::Cubature);
     let (gpu, _) = renderer
-        .render(&scene, &renderer.upload(&scene), w, h, Shading::Cubature)
+        .render(
+            &scene,
+            &renderer.upload(&scene).unwrap(),
+            w,
+            h,
+            Shading::Cubature,
+        )
         .unwrap();
     let differing = (0..(w * h) as usize)
         .filter(|&i| {

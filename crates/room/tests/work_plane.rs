@@ -60,7 +60,7 @@ fn gpu_figures_match_the_cpu_within_one_percent() {
     let renderer = GpuRoomRenderer::new(ctx).unwrap();
     for name in ["office.toml", "corridor.toml"] {
         let scene = room(name);
-        let uploaded = renderer.upload(&scene);
+        let uploaded = renderer.upload(&scene).unwrap();
         for shading in [Shading::Cubature, Shading::PointLight] {
             let gpu = renderer
                 .work_plane(&scene, &uploaded, shading)

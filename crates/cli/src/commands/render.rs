@@ -162,7 +162,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     let start = Instant::now();
     let (frame, backend) = match &gpu {
         Some(r) => {
-            let uploaded = r.upload(&scene);
+            let uploaded = r.upload(&scene)?;
             let (frame, _) = r.render(&scene, &uploaded, w, h, shading)?;
             (frame, r.context().describe())
         }
@@ -283,7 +283,7 @@ pub fn render_bench(args: &RenderBenchArgs) -> Result<()> {
             })
             .collect();
         if let Some(r) = &gpu {
-            let uploaded = r.upload(&scene);
+            let uploaded = r.upload(&scene)?;
             let mut best = [f64::INFINITY; 2];
             for (k, shading) in [Shading::Cubature, Shading::PointLight]
                 .into_iter()
