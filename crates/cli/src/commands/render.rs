@@ -160,20 +160,25 @@ pub fn render(args: &RenderArgs) -> Result<()> {
             .and_then(|ctx| GpuRoomRenderer::new(ctx).ok()),
     };
     let start = Instant::now();
-    let (frame, backend) = match &gpu {
+    // The view and the work-plane grid, both by the same backend.
+    let (frame, mut grid, backend) = match &gpu {
         Some(r) => {
             let uploaded = r.upload(&scene)?;
             let (frame, _) = r.render(&scene, &uploaded, w, h, shading)?;
-            (frame, r.context().describe())
+            let grid = r.work_plane(&scene, &uploaded, shading)?;
+            (frame, grid, r.context().describe())
         }
-        None => (render_cpu(&scene, w, h, shading), "CPU".to_owned()),
+        None => (
+            render_cpu(&scene, w, h, shading),
+            work_plane_cpu(&scene, shading),
+            "CPU".to_owned(),
+        ),
     };
     eprintln!(
         "rendered {w}x{h}, {} luminaires, on {backend} in {:.0} ms",
         scene.lights.len(),
         start.elapsed().as_secs_f64() * 1e3
     );
-    let mut grid = work_plane_cpu(&scene, shading);
     let indirect = scene.indirect_lux();
     for e in &mut grid.lux {
         *e += indirect;
