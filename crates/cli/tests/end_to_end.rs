@@ -2,23 +2,11 @@
 //! End-to-end: the `lucerna` binary on the bundled examples and samples,
 //! and on broken input.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
+use std::process::Command;
 
-fn lucerna(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_lucerna"))
-        .args(args)
-        .output()
-        .expect("the lucerna binary runs")
-}
-
-fn assets() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets")
-}
-
-fn text(o: &[u8]) -> String {
-    String::from_utf8_lossy(o).into_owned()
-}
+mod common;
+use common::{assets, lucerna, text};
 
 #[test]
 fn validate_accepts_every_example() {

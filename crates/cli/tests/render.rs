@@ -2,23 +2,8 @@
 //! End-to-end: `lucerna render` and `lucerna render-bench` on the example
 //! rooms, and on broken room files.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn lucerna(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_lucerna"))
-        .args(args)
-        .output()
-        .expect("the lucerna binary runs")
-}
-
-fn assets() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets")
-}
-
-fn text(o: &[u8]) -> String {
-    String::from_utf8_lossy(o).into_owned()
-}
+mod common;
+use common::{assets, lucerna, text};
 
 /// Width and height from a PNG's IHDR chunk.
 fn png_size(bytes: &[u8]) -> (u32, u32) {
