@@ -79,6 +79,31 @@ pub fn rmse_mean_scaled(a: &[f64], b: &[f64]) -> f64 {
         .sqrt()
 }
 
+/// The part of a mean-scaled MSE against the reference that is the
+/// reference's own Poisson noise: mean over texels of var(r_t) / mean(r)²
+/// with var(r_t) = c_t / Ω_t² (an estimate independent of the reference
+/// sees it added to its true error).
+pub fn reference_noise_mse(layout: CubeMapLayout, counts: &[u64]) -> f64 {
+    let intensity = raw_intensity(layout, counts);
+    let mean = intensity.iter().sum::<f64>() / intensity.len() as f64;
+    if mean <= 0.0 {
+        return 0.0;
+    }
+    counts
+        .iter()
+        .enumerate()
+        .map(|(t, &c)| c as f64 / layout.texel_solid_angle(t).powi(2))
+        .sum::<f64>()
+        / counts.len() as f64
+        / (mean * mean)
+}
+
+/// The RMSE with the reference's noise taken out (0 when the measured
+/// error is all reference noise).
+fn corrected(rmse: f64, reference_noise_mse: f64) -> f64 {
+    (rmse * rmse - reference_noise_mse).max(0.0).sqrt()
+}
+
 pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
     let assets = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/luminaires");
     let scenes = if args.scenes.is_empty() {
@@ -91,7 +116,9 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
     };
     std::fs::create_dir_all(&args.out)?;
     let layout = CubeMapLayout::new(args.resolution);
-    let mut csv = String::from("scene,resolution,photons,method,threshold,rmse,filter_ms\n");
+    let mut csv = String::from(
+        "scene,resolution,photons,method,threshold,rmse,rmse_reference_noise_removed,filter_ms\n",
+    );
     let mut summary = String::new();
     for path in &scenes {
         let name = path
@@ -115,6 +142,7 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
             &mut done,
             args.reference_photons,
         );
+        let noise = reference_noise_mse(layout, &reference);
         let reference = raw_intensity(layout, &reference);
         eprintln!(
             "{name}: reference of {} photons in {:.0} s",
@@ -136,12 +164,20 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
                 points: Vec::new(),
             })
             .collect();
+        // The same errors with the reference's own noise removed.
+        let mut corrected_points: Vec<Vec<f64>> = vec![Vec::new(); series.len()];
         let mut n = 100_000u64;
         while n <= args.max_photons {
             trace_to(&prepared, &settings, &mut counts, &mut done, n);
             let raw = rmse_mean_scaled(&raw_intensity(layout, &counts), &reference);
             series[0].points.push((n as f64, raw));
-            let _ = writeln!(csv, "{name},{},{n},raw,,{raw:.6},", args.resolution);
+            corrected_points[0].push(corrected(raw, noise));
+            let _ = writeln!(
+                csv,
+                "{name},{},{n},raw,,{raw:.6},{:.6},",
+                args.resolution,
+                corrected(raw, noise)
+            );
             let thresholds = FIXED
                 .iter()
                 .map(|&t| Threshold::Fixed(t))
@@ -159,6 +195,7 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
                 let ms = t0.elapsed().as_secs_f64() * 1e3;
                 let e = rmse_mean_scaled(&f.photons_per_sr, &reference);
                 series[k + 1].points.push((n as f64, e));
+                corrected_points[k + 1].push(corrected(e, noise));
                 let method = if threshold == Threshold::Automatic {
                     "automatic"
                 } else {
@@ -166,8 +203,10 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
                 };
                 let _ = writeln!(
                     csv,
-                    "{name},{},{n},{method},{:.1},{e:.6},{ms:.1}",
-                    args.resolution, f.threshold
+                    "{name},{},{n},{method},{:.1},{e:.6},{:.6},{ms:.1}",
+                    args.resolution,
+                    f.threshold,
+                    corrected(e, noise)
                 );
             }
             eprintln!(
@@ -177,30 +216,48 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
             n *= 10;
         }
         // Targets: filtered(N) ≤ raw(10 N); automatic within 10 % of the
-        // best fixed threshold.
-        let raw = &series[0].points;
-        for i in 0..raw.len() {
-            let best_fixed = (1..=FIXED.len())
-                .map(|k| series[k].points[i].1)
-                .fold(f64::INFINITY, f64::min);
-            let auto = series[FIXED.len() + 1].points[i].1;
-            let raw_10n = raw.get(i + 1).map(|p| p.1);
-            let _ = writeln!(
-                summary,
-                "{name} {}² N = {:.0e}: raw {:.4}, raw(10N) {}, best fixed {:.4}, automatic {:.4} ({:+.1} % vs best) {}",
-                args.resolution,
-                raw[i].0,
-                raw[i].1,
-                raw_10n.map_or("—".to_owned(), |v| format!("{v:.4}")),
-                best_fixed,
-                auto,
-                100.0 * (auto / best_fixed - 1.0),
-                match raw_10n {
-                    Some(r) if auto <= r => "filtered(N) ≤ raw(10N): yes",
-                    Some(_) => "filtered(N) ≤ raw(10N): NO",
-                    None => "",
-                }
-            );
+        // best fixed threshold. Both as measured and with the reference's
+        // noise (√MSE {noise}) taken out.
+        let _ = writeln!(
+            summary,
+            "{name} {}²: reference noise alone gives RMSE {:.4}",
+            args.resolution,
+            noise.sqrt()
+        );
+        for (label, values) in [
+            (
+                "measured",
+                series
+                    .iter()
+                    .map(|s| s.points.iter().map(|p| p.1).collect::<Vec<_>>())
+                    .collect::<Vec<_>>(),
+            ),
+            ("reference noise removed", corrected_points.clone()),
+        ] {
+            let raw = &values[0];
+            for i in 0..raw.len() {
+                let best_fixed = (1..=FIXED.len())
+                    .map(|k| values[k][i])
+                    .fold(f64::INFINITY, f64::min);
+                let auto = values[FIXED.len() + 1][i];
+                let raw_10n = raw.get(i + 1).copied();
+                let _ = writeln!(
+                    summary,
+                    "{name} {}² N = {:.0e} ({label}): raw {:.4}, raw(10N) {}, best fixed {:.4}, automatic {:.4} ({:+.1} % vs best) {}",
+                    args.resolution,
+                    series[0].points[i].0,
+                    raw[i],
+                    raw_10n.map_or("—".to_owned(), |v| format!("{v:.4}")),
+                    best_fixed,
+                    auto,
+                    100.0 * (auto / best_fixed - 1.0),
+                    match raw_10n {
+                        Some(r) if auto <= r => "filtered(N) ≤ raw(10N): yes",
+                        Some(_) => "filtered(N) ≤ raw(10N): NO",
+                        None => "",
+                    }
+                );
+            }
         }
         let png = log_log_chart_png(
             &series,
