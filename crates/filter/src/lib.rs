@@ -43,8 +43,12 @@ pub enum Threshold {
     Automatic,
 }
 
-/// z-score of the automatic mode's Poisson consistency test.
-pub const AUTO_Z: f64 = 3.0;
+/// z-score of the automatic mode's Poisson consistency test. 4 rather
+/// than 3: on the opal bell (128², 2·10⁸-photon reference) the error at
+/// 10⁶ photons falls from +27 % to +13 % of the best fixed threshold and
+/// 10⁷ filtered photons beat 10⁸ raw ones; the traced cut-off's edge
+/// stays within 2 texels (2.74 at 10⁵ photons); 5 widens it to 5.1.
+pub const AUTO_Z: f64 = 4.0;
 /// Fewest photons a texel needs before the automatic mode believes its
 /// deviation from the estimate is structure rather than noise.
 pub const AUTO_MIN_KEEP: f64 = 32.0;
