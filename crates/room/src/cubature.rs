@@ -158,10 +158,22 @@ pub fn illuminance_with(
     n: DVec3,
     rule: CubatureRule,
 ) -> CubatureResult {
+    illuminance_of(light, &light.world_polygon(), x, n, rule)
+}
+
+/// As [`illuminance_with`], with the opening's room-space polygon
+/// (`light.world_polygon()`) computed once by the caller: a renderer
+/// shading many points per light.
+pub fn illuminance_of(
+    light: &PlacedLight,
+    polygon: &[DVec3],
+    x: DVec3,
+    n: DVec3,
+    rule: CubatureRule,
+) -> CubatureResult {
     if light.opening == Opening::Point {
         return point_illuminance(light, x, n);
     }
-    let polygon = light.world_polygon();
     let area = light.opening.area_m2();
     let normal_a = light.normal();
     // Section 5.3: keep the shading point off the light's plane.
@@ -177,7 +189,7 @@ pub fn illuminance_with(
     let mut total = CubatureResult::default();
     let k = light.piece_count();
     for j in 0..k {
-        let piece = quad_piece(&polygon, k, j);
+        let piece = quad_piece(polygon, k, j);
         let r = piece_illuminance(light, &piece, area, x, n, rule);
         total.lux += r.lux;
         total.cosine_solid_angle += r.cosine_solid_angle;

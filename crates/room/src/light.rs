@@ -127,13 +127,6 @@ impl PlacedLight {
         }
     }
 
-    /// The opening as `piece_count()` convex polygons in room coordinates.
-    pub fn world_pieces(&self) -> Vec<Polygon> {
-        let polygon = self.world_polygon();
-        let k = self.piece_count();
-        (0..k).map(|j| quad_piece(&polygon, k, j)).collect()
-    }
-
     /// Largest extent of the opening (m).
     pub fn size_m(&self) -> f64 {
         match self.opening {

@@ -238,11 +238,6 @@ impl ProfileGrid {
             .map(|c| 0.5 * (column(c) + column(c + 1)) * c_step)
             .sum()
     }
-
-    /// Largest tabulated intensity (cd).
-    pub fn peak_candela(&self) -> f64 {
-        self.candela.iter().fold(0.0f64, |m, &v| m.max(v as f64))
-    }
 }
 
 /// A direction's place in the C-γ grid.

@@ -5,8 +5,8 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use crate::cubature::{self, CubatureResult};
-use crate::light::PlacedLight;
+use crate::cubature::{self, CubatureResult, CubatureRule};
+use crate::light::{PlacedLight, Polygon};
 use crate::ltc;
 use crate::scene::RoomScene;
 
@@ -80,16 +80,34 @@ pub fn light_illuminance(
     n: DVec3,
     shading: Shading,
 ) -> CubatureResult {
+    light_illuminance_of(light, &light.world_polygon(), x, n, shading)
+}
+
+/// As [`light_illuminance`] with the opening's room-space polygon given.
+fn light_illuminance_of(
+    light: &PlacedLight,
+    polygon: &[DVec3],
+    x: DVec3,
+    n: DVec3,
+    shading: Shading,
+) -> CubatureResult {
     match shading {
-        Shading::Cubature => cubature::illuminance(light, x, n),
+        Shading::Cubature => {
+            cubature::illuminance_of(light, polygon, x, n, CubatureRule::default())
+        }
         Shading::PointLight => cubature::point_illuminance(light, x, n),
     }
 }
 
-/// Distance along a ray to a light's opening and the opening's luminance
-/// seen from there, if the ray meets it.
-pub fn opening_hit(light: &PlacedLight, origin: DVec3, dir: DVec3) -> Option<(f64, f64)> {
-    let polygon = light.world_polygon();
+/// Distance along a ray to a light's opening (`polygon`, its
+/// `world_polygon()`) and the opening's luminance seen from there, if the
+/// ray meets it.
+pub fn opening_hit(
+    light: &PlacedLight,
+    polygon: &[DVec3],
+    origin: DVec3,
+    dir: DVec3,
+) -> Option<(f64, f64)> {
     if polygon.len() < 3 {
         return None;
     }
@@ -103,7 +121,7 @@ pub fn opening_hit(light: &PlacedLight, origin: DVec3, dir: DVec3) -> Option<(f6
         return None;
     }
     let p = origin + dir * t;
-    let q = cubature::closest_point_on_polygon(&polygon, normal, p);
+    let q = cubature::closest_point_on_polygon(polygon, normal, p);
     if (q - p).length_squared() > 1e-18 {
         return None;
     }
@@ -111,10 +129,13 @@ pub fn opening_hit(light: &PlacedLight, origin: DVec3, dir: DVec3) -> Option<(f6
     Some((t, luminance))
 }
 
-/// Luminance and illuminance seen along one view ray; `indirect_lux` is
-/// added to every surface (see `RoomScene::indirect_lux`).
+/// Luminance and illuminance seen along one view ray; `polygons` are the
+/// lights' openings in room coordinates (computed once per frame),
+/// `indirect_lux` is added to every surface (see
+/// `RoomScene::indirect_lux`).
 pub fn shade_ray(
     scene: &RoomScene,
+    polygons: &[Polygon],
     origin: DVec3,
     dir: DVec3,
     shading: Shading,
@@ -122,8 +143,8 @@ pub fn shade_ray(
 ) -> (f64, f64) {
     let hit = scene.cast(origin, dir);
     let mut nearest_light: Option<(f64, f64)> = None;
-    for light in &scene.lights {
-        if let Some((t, l)) = opening_hit(light, origin, dir)
+    for (light, polygon) in scene.lights.iter().zip(polygons) {
+        if let Some((t, l)) = opening_hit(light, polygon, origin, dir)
             && t < hit.distance
             && nearest_light.is_none_or(|(bt, _)| t < bt)
         {
@@ -142,13 +163,13 @@ pub fn shade_ray(
     let to_viewer = -dir;
     let mut lux = indirect_lux;
     let mut luminance = surface.reflectance / std::f64::consts::PI * indirect_lux;
-    for light in &scene.lights {
-        let r = light_illuminance(light, x, n, shading);
+    for (light, polygon) in scene.lights.iter().zip(polygons) {
+        let r = light_illuminance_of(light, polygon, x, n, shading);
         lux += r.lux;
         luminance += surface.reflectance / std::f64::consts::PI * r.lux;
         if shading == Shading::Cubature && surface.specular > 0.0 && r.lux > 0.0 {
             luminance += ltc::specular_radiance(
-                &light.world_polygon(),
+                polygon,
                 x,
                 n,
                 to_viewer,
@@ -165,12 +186,14 @@ pub fn shade_ray(
 pub fn render_cpu(scene: &RoomScene, width: u32, height: u32, shading: Shading) -> Frame {
     let rays = ViewRays::new(scene, width, height);
     let indirect = scene.indirect_lux();
+    let polygons: Vec<Polygon> = scene.lights.iter().map(|l| l.world_polygon()).collect();
+    let polygons = &polygons;
     let pixels: Vec<(f32, f32)> = (0..height)
         .into_par_iter()
         .flat_map_iter(|j| {
             (0..width).map(move |i| {
                 let dir = rays.direction(i, j, width, height);
-                let (l, e) = shade_ray(scene, rays.origin, dir, shading, indirect);
+                let (l, e) = shade_ray(scene, polygons, rays.origin, dir, shading, indirect);
                 (l as f32, e as f32)
             })
         })
