@@ -7,8 +7,10 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
-use lucerna_photometry::{CubeMapLayout, IesVersion, Symmetry, to_latin1, write_ies, write_ldt};
-use lucerna_scene::{load_scene, tessellate, write_atomically};
+use lucerna_photometry::{
+    CubeMapLayout, IesVersion, IntensityMap, Symmetry, to_latin1, write_ies, write_ldt,
+};
+use lucerna_scene::{Scene, TessellatedScene, load_scene, tessellate, write_atomically};
 use lucerna_tracer::export::{ExportOptions, photometry_from_candela};
 use lucerna_tracer::{BackendRequest, PreparedScene, Session, TraceSettings, choose_backend};
 
@@ -164,12 +166,41 @@ fn check(args: &BakeArgs) -> Result<()> {
     Ok(())
 }
 
-pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
-    check(args)?;
-    let scene = load_scene(&args.scene)?;
-    let dir = args.scene.parent().unwrap_or(Path::new("."));
+/// A luminaire scene loaded, tessellated and prepared for tracing.
+pub fn load_luminaire(path: &Path) -> Result<(Scene, TessellatedScene, PreparedScene)> {
+    let scene = load_scene(path)?;
+    let dir = path.parent().unwrap_or(Path::new("."));
     let tessellated = tessellate(&scene, dir)?;
     let prepared = PreparedScene::new(&scene, &tessellated, dir)?;
+    Ok((scene, tessellated, prepared))
+}
+
+/// The map's candela per texel as exported: raw, or filtered (with a line
+/// on what the filter did).
+pub fn exported_candela(map: &IntensityMap, filter: FilterChoice) -> Vec<f64> {
+    match filter.0 {
+        Some(threshold) => {
+            let settings = lucerna_filter::FilterSettings {
+                threshold,
+                ..Default::default()
+            };
+            let (candela, report) = lucerna_filter::filter_map(map, &settings);
+            eprintln!(
+                "filtered: threshold {:.0} photons, {} of {} texels replaced, renormalised by {:.4}",
+                report.threshold,
+                report.replaced.iter().filter(|&&r| r).count(),
+                report.replaced.len(),
+                report.renormalisation
+            );
+            candela
+        }
+        None => map.candela(),
+    }
+}
+
+pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
+    check(args)?;
+    let (scene, tessellated, prepared) = load_luminaire(&args.scene)?;
     let settings = TraceSettings {
         seed: args.seed,
         max_bounces: args.max_bounces,
@@ -263,24 +294,7 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
             .file_name()
             .map_or(String::new(), |s| s.to_string_lossy().into_owned()),
     };
-    let candela = match args.filter.0 {
-        Some(threshold) => {
-            let settings = lucerna_filter::FilterSettings {
-                threshold,
-                ..Default::default()
-            };
-            let (candela, report) = lucerna_filter::filter_map(&map, &settings);
-            eprintln!(
-                "filtered: threshold {:.0} photons, {} of {} texels replaced, renormalised by {:.4}",
-                report.threshold,
-                report.replaced.iter().filter(|&&r| r).count(),
-                report.replaced.len(),
-                report.renormalisation
-            );
-            candela
-        }
-        None => map.candela(),
-    };
+    let candela = exported_candela(&map, args.filter);
     let photometry = photometry_from_candela(&map, &candela, &scene, &tessellated, &options);
     // cd/klm of the lamp (emitter) flux, as in the LDT; validation keeps
     // the flux > 0.

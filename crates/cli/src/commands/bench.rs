@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use lucerna_photometry::CubeMapLayout;
-use lucerna_scene::{Interpolation, Shape, load_scene, tessellate};
+use lucerna_scene::{Interpolation, Shape};
 use lucerna_tracer::bvh::Bvh;
 use lucerna_tracer::gpu::GpuTracer;
 use lucerna_tracer::{Backend, PreparedScene, Tally, TraceSettings};
@@ -100,9 +100,7 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
         "bounces"
     );
     for path in &scenes {
-        let scene = load_scene(path)?;
-        let dir = path.parent().unwrap_or(Path::new("."));
-        let prepared = PreparedScene::new(&scene, &tessellate(&scene, dir)?, dir)?;
+        let (_, _, prepared) = super::bake::load_luminaire(path)?;
         let mut backends = vec![Backend::Cpu];
         if let Some(ctx) = &gpu {
             backends.push(Backend::Gpu(Box::new(GpuTracer::new(

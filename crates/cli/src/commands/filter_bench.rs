@@ -11,7 +11,7 @@ use anyhow::{Context, Result};
 use lucerna_filter::{FilterSettings, Threshold, filter};
 use lucerna_photometry::CubeMapLayout;
 use lucerna_pictures::chart::{Series, log_log_chart_png};
-use lucerna_scene::{load_scene, tessellate, write_atomically};
+use lucerna_scene::write_atomically;
 use lucerna_tracer::{PreparedScene, TraceSettings, trace_batch};
 
 #[derive(Debug, clap::Args)]
@@ -124,9 +124,7 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
         let name = path
             .file_stem()
             .map_or(String::new(), |s| s.to_string_lossy().into_owned());
-        let scene = load_scene(path)?;
-        let dir = path.parent().unwrap_or(Path::new("."));
-        let prepared = PreparedScene::new(&scene, &tessellate(&scene, dir)?, dir)?;
+        let (_, _, prepared) = super::bake::load_luminaire(path)?;
         let start = Instant::now();
         let reference_settings = TraceSettings {
             seed: 1_000_003,

@@ -10,9 +10,9 @@ use lucerna_photometry::{CubeMapLayout, Photometry, read_photometry};
 use lucerna_room::gpu::GpuRoomRenderer;
 use lucerna_room::model::{SourceKind, load_room};
 use lucerna_room::{RoomScene, Shading, render_cpu, tone_map, work_plane_cpu};
-use lucerna_scene::{load_scene, tessellate, write_atomically};
+use lucerna_scene::write_atomically;
 use lucerna_tracer::export::{ExportOptions, photometry_from_candela};
-use lucerna_tracer::{BackendRequest, PreparedScene, Session, TraceSettings, choose_backend};
+use lucerna_tracer::{BackendRequest, Session, TraceSettings, choose_backend};
 
 /// Who shades the room.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -77,10 +77,7 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
 
 /// Traces a luminaire scene into photometry (auto backend, filtered map).
 fn bake_profile(path: &Path, photons: u64) -> Result<Photometry> {
-    let scene = load_scene(path)?;
-    let dir = path.parent().unwrap_or(Path::new("."));
-    let tessellated = tessellate(&scene, dir)?;
-    let prepared = PreparedScene::new(&scene, &tessellated, dir)?;
+    let (scene, tessellated, prepared) = super::bake::load_luminaire(path)?;
     let settings = TraceSettings {
         seed: 1,
         max_bounces: 64,
@@ -93,11 +90,10 @@ fn bake_profile(path: &Path, photons: u64) -> Result<Photometry> {
         session.iterate_at_most(left)?;
     }
     let map = session.snapshot();
-    let filter = lucerna_filter::FilterSettings {
-        threshold: lucerna_filter::Threshold::Automatic,
-        ..Default::default()
-    };
-    let (candela, _) = lucerna_filter::filter_map(&map, &filter);
+    let candela = super::bake::exported_candela(
+        &map,
+        super::bake::FilterChoice(Some(lucerna_filter::Threshold::Automatic)),
+    );
     let options = ExportOptions {
         c_step_deg: 5.0,
         gamma_step_deg: None,
