@@ -64,7 +64,6 @@ pub struct UploadedRoom {
     profiles: wgpu::Buffer,
     surfaces: wgpu::Buffer,
     triangles: wgpu::Buffer,
-    light_count: u32,
     scene_params: Params,
 }
 
@@ -260,7 +259,6 @@ impl GpuRoomRenderer {
             profiles,
             surfaces,
             triangles,
-            light_count: scene.lights.len() as u32,
             scene_params,
         })
     }
@@ -391,7 +389,6 @@ impl GpuRoomRenderer {
         params.up = v4(rays.up, 0.0);
         params.width = width;
         params.height = height;
-        params.light_count = room.light_count;
         params.mode = mode(shading);
         params.tan_half_fov = rays.tan_half_fov as f32;
         params.aspect = rays.aspect as f32;
@@ -421,7 +418,6 @@ impl GpuRoomRenderer {
             packed.push(v4(*n, 0.0));
         }
         let mut params = room.scene_params;
-        params.light_count = room.light_count;
         params.mode = mode(shading);
         params.point_count = points.len() as u32;
         let (out, _) = self.run(room, params, &packed, points.len() as u32, false)?;
