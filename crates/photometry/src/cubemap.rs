@@ -54,6 +54,7 @@ impl CubeFace {
 
 /// Face and face coordinates `(a, b) ∈ [−1, 1]²` of a direction. The major
 /// axis is the largest |component|; ties go to x, then y.
+#[inline]
 pub fn face_coordinates(d: Dir) -> (CubeFace, f64, f64) {
     let [x, y, z] = d;
     let (ax, ay, az) = (x.abs(), y.abs(), z.abs());
@@ -120,13 +121,15 @@ impl CubeMapLayout {
         )
     }
 
+    #[inline]
     pub fn texel_index(&self, face: CubeFace, column: u32, row: u32) -> usize {
         let n = self.resolution as usize;
         face as usize * n * n + row as usize * n + column as usize
     }
 
     /// Texel containing direction `d` (need not be normalised, must be
-    /// non-zero and finite).
+    /// non-zero and finite). Inline: the tracer calls it once per photon.
+    #[inline]
     pub fn texel_of_direction(&self, d: Dir) -> usize {
         let (face, a, b) = face_coordinates(d);
         let n = self.resolution;

@@ -5,7 +5,7 @@ fn main() {
     let scene = lucerna_scene::load_scene(&path).expect("scene");
     let dir = path.parent().expect("dir");
     let t = lucerna_scene::tessellate(&scene, dir).expect("tessellate");
-    let p = lucerna_tracer::PreparedScene::new(&scene, &t, dir).expect("prepare");
+    let mut p = lucerna_tracer::PreparedScene::new(&scene, &t, dir).expect("prepare");
     let mut rng = lucerna_tracer::rng::PhotonRng::new(1, 1, 1);
     let rays: Vec<(Vec3A, Vec3A)> = (0..1_000_000)
         .map(|_| {
@@ -17,11 +17,16 @@ fn main() {
             (Vec3A::new(0.0, 0.0, 0.0001), d)
         })
         .collect();
-    for name in ["cwbvh", "bvh2"] {
+    for name in ["cwbvh obvhs", "cwbvh avx2", "bvh2"] {
+        p.bvh.traversal = if name == "cwbvh avx2" {
+            lucerna_tracer::bvh::CpuTraversal::Avx2
+        } else {
+            lucerna_tracer::bvh::CpuTraversal::Obvhs
+        };
         let start = std::time::Instant::now();
         let mut hits = 0;
         for &(o, d) in &rays {
-            let h = if name == "cwbvh" {
+            let h = if name.starts_with("cwbvh") {
                 p.bvh.intersect(o, d, f32::INFINITY)
             } else {
                 p.bvh.intersect_bvh2(o, d, f32::INFINITY)

@@ -63,6 +63,38 @@ pub struct Bvh {
     pub triangles: Vec<BvhTriangle>,
     pub cwbvh_build_time: std::time::Duration,
     pub bvh2_build_time: std::time::Duration,
+    /// How the CPU traverses the CWBVH; the fastest this CPU runs, by
+    /// default.
+    pub traversal: CpuTraversal,
+}
+
+/// CPU traversal of the CWBVH.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CpuTraversal {
+    /// obvhs' traversal (SSE, four child boxes at a time): any x86-64 or
+    /// other CPU.
+    Obvhs,
+    /// Eight child boxes at a time in AVX2 ([`crate::wide_traversal`]);
+    /// only where [`crate::wide_traversal::available`].
+    Avx2,
+}
+
+impl CpuTraversal {
+    /// The fastest traversal this CPU runs.
+    pub fn best() -> CpuTraversal {
+        if crate::wide_traversal::available() {
+            CpuTraversal::Avx2
+        } else {
+            CpuTraversal::Obvhs
+        }
+    }
+
+    pub fn describe(self) -> &'static str {
+        match self {
+            CpuTraversal::Obvhs => "obvhs SSE",
+            CpuTraversal::Avx2 => "AVX2 8-wide",
+        }
+    }
 }
 
 /// A ray hit: distance, reordered triangle index, barycentrics (u, v).
@@ -144,6 +176,7 @@ impl Bvh {
             triangles,
             cwbvh_build_time,
             bvh2_build_time,
+            traversal: CpuTraversal::best(),
         }
     }
 
@@ -156,6 +189,26 @@ impl Bvh {
         }
         let origin = origin * self.scale;
         let t_max = t_max * self.scale;
+        if self.traversal == CpuTraversal::Avx2 && crate::wide_traversal::available() {
+            // SAFETY: the CPU has the features, checked just above (a
+            // cached atomic load).
+            #[allow(unsafe_code)]
+            let (t, slot, u, v) = unsafe {
+                crate::wide_traversal::closest_hit(
+                    &self.cwbvh,
+                    &self.cwbvh_slot_triangles,
+                    origin,
+                    dir,
+                    t_max,
+                )
+            }?;
+            return Some(Hit {
+                t: t / self.scale,
+                triangle: self.cwbvh_leaf_triangles[slot as usize],
+                u,
+                v,
+            });
+        }
         let ray = obvhs::ray::Ray::new(origin, dir, 0.0, t_max);
         let mut hit = obvhs::ray::RayHit::none();
         let mut best = Hit {

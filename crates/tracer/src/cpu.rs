@@ -90,7 +90,10 @@ fn facing(n: Vec3A, d: Vec3A) -> Vec3A {
     if n.dot(d) > 0.0 { -n } else { n }
 }
 
-/// Traces one photon; returns its fate and the bounces it survived.
+/// Traces one photon; returns its fate, the bounces it survived and the
+/// rays it cast. Inlined into the batch loop so that loop's AVX2 build
+/// ([`crate::wide_traversal::with_best_features`]) covers it.
+#[inline(always)]
 pub fn trace_photon(
     scene: &PreparedScene,
     max_bounces: u32,
@@ -180,6 +183,7 @@ fn facing_consistent(ns: Vec3A, ng: Vec3A) -> Vec3A {
 
 /// A new photon: emitter chosen by flux, point uniform on its surface,
 /// direction Lambertian or from its measured profile.
+#[inline(always)]
 fn emit(scene: &PreparedScene, rng: &mut PhotonRng) -> (Vec3A, Vec3A) {
     let u = rng.next_f32();
     let index = scene
@@ -295,27 +299,57 @@ pub fn trace_batch(
             |mut tally, c| {
                 let start = first + c * chunk;
                 let end = (start + chunk).min(first + count);
-                for photon in start..end {
-                    let mut rng = PhotonRng::new(settings.seed, iteration, photon);
-                    let (fate, bounces, rays) = trace_photon(scene, settings.max_bounces, &mut rng);
-                    tally.emitted += 1;
-                    tally.bounces += u64::from(bounces);
-                    tally.rays += u64::from(rays);
-                    match fate {
-                        Fate::Escaped(d) => {
-                            let texel = settings.layout.texel_of_direction([
-                                f64::from(d.x),
-                                f64::from(d.y),
-                                f64::from(d.z),
-                            ]);
-                            tally.counts[texel] += 1;
-                        }
-                        Fate::Absorbed => tally.absorbed += 1,
-                        Fate::CutOff => tally.cut_off += 1,
-                    }
+                if scene.bvh.traversal == crate::bvh::CpuTraversal::Avx2 {
+                    crate::wide_traversal::with_best_features(|| {
+                        trace_range(scene, settings, iteration, start..end, &mut tally);
+                    });
+                } else {
+                    trace_range_baseline(scene, settings, iteration, start..end, &mut tally);
                 }
                 tally
             },
         )
         .reduce(|| Tally::new(texels), Tally::add)
+}
+
+/// [`trace_range`] for the baseline target, kept out of line.
+#[inline(never)]
+fn trace_range_baseline(
+    scene: &PreparedScene,
+    settings: &TraceSettings,
+    iteration: u32,
+    photons: std::ops::Range<u32>,
+    tally: &mut Tally,
+) {
+    trace_range(scene, settings, iteration, photons, tally);
+}
+
+/// Traces photons `photons` of `iteration` into `tally`, one after another.
+#[inline(always)]
+fn trace_range(
+    scene: &PreparedScene,
+    settings: &TraceSettings,
+    iteration: u32,
+    photons: std::ops::Range<u32>,
+    tally: &mut Tally,
+) {
+    for photon in photons {
+        let mut rng = PhotonRng::new(settings.seed, iteration, photon);
+        let (fate, bounces, rays) = trace_photon(scene, settings.max_bounces, &mut rng);
+        tally.emitted += 1;
+        tally.bounces += u64::from(bounces);
+        tally.rays += u64::from(rays);
+        match fate {
+            Fate::Escaped(d) => {
+                let texel = settings.layout.texel_of_direction([
+                    f64::from(d.x),
+                    f64::from(d.y),
+                    f64::from(d.z),
+                ]);
+                tally.counts[texel] += 1;
+            }
+            Fate::Absorbed => tally.absorbed += 1,
+            Fate::CutOff => tally.cut_off += 1,
+        }
+    }
 }

@@ -11,6 +11,10 @@ pub mod prepared;
 pub mod rng;
 pub mod sampling;
 pub mod session;
+// reason: SIMD intrinsics and `#[target_feature]` functions, called only
+// after run-time feature detection.
+#[allow(unsafe_code)]
+pub mod wide_traversal;
 
 pub use cpu::{Fate, Tally, TraceSettings, trace_batch};
 pub use prepared::{PrepareError, PreparedScene};

@@ -1,11 +1,12 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)] // reason: test helpers may panic
-//! The BVH2 in the GPU layout finds the same closest hits as the CWBVH and
-//! as brute force.
+//! The BVH2 in the GPU layout and both CPU traversals of the CWBVH (obvhs'
+//! and the AVX2 one, where the CPU has it) find the same closest hits as
+//! brute force.
 
 use std::path::Path;
 
 use glam::Vec3A;
-use lucerna_tracer::bvh::intersect_triangle;
+use lucerna_tracer::bvh::{CpuTraversal, intersect_triangle};
 use lucerna_tracer::rng::PhotonRng;
 
 #[test]
@@ -19,21 +20,32 @@ fn both_hierarchies_agree_with_brute_force() {
         let scene = lucerna_scene::load_scene(&dir.join(name)).unwrap();
         let t = lucerna_scene::tessellate(&scene, &dir).unwrap();
         let p = lucerna_tracer::PreparedScene::new(&scene, &t, &dir).unwrap();
+        let mut obvhs_traversal = p.bvh.clone();
+        obvhs_traversal.traversal = CpuTraversal::Obvhs;
         let bvh = &p.bvh;
+        assert_eq!(bvh.traversal, CpuTraversal::best());
         let mut rng = PhotonRng::new(1, 2, 3);
         let mut hits = 0;
-        for _ in 0..3000 {
+        for i in 0..3000 {
             let o = Vec3A::new(
                 rng.next_f32() - 0.5,
                 rng.next_f32() - 0.5,
                 rng.next_f32() - 0.5,
             ) * 0.1;
-            let d = Vec3A::new(
+            let mut d = Vec3A::new(
                 rng.next_f32() - 0.5,
                 rng.next_f32() - 0.5,
                 rng.next_f32() - 0.5,
-            )
-            .normalize();
+            );
+            // Every fifth ray lies in a coordinate plane or along an axis
+            // (zero direction components: the slab test's 1/0 case).
+            match i % 15 {
+                0 => d.x = 0.0,
+                5 => d.y = 0.0,
+                10 => d = Vec3A::new(0.0, 0.0, d.z.signum()),
+                _ => {}
+            }
+            let d = d.normalize();
             let brute = bvh
                 .triangles
                 .iter()
@@ -43,6 +55,9 @@ fn both_hierarchies_agree_with_brute_force() {
                 })
                 .min_by(|a, b| a.0.total_cmp(&b.0));
             let cw = bvh
+                .intersect(o, d, f32::INFINITY)
+                .map(|h| (h.t, h.triangle));
+            let cw_obvhs = obvhs_traversal
                 .intersect(o, d, f32::INFINITY)
                 .map(|h| (h.t, h.triangle));
             let b2 = bvh
@@ -56,7 +71,12 @@ fn both_hierarchies_agree_with_brute_force() {
             };
             assert!(
                 same(cw, brute),
-                "{name}: CWBVH {cw:?} vs brute force {brute:?}"
+                "{name}: CWBVH ({}) {cw:?} vs brute force {brute:?}",
+                bvh.traversal.describe()
+            );
+            assert!(
+                same(cw_obvhs, brute),
+                "{name}: CWBVH (obvhs) {cw_obvhs:?} vs brute force {brute:?}"
             );
             assert!(
                 same(b2, brute),

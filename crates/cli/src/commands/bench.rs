@@ -8,7 +8,7 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use lucerna_photometry::CubeMapLayout;
 use lucerna_scene::{Interpolation, Shape};
-use lucerna_tracer::bvh::Bvh;
+use lucerna_tracer::bvh::{Bvh, CpuTraversal};
 use lucerna_tracer::gpu::GpuTracer;
 use lucerna_tracer::{Backend, PreparedScene, Tally, TraceSettings};
 
@@ -100,7 +100,8 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
         "bounces"
     );
     for path in &scenes {
-        let (_, _, prepared) = super::bake::load_luminaire(path)?;
+        let (_, _, mut prepared) = super::bake::load_luminaire(path)?;
+        let best_traversal = prepared.bvh.traversal;
         let mut backends = vec![Backend::Cpu];
         if let Some(ctx) = &gpu {
             backends.push(Backend::Gpu(Box::new(GpuTracer::new(
@@ -109,10 +110,18 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
                 settings,
             )?)));
         }
-        for backend in &backends {
+        // The CPU tracer with each CWBVH traversal this CPU runs (the
+        // fastest first: it is what `--backend cpu` uses), then the GPU.
+        let mut runs: Vec<(&Backend, CpuTraversal)> = vec![(&backends[0], best_traversal)];
+        if best_traversal != CpuTraversal::Obvhs {
+            runs.push((&backends[0], CpuTraversal::Obvhs));
+        }
+        runs.extend(backends[1..].iter().map(|b| (b, best_traversal)));
+        for (backend, traversal) in runs {
+            prepared.bvh.traversal = traversal;
             let (seconds, tally) = run(backend, &prepared, &settings, args.photons)?;
             let name = match backend {
-                Backend::Cpu => "CPU tracer".to_owned(),
+                Backend::Cpu => format!("CPU tracer ({})", traversal.describe()),
                 Backend::Gpu(g) => format!("WGSL on {}", g.context().info.name),
             };
             println!(
