@@ -9,7 +9,7 @@ use lucerna_photometry::CubeMapLayout;
 use wgpu::util::DeviceExt;
 
 use crate::{
-    AUTO_MIN_KEEP, AUTO_Z, FilterSettings, Filtered, Threshold, automatic_coarse_cap,
+    AUTO_MIN_KEEP, FilterSettings, Filtered, Threshold, choose_automatic, concrete,
     pyramid_resolutions, pyramid_solid_angles, renormalise, thresholds,
 };
 
@@ -219,11 +219,31 @@ impl GpuFilter {
         &self.ctx
     }
 
-    /// Filters counts (texel order of the layout given to `new`).
+    /// Filters counts (texel order of the layout given to `new`). The
+    /// automatic rule is chosen as on the CPU ([`choose_automatic`]), with
+    /// its candidates run on the GPU.
     pub fn filter(&self, counts: &[u64], settings: &FilterSettings) -> Result<Filtered, GpuError> {
-        let (threshold, border_threshold) = thresholds(settings.threshold);
-        let automatic = settings.threshold == Threshold::Automatic;
-        let coarse_cap = automatic_coarse_cap(counts);
+        let chosen = match settings.threshold {
+            Threshold::Automatic => {
+                choose_automatic(self.layout, counts, settings, |c, candidate| {
+                    Ok(self.filter_with(c, candidate)?.photons_per_sr)
+                })?
+                .0
+            }
+            _ => *settings,
+        };
+        self.filter_with(counts, &chosen)
+    }
+
+    /// Filters with concrete settings (`Automatic` reads as its fallback).
+    fn filter_with(&self, counts: &[u64], settings: &FilterSettings) -> Result<Filtered, GpuError> {
+        let settings = &concrete(settings);
+        let rule = settings.threshold;
+        let (threshold, border_threshold) = thresholds(rule);
+        let (poisson_test, z) = match rule {
+            Threshold::Poisson { z, .. } => (true, z),
+            _ => (false, 0.0),
+        };
         let levels = self.resolutions.len();
         let level0: Vec<f32> = counts.iter().map(|&c| c as f32).collect();
         let queue = &self.ctx.queue;
@@ -235,17 +255,13 @@ impl GpuFilter {
                 resolution: self.resolutions[k],
                 coarse_offset: self.offsets[coarse],
                 coarse_resolution: self.resolutions[coarse],
-                threshold: if automatic && k >= settings.first_border_level {
-                    coarse_cap as f32
-                } else {
-                    threshold as f32
-                },
+                threshold: threshold as f32,
                 border_threshold: border_threshold as f32,
-                automatic: u32::from(settings.threshold == Threshold::Automatic),
+                automatic: u32::from(poisson_test),
                 border_test: u32::from(k >= settings.first_border_level),
                 sigma_closeness: settings.sigma_closeness as f32,
                 sigma_range: settings.sigma_range as f32,
-                auto_z: AUTO_Z as f32,
+                auto_z: z as f32,
                 auto_min_keep: AUTO_MIN_KEEP as f32,
             };
             queue.write_buffer(&self.params[k], 0, bytemuck::bytes_of(&p));
@@ -309,6 +325,7 @@ impl GpuFilter {
             photons_per_sr: intensity,
             replaced,
             threshold,
+            settings: *settings,
             renormalisation,
         })
     }

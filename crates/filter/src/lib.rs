@@ -17,8 +17,13 @@
 //!   intensity per steradian, since cube-map texels differ ~5× in solid
 //!   angle: an isotropic source stays flat (the paper's factor 4 is this
 //!   normalisation for equal texels);
-//! - the threshold can be chosen from the photon statistics
-//!   ([`Threshold::Automatic`]);
+//! - a Poisson rule ([`Threshold::Poisson`]) replaces a texel only when
+//!   its count is consistent with noise around the upsampled estimate, so
+//!   caustics and cut-offs survive a high cap;
+//! - no user threshold: [`Threshold::Automatic`] chooses the rule and the
+//!   closeness σ per map by two-fold cross-validation on Poisson-thinned
+//!   halves of the photons ([`choose_automatic`]); a manual threshold stays
+//!   available;
 //! - replaced texels are renormalised together so the filtered map keeps
 //!   the traced flux; stable texels are never changed.
 
@@ -36,28 +41,48 @@ pub enum Threshold {
     /// count is what Poisson noise around the upsampled estimate would
     /// give (|c − E| ≤ z·√(E + 1), E = estimate × texel solid angle),
     /// and kept when it deviates significantly (real structure: a caustic,
-    /// a cut-off) or holds more than [`AUTO_MAX`] photons (on levels ≥ 2,
-    /// more than [`automatic_coarse_cap`]). No user
-    /// threshold; smooth regions get smoothed as much as a high threshold
-    /// would, structured ones as little as a low one.
+    /// a cut-off) or holds at least `cap` photons. Smooth regions get
+    /// smoothed as much as a high threshold would, structured ones as
+    /// little as a low one.
+    Poisson { cap: f64, z: f64 },
+    /// No user threshold: the rule is chosen per map among
+    /// [`automatic_candidates`] by two-fold cross-validation on the photon
+    /// counts themselves ([`choose_automatic`]).
     Automatic,
 }
 
-/// z-score of the automatic mode's Poisson consistency test. 4 rather
-/// than 3: on the opal bell (128², 2·10⁸-photon reference) the error at
-/// 10⁶ photons falls from +27 % to +13 % of the best fixed threshold and
-/// 10⁷ filtered photons beat 10⁸ raw ones; the traced cut-off's edge
-/// stays within 2 texels (2.74 at 10⁵ photons); 5 widens it to 5.1.
+impl std::fmt::Display for Threshold {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Threshold::Fixed(t) if *t <= 0.0 => write!(f, "no filtering (raw)"),
+            Threshold::Fixed(t) => write!(f, "fixed threshold {t:.0}"),
+            Threshold::Poisson { cap, z } => write!(f, "Poisson test (cap {cap:.0}, z {z})"),
+            Threshold::Automatic => write!(f, "automatic"),
+        }
+    }
+}
+
+/// z-score of the Poisson consistency test when no other is given: the
+/// rule `Automatic` falls back to is `Poisson { cap: AUTO_MAX, z: AUTO_Z }`.
 pub const AUTO_Z: f64 = 4.0;
-/// Fewest photons a texel needs before the automatic mode believes its
-/// deviation from the estimate is structure rather than noise.
+/// Fewest photons a texel needs before the Poisson test believes its
+/// excess over the estimate is structure rather than noise.
 pub const AUTO_MIN_KEEP: f64 = 32.0;
-/// Counts above which the automatic mode never replaces a texel (its
-/// relative noise is then ≤ 1/√AUTO_MAX ≈ 6 %; tuned with
-/// `lucerna filter-bench`).
+/// The fallback rule's cap (relative noise ≤ 1/√256 ≈ 6 % above it).
 pub const AUTO_MAX: f64 = 256.0;
-/// Threshold the automatic mode uses for Algorithm 2's border test.
+/// Threshold the Poisson rule uses for Algorithm 2's border test.
 pub const AUTO_BORDER: f64 = 64.0;
+
+/// What a user reads about the settings: the rule and the closeness σ.
+impl std::fmt::Display for FilterSettings {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{}, σ closeness {}",
+            self.threshold, self.sigma_closeness
+        )
+    }
+}
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FilterSettings {
@@ -91,8 +116,10 @@ pub struct Filtered {
     pub photons_per_sr: Vec<f64>,
     /// Texels whose value was replaced.
     pub replaced: Vec<bool>,
-    /// The threshold used (photons).
+    /// The threshold used (photons; the Poisson rule's cap on levels 0–1).
     pub threshold: f64,
+    /// The settings applied, with a concrete rule (what `Automatic` chose).
+    pub settings: FilterSettings,
     /// Factor applied to the replaced texels to keep the traced flux.
     pub renormalisation: f64,
 }
@@ -105,29 +132,200 @@ struct Level {
 }
 
 /// The count below which a texel may be replaced, and the one the border
-/// test uses.
+/// test uses. `Automatic` reads as its fallback rule (it is resolved by
+/// [`choose_automatic`] before filtering).
 pub fn thresholds(threshold: Threshold) -> (f64, f64) {
     match threshold {
         Threshold::Fixed(t) => (t, t),
+        Threshold::Poisson { cap, .. } => (cap, AUTO_BORDER),
         Threshold::Automatic => (AUTO_MAX, AUTO_BORDER),
     }
 }
 
-/// The automatic mode's cap on levels ≥ 2: it grows slowly with the photons
-/// per lit texel m (64 at m ≤ 1, up to [`AUTO_MAX`]), as the best fixed
-/// threshold does (100 at 1 photon per texel, 250 at 10 in
-/// `lucerna filter-bench`).
-pub fn automatic_coarse_cap(counts: &[u64]) -> f64 {
-    let (lit, sum) = counts
-        .iter()
-        .filter(|&&c| c > 0)
-        .fold((0u64, 0u64), |(n, s), &c| (n + 1, s + c));
-    let m = if lit > 0 {
-        sum as f64 / lit as f64
-    } else {
-        0.0
+/// The rule `Automatic` stands for when no choice is made.
+pub const AUTOMATIC_FALLBACK: Threshold = Threshold::Poisson {
+    cap: AUTO_MAX,
+    z: AUTO_Z,
+};
+
+/// The settings the automatic mode chooses among (σ of the range term
+/// from `base`). Measured with `lucerna filter-bench` and a wider search:
+/// smooth maps (the opal bell) do best with low thresholds at few photons
+/// per texel and the Poisson test at z = 4 with the paper's closeness σ of
+/// 0.75 texel, caps growing with the photons (64–128 at 10⁵, 256 at 10⁶,
+/// 1024 at 10⁷ on 128² faces); maps with caustics (the faceted downlight)
+/// with z = 3 and σ = 0.5, which keep more of their structure. Plus the
+/// paper's fixed thresholds 100 and 250, and the raw map (where every
+/// smoothing loses to the counts).
+pub fn automatic_candidates(base: &FilterSettings) -> Vec<FilterSettings> {
+    let with = |threshold: Threshold, sigma_closeness: f64| FilterSettings {
+        threshold,
+        sigma_closeness,
+        ..*base
     };
-    (64.0 * m.max(1.0).powf(0.4)).clamp(64.0, AUTO_MAX)
+    let mut v = Vec::new();
+    for cap in [64.0, 128.0, 256.0, 1024.0] {
+        v.push(with(Threshold::Poisson { cap, z: AUTO_Z }, 0.75));
+    }
+    for cap in [256.0, 1024.0, 4096.0] {
+        v.push(with(Threshold::Poisson { cap, z: 3.0 }, 0.5));
+    }
+    for t in [100.0, 250.0, 0.0] {
+        v.push(with(Threshold::Fixed(t), 0.75));
+    }
+    v
+}
+
+/// Folds of the automatic mode's cross-validation. Each candidate is
+/// judged by its error at (K − 1)/K of the photons, slightly fewer than it
+/// will filter, so K = 2 leans to rules suited to half the photons; on the
+/// opal bell (128², 10⁵ photons) 5 folds chose the best fixed threshold
+/// where 2 and 3 chose one 6.6 % worse, at 2.5× the cost (6×256²: 1.9 s
+/// instead of 0.8 s on 2 cores); 2 it is, within 10 % of the best
+/// everywhere measured.
+pub const CV_FOLDS: usize = 2;
+
+/// Splits photon counts into `folds` independent parts: each photon goes
+/// to one part, uniformly at random (multinomial thinning; a normal
+/// approximation above 256 photons per draw), so each part is a Poisson
+/// map of 1/`folds` of the flux, independent of the others. Deterministic
+/// per texel.
+pub fn thinned_folds(counts: &[u64], folds: usize) -> Vec<Vec<u64>> {
+    let folds = folds.max(1);
+    let per_texel: Vec<Vec<u64>> = counts
+        .par_iter()
+        .enumerate()
+        .map(|(t, &c)| {
+            let mut left = c;
+            let mut parts = Vec::with_capacity(folds);
+            for k in 0..folds - 1 {
+                let p = 1.0 / (folds - k) as f64;
+                let key = (t as u64).wrapping_mul(0x2545_F491_4F6C_DD1D) ^ ((k as u64) << 56);
+                let n = binomial(left, p, key);
+                parts.push(n);
+                left -= n;
+            }
+            parts.push(left);
+            parts
+        })
+        .collect();
+    (0..folds)
+        .map(|k| per_texel.iter().map(|p| p[k]).collect())
+        .collect()
+}
+
+/// Two independent halves ([`thinned_folds`] with two folds).
+pub fn thinned_halves(counts: &[u64]) -> (Vec<u64>, Vec<u64>) {
+    let mut f = thinned_folds(counts, 2).into_iter();
+    let a = f.next().unwrap_or_default();
+    let b = f.next().unwrap_or_default();
+    (a, b)
+}
+
+/// SplitMix64: the thinning's counter-based random bits.
+fn splitmix64(mut x: u64) -> u64 {
+    x = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    x ^ (x >> 31)
+}
+
+/// Uniform in [0, 1) from `key`.
+fn unit(key: u64) -> f64 {
+    (splitmix64(key) >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// A Binomial(n, p) draw, random bits from `key`.
+fn binomial(n: u64, p: f64, key: u64) -> u64 {
+    let key = key ^ 0x5EED_F11E_7E12_0001;
+    if n <= 256 {
+        // One draw per photon.
+        (0..n)
+            .filter(|&i| unit(key.wrapping_add(i.wrapping_mul(0x9E37_79B9))) < p)
+            .count() as u64
+    } else {
+        // Normal approximation (Box–Muller), clamped to [0, n].
+        let u1 = unit(key) + 0.5 / (1u64 << 53) as f64;
+        let u2 = unit(key ^ 0xA5A5_A5A5_A5A5);
+        let z = (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos();
+        let mean = n as f64 * p;
+        let draw = (mean + (mean * (1.0 - p)).sqrt() * z).round();
+        draw.clamp(0.0, n as f64) as u64
+    }
+}
+
+/// The automatic mode's choice for `counts` and every candidate's score.
+///
+/// K-fold cross-validation by Poisson thinning ([`CV_FOLDS`]): the photons
+/// are split into K independent parts ([`thinned_folds`]); each candidate
+/// ([`automatic_candidates`]) filters all photons but part k and is scored
+/// by the squared difference, summed over texels (intensity per steradian,
+/// the paper's RMSE measure up to a constant), between its result / (K − 1)
+/// and part k's raw intensity, for every k. The held-out part is an
+/// unbiased estimate of the same distribution, independent of the filtered
+/// one, so the score's expectation is the candidate's mean squared error at
+/// (K − 1)/K of the photons plus a constant: the winner is the candidate
+/// that would be closest to the truth, judged from the photons alone.
+/// `run` filters counts with concrete settings and returns photons per
+/// steradian.
+pub fn choose_automatic<E>(
+    layout: CubeMapLayout,
+    counts: &[u64],
+    base: &FilterSettings,
+    mut run: impl FnMut(&[u64], &FilterSettings) -> Result<Vec<f64>, E>,
+) -> Result<(FilterSettings, Vec<(FilterSettings, f64)>), E> {
+    let omega = layout.solid_angles();
+    let folds = CV_FOLDS;
+    let parts = thinned_folds(counts, folds);
+    // Training set of fold k: every photon not in part k, (K − 1)/K of them.
+    let training: Vec<Vec<u64>> = parts
+        .iter()
+        .map(|part| counts.iter().zip(part).map(|(&c, &p)| c - p).collect())
+        .collect();
+    let held_out: Vec<Vec<f64>> = parts
+        .iter()
+        .map(|part| {
+            part.iter()
+                .zip(&omega)
+                .map(|(&c, &w)| safe_intensity(c as f64, w))
+                .collect()
+        })
+        .collect();
+    // The filtered training map estimates K − 1 times what a held-out
+    // part's raw intensity estimates.
+    let scale = 1.0 / (folds.max(2) - 1) as f64;
+    let mut scores = Vec::new();
+    for candidate in automatic_candidates(base) {
+        let mut score = 0.0;
+        for (train, check) in training.iter().zip(&held_out) {
+            let f = run(train, &candidate)?;
+            score += f
+                .iter()
+                .zip(check)
+                .map(|(x, y)| (x * scale - y).powi(2))
+                .sum::<f64>();
+        }
+        scores.push((candidate, score));
+    }
+    let best = scores.iter().min_by(|x, y| x.1.total_cmp(&y.1)).map_or(
+        FilterSettings {
+            threshold: AUTOMATIC_FALLBACK,
+            ..*base
+        },
+        |s| s.0,
+    );
+    Ok((best, scores))
+}
+
+/// The settings with `Automatic` read as its fallback rule.
+pub fn concrete(settings: &FilterSettings) -> FilterSettings {
+    match settings.threshold {
+        Threshold::Automatic => FilterSettings {
+            threshold: AUTOMATIC_FALLBACK,
+            ..*settings
+        },
+        _ => *settings,
+    }
 }
 
 /// Builds the pull pyramid: level k+1 sums 2×2 texels of level k.
@@ -295,10 +493,32 @@ pub fn pyramid_solid_angles(layout: CubeMapLayout) -> Vec<Vec<f64>> {
 
 /// Filters a map of photon counts (texel order of `layout`).
 pub fn filter(layout: CubeMapLayout, counts: &[u64], settings: &FilterSettings) -> Filtered {
-    let (threshold, border_threshold) = thresholds(settings.threshold);
+    let chosen = match settings.threshold {
+        Threshold::Automatic => {
+            let chosen = choose_automatic(layout, counts, settings, |c, candidate| {
+                Ok::<_, std::convert::Infallible>(filter_with(layout, c, candidate).photons_per_sr)
+            });
+            match chosen {
+                Ok((best, _)) => best,
+                Err(never) => match never {},
+            }
+        }
+        _ => *settings,
+    };
+    filter_with(layout, counts, &chosen)
+}
+
+/// Filters with concrete settings (`Automatic` reads as its fallback).
+fn filter_with(layout: CubeMapLayout, counts: &[u64], settings: &FilterSettings) -> Filtered {
+    let settings = &concrete(settings);
+    let rule = settings.threshold;
+    let (threshold, border_threshold) = thresholds(rule);
     debug_assert_eq!(counts.len(), layout.texel_count());
-    let automatic = settings.threshold == Threshold::Automatic;
-    let coarse_cap = automatic_coarse_cap(counts);
+    // The Poisson test's z, if the rule has one.
+    let poisson_z = match rule {
+        Threshold::Poisson { z, .. } => Some(z),
+        _ => None,
+    };
     let levels = pull(layout, counts);
     let top = levels.len() - 1;
     let mut intensity: Vec<f64> = levels[top]
@@ -316,15 +536,7 @@ pub fn filter(layout: CubeMapLayout, counts: &[u64], settings: &FilterSettings) 
             .into_par_iter()
             .map(|t| {
                 let own = safe_intensity(level.counts[t], level.omega[t]);
-                // The automatic mode caps the count only on the two finest
-                // levels; above them the border test and the Poisson test
-                // decide alone.
-                let cap = if automatic && k >= settings.first_border_level {
-                    coarse_cap
-                } else {
-                    threshold
-                };
-                if level.counts[t] >= cap {
+                if level.counts[t] >= threshold {
                     return (own, false);
                 }
                 let (face, i, j) = level.layout.texel_coordinates(t);
@@ -340,15 +552,14 @@ pub fn filter(layout: CubeMapLayout, counts: &[u64], settings: &FilterSettings) 
                     j,
                     settings,
                 );
-                if automatic {
+                if let Some(z) = poisson_z {
                     let expected = estimate * level.omega[t];
                     let c = level.counts[t];
                     // Too few photons where many were expected: a shadow.
                     // Too many where few were expected: structure, once the
                     // count is large enough not to be Poisson's long tail.
-                    let darker = c < expected && expected - c > AUTO_Z * expected.sqrt();
-                    let brighter =
-                        c >= AUTO_MIN_KEEP && c - expected > AUTO_Z * (expected + 1.0).sqrt();
+                    let darker = c < expected && expected - c > z * expected.sqrt();
+                    let brighter = c >= AUTO_MIN_KEEP && c - expected > z * (expected + 1.0).sqrt();
                     if darker || brighter {
                         return (own, false);
                     }
@@ -369,6 +580,7 @@ pub fn filter(layout: CubeMapLayout, counts: &[u64], settings: &FilterSettings) 
         photons_per_sr: intensity,
         replaced,
         threshold,
+        settings: *settings,
         renormalisation,
     }
 }

@@ -26,6 +26,7 @@ fn gpu_filter_matches_the_cpu_reference() {
             Threshold::Automatic,
             Threshold::Fixed(100.0),
             Threshold::Fixed(30.0),
+            Threshold::Poisson { cap: 512.0, z: 3.0 },
         ] {
             let settings = FilterSettings {
                 threshold,
@@ -33,6 +34,8 @@ fn gpu_filter_matches_the_cpu_reference() {
             };
             let cpu = filter(layout, &counts, &settings);
             let g = gpu.filter(&counts, &settings).unwrap();
+            // The automatic mode chooses the same candidate on both.
+            assert_eq!(g.settings, cpu.settings, "N {resolution} {threshold:?}");
             // f32 on the GPU, f64 on the CPU: values agree to float
             // tolerance; a decision on a test's very edge may flip.
             let mut differing = 0;

@@ -72,8 +72,8 @@ pub struct BakeArgs {
     #[arg(long, value_enum, default_value_t = SymmetryArg::None)]
     pub symmetrise: SymmetryArg,
     /// Export the map filtered by the pull-push bilateral filter: `auto`
-    /// (threshold from the photon statistics), a photon threshold such as
-    /// 100, or `none` for the raw map.
+    /// (rule chosen per map by cross-validation on the photons), a photon
+    /// threshold such as 100, or `none` for the raw map.
     #[arg(long, default_value = "none", value_parser = parse_filter)]
     pub filter: FilterChoice,
     /// Output directory (created if needed).
@@ -186,8 +186,13 @@ pub fn exported_candela(map: &IntensityMap, filter: FilterChoice) -> Vec<f64> {
             };
             let (candela, report) = lucerna_filter::filter_map(map, &settings);
             eprintln!(
-                "filtered: threshold {:.0} photons, {} of {} texels replaced, renormalised by {:.4}",
-                report.threshold,
+                "filtered: {}{}, {} of {} texels replaced, renormalised by {:.4}",
+                report.settings,
+                if threshold == lucerna_filter::Threshold::Automatic {
+                    " (chosen by cross-validation)"
+                } else {
+                    ""
+                },
                 report.replaced.iter().filter(|&&r| r).count(),
                 report.replaced.len(),
                 report.renormalisation

@@ -117,7 +117,7 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
     std::fs::create_dir_all(&args.out)?;
     let layout = CubeMapLayout::new(args.resolution);
     let mut csv = String::from(
-        "scene,resolution,photons,method,threshold,rmse,rmse_reference_noise_removed,filter_ms\n",
+        "scene,resolution,photons,method,rule,rmse,rmse_reference_noise_removed,filter_ms\n",
     );
     let mut summary = String::new();
     for path in &scenes {
@@ -164,6 +164,8 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
             .collect();
         // The same errors with the reference's own noise removed.
         let mut corrected_points: Vec<Vec<f64>> = vec![Vec::new(); series.len()];
+        // The rule the automatic mode chose at each photon count.
+        let mut chosen = Vec::new();
         let mut n = 100_000u64;
         while n <= args.max_photons {
             trace_to(&prepared, &settings, &mut counts, &mut done, n);
@@ -201,11 +203,14 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
                 };
                 let _ = writeln!(
                     csv,
-                    "{name},{},{n},{method},{:.1},{e:.6},{:.6},{ms:.1}",
+                    "{name},{},{n},{method},{},{e:.6},{:.6},{ms:.1}",
                     args.resolution,
-                    f.threshold,
+                    f.settings,
                     corrected(e, noise)
                 );
+                if threshold == Threshold::Automatic {
+                    chosen.push(f.settings);
+                }
             }
             eprintln!(
                 "{name}: {n} photons done ({:.0} s)",
@@ -241,7 +246,7 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
                 let raw_10n = raw.get(i + 1).copied();
                 let _ = writeln!(
                     summary,
-                    "{name} {}² N = {:.0e} ({label}): raw {:.4}, raw(10N) {}, best fixed {:.4}, automatic {:.4} ({:+.1} % vs best) {}",
+                    "{name} {}² N = {:.0e} ({label}): raw {:.4}, raw(10N) {}, best fixed {:.4}, automatic {:.4} ({:+.1} % vs best, {}) {}",
                     args.resolution,
                     series[0].points[i].0,
                     raw[i],
@@ -249,6 +254,7 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
                     best_fixed,
                     auto,
                     100.0 * (auto / best_fixed - 1.0),
+                    chosen.get(i).map_or(String::new(), ToString::to_string),
                     match raw_10n {
                         Some(r) if auto <= r => "filtered(N) ≤ raw(10N): yes",
                         Some(_) => "filtered(N) ≤ raw(10N): NO",
@@ -274,35 +280,46 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
         )?;
     }
     // Filter time per map size and backend (the GPU time includes the
-    // upload of the counts and the read-back of the result).
+    // upload of the counts and the read-back of the result): one pass with
+    // a given rule (what a preview pays per frame once the rule is
+    // chosen), and the automatic mode (cross-validation of every candidate
+    // on two halves, then the pass).
     let gpu = lucerna_gpu::open().ok();
+    let one_pass = FilterSettings {
+        threshold: lucerna_filter::AUTOMATIC_FALLBACK,
+        ..Default::default()
+    };
+    let automatic = FilterSettings::default();
     for n in [256u32, 1024] {
         let layout = CubeMapLayout::new(n);
         let counts: Vec<u64> = (0..layout.texel_count() as u64)
             .map(|t| (t * 2_654_435_761) % 97)
             .collect();
-        let settings = FilterSettings::default();
-        let t0 = Instant::now();
-        filter(layout, &counts, &settings);
+        // Mean milliseconds of `runs` calls (the results are dropped).
+        let time =
+            |f: &mut dyn FnMut() -> Result<lucerna_filter::Filtered>, runs: u32| -> Result<f64> {
+                let t0 = Instant::now();
+                for _ in 0..runs {
+                    f()?;
+                }
+                Ok(t0.elapsed().as_secs_f64() * 1e3 / f64::from(runs))
+            };
+        let cpu_pass = time(&mut || Ok(filter(layout, &counts, &one_pass)), 1)?;
+        let cpu_auto = time(&mut || Ok(filter(layout, &counts, &automatic)), 1)?;
         let _ = writeln!(
             summary,
-            "filter time 6×{n}²: CPU reference {:.0} ms ({} threads)",
-            t0.elapsed().as_secs_f64() * 1e3,
+            "filter time 6×{n}²: CPU reference ({} threads) {cpu_pass:.0} ms per pass, {cpu_auto:.0} ms automatic",
             rayon::current_num_threads()
         );
         if let Some(ctx) = &gpu {
             let g = lucerna_filter::gpu::GpuFilter::new(ctx.clone(), layout)?;
-            g.filter(&counts, &settings)?;
-            let runs = 3;
-            let t0 = Instant::now();
-            for _ in 0..runs {
-                g.filter(&counts, &settings)?;
-            }
+            g.filter(&counts, &one_pass)?;
+            let gpu_pass = time(&mut || Ok(g.filter(&counts, &one_pass)?), 3)?;
+            let gpu_auto = time(&mut || Ok(g.filter(&counts, &automatic)?), 1)?;
             let _ = writeln!(
                 summary,
-                "filter time 6×{n}²: WGSL on {} {:.0} ms",
-                ctx.describe(),
-                t0.elapsed().as_secs_f64() * 1e3 / f64::from(runs)
+                "filter time 6×{n}²: WGSL on {} {gpu_pass:.0} ms per pass, {gpu_auto:.0} ms automatic",
+                ctx.describe()
             );
         }
     }
