@@ -225,7 +225,7 @@ impl GpuFilter {
     pub fn filter(&self, counts: &[u64], settings: &FilterSettings) -> Result<Filtered, GpuError> {
         let chosen = match settings.threshold {
             Threshold::Automatic => {
-                choose_automatic(self.layout, counts, settings, |c, candidate| {
+                choose_automatic(&self.omega_level0, counts, settings, |c, candidate| {
                     Ok(self.filter_with(c, candidate)?.photons_per_sr)
                 })?
                 .0

@@ -178,12 +178,13 @@ pub fn automatic_candidates(base: &FilterSettings) -> Vec<FilterSettings> {
 
 /// Folds of the automatic mode's cross-validation. Each candidate is
 /// judged by its error at (K − 1)/K of the photons, slightly fewer than it
-/// will filter, so K = 2 leans to rules suited to half the photons; on the
-/// opal bell (128², 10⁵ photons) 5 folds chose the best fixed threshold
-/// where 2 and 3 chose one 6.6 % worse, at 2.5× the cost (6×256²: 1.9 s
-/// instead of 0.8 s on 2 cores); 2 it is, within 10 % of the best
-/// everywhere measured.
-pub const CV_FOLDS: usize = 2;
+/// will filter, so few folds lean to rules suited to fewer photons, and
+/// each fold adds a pass per candidate. On the opal bell (128², 10⁵
+/// photons) 2 and 3 folds chose a rule 6.6 % worse than the best fixed
+/// threshold, 5 folds the best; on the faceted downlight at 10⁵ photons
+/// 2 folds chose between RMSE 0.349 and 0.412 depending on the random
+/// split, 5 folds 0.349.
+pub const CV_FOLDS: usize = 5;
 
 /// Splits photon counts into `folds` independent parts: each photon goes
 /// to one part, uniformly at random (multinomial thinning; a normal
@@ -267,14 +268,13 @@ fn binomial(n: u64, p: f64, key: u64) -> u64 {
 /// (K − 1)/K of the photons plus a constant: the winner is the candidate
 /// that would be closest to the truth, judged from the photons alone.
 /// `run` filters counts with concrete settings and returns photons per
-/// steradian.
+/// steradian; `omega` holds the texel solid angles.
 pub fn choose_automatic<E>(
-    layout: CubeMapLayout,
+    omega: &[f64],
     counts: &[u64],
     base: &FilterSettings,
     mut run: impl FnMut(&[u64], &FilterSettings) -> Result<Vec<f64>, E>,
 ) -> Result<(FilterSettings, Vec<(FilterSettings, f64)>), E> {
-    let omega = layout.solid_angles();
     let folds = CV_FOLDS;
     let parts = thinned_folds(counts, folds);
     // Training set of fold k: every photon not in part k, (K − 1)/K of them.
@@ -286,7 +286,7 @@ pub fn choose_automatic<E>(
         .iter()
         .map(|part| {
             part.iter()
-                .zip(&omega)
+                .zip(omega)
                 .map(|(&c, &w)| safe_intensity(c as f64, w))
                 .collect()
         })
@@ -296,7 +296,7 @@ pub fn choose_automatic<E>(
     let scale = 1.0 / (folds.max(2) - 1) as f64;
     let mut scores = Vec::new();
     for candidate in automatic_candidates(base) {
-        let mut score = 0.0;
+        let mut score = 0.0f64;
         for (train, check) in training.iter().zip(&held_out) {
             let f = run(train, &candidate)?;
             score += f
@@ -328,12 +328,13 @@ pub fn concrete(settings: &FilterSettings) -> FilterSettings {
     }
 }
 
-/// Builds the pull pyramid: level k+1 sums 2×2 texels of level k.
-fn pull(layout: CubeMapLayout, counts: &[u64]) -> Vec<Level> {
+/// Builds the pull pyramid: level k+1 sums 2×2 texels of level k;
+/// `omega` holds level 0's texel solid angles.
+fn pull(layout: CubeMapLayout, counts: &[u64], omega: &[f64]) -> Vec<Level> {
     let mut levels = vec![Level {
         layout,
         counts: counts.iter().map(|&c| c as f64).collect(),
-        omega: layout.solid_angles(),
+        omega: omega.to_vec(),
     }];
     while levels.last().is_some_and(|l| l.layout.resolution > 1) {
         let fine = levels.last().map(|l| (l.layout, &l.counts, &l.omega));
@@ -383,33 +384,57 @@ fn safe_intensity(count: f64, omega: f64) -> f64 {
     if omega > 0.0 { count / omega } else { 0.0 }
 }
 
+/// Where fine texel column (or row) i falls on the coarser level: the
+/// coarse cell to its lower side, the fraction beyond it, and the closeness
+/// Gaussian's factors for the two coarse neighbours along this axis (the
+/// 2-D closeness weight is their product).
+#[derive(Debug, Clone, Copy)]
+struct AxisSample {
+    cell: i64,
+    fraction: f64,
+    near: f64,
+    far: f64,
+}
+
+/// The axis samples of every fine column of a level (faces are square, so
+/// rows use the same table).
+fn axis_samples(fine: CubeMapLayout, coarse: CubeMapLayout, sigma: f64) -> Vec<AxisSample> {
+    let ratio = f64::from(coarse.resolution) / f64::from(fine.resolution);
+    let gauss = |d: f64| (-0.5 * d * d / (sigma * sigma)).exp();
+    (0..fine.resolution)
+        .map(|i| {
+            let x = (f64::from(i) + 0.5) * ratio - 0.5;
+            let x0 = x.floor();
+            let fraction = x - x0;
+            AxisSample {
+                cell: x0 as i64,
+                fraction,
+                near: gauss(fraction),
+                far: gauss(1.0 - fraction),
+            }
+        })
+        .collect()
+}
+
 /// Bilateral interpolation of the coarser level's filtered intensities at
 /// the centre of fine texel (face, i, j).
 fn upsample(
-    fine: CubeMapLayout,
     coarse: CubeMapLayout,
     coarse_intensity: &[f64],
     face: CubeFace,
-    i: u32,
-    j: u32,
+    (sx, sy): (AxisSample, AxisSample),
     settings: &FilterSettings,
 ) -> f64 {
-    let ratio = f64::from(coarse.resolution) / f64::from(fine.resolution);
-    let x = (f64::from(i) + 0.5) * ratio - 0.5;
-    let y = (f64::from(j) + 0.5) * ratio - 0.5;
-    let (x0, y0) = (x.floor(), y.floor());
-    let (fx, fy) = (x - x0, y - y0);
-    let corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)];
+    let (fx, fy) = (sx.fraction, sy.fraction);
+    let corners = [(0, 0), (1, 0), (0, 1), (1, 1)];
     let mut values = [0.0; 4];
     let mut bilinear = [0.0; 4];
     let mut closeness = [0.0; 4];
     for (k, &(dx, dy)) in corners.iter().enumerate() {
-        let (cx, cy) = (x0 + dx, y0 + dy);
-        values[k] = coarse_intensity[texel_at(coarse, face, cx as i64, cy as i64)];
-        bilinear[k] =
-            (if dx == 0.0 { 1.0 - fx } else { fx }) * (if dy == 0.0 { 1.0 - fy } else { fy });
-        let d2 = (x - cx).powi(2) + (y - cy).powi(2);
-        closeness[k] = (-0.5 * d2 / (settings.sigma_closeness * settings.sigma_closeness)).exp();
+        values[k] = coarse_intensity[texel_at(coarse, face, sx.cell + dx, sy.cell + dy)];
+        bilinear[k] = (if dx == 0 { 1.0 - fx } else { fx }) * (if dy == 0 { 1.0 - fy } else { fy });
+        closeness[k] =
+            (if dx == 0 { sx.near } else { sx.far }) * (if dy == 0 { sy.near } else { sy.far });
     }
     let estimate: f64 = values.iter().zip(&bilinear).map(|(v, w)| v * w).sum();
     let (mut num, mut den) = (0.0, 0.0);
@@ -485,18 +510,26 @@ pub fn pyramid_resolutions(resolution: u32) -> Vec<u32> {
 
 /// Solid angles of every level's texels (the pull of texel solid angles).
 pub fn pyramid_solid_angles(layout: CubeMapLayout) -> Vec<Vec<f64>> {
-    pull(layout, &vec![0; layout.texel_count()])
-        .into_iter()
-        .map(|l| l.omega)
-        .collect()
+    pull(
+        layout,
+        &vec![0; layout.texel_count()],
+        &layout.solid_angles(),
+    )
+    .into_iter()
+    .map(|l| l.omega)
+    .collect()
 }
 
 /// Filters a map of photon counts (texel order of `layout`).
 pub fn filter(layout: CubeMapLayout, counts: &[u64], settings: &FilterSettings) -> Filtered {
+    // The texel solid angles, computed once for every candidate's passes.
+    let omega = layout.solid_angles();
     let chosen = match settings.threshold {
         Threshold::Automatic => {
-            let chosen = choose_automatic(layout, counts, settings, |c, candidate| {
-                Ok::<_, std::convert::Infallible>(filter_with(layout, c, candidate).photons_per_sr)
+            let chosen = choose_automatic(&omega, counts, settings, |c, candidate| {
+                Ok::<_, std::convert::Infallible>(
+                    filter_with(layout, c, candidate, &omega).photons_per_sr,
+                )
             });
             match chosen {
                 Ok((best, _)) => best,
@@ -505,11 +538,17 @@ pub fn filter(layout: CubeMapLayout, counts: &[u64], settings: &FilterSettings) 
         }
         _ => *settings,
     };
-    filter_with(layout, counts, &chosen)
+    filter_with(layout, counts, &chosen, &omega)
 }
 
-/// Filters with concrete settings (`Automatic` reads as its fallback).
-fn filter_with(layout: CubeMapLayout, counts: &[u64], settings: &FilterSettings) -> Filtered {
+/// Filters with concrete settings (`Automatic` reads as its fallback);
+/// `omega` holds the texel solid angles.
+fn filter_with(
+    layout: CubeMapLayout,
+    counts: &[u64],
+    settings: &FilterSettings,
+    omega: &[f64],
+) -> Filtered {
     let settings = &concrete(settings);
     let rule = settings.threshold;
     let (threshold, border_threshold) = thresholds(rule);
@@ -519,7 +558,7 @@ fn filter_with(layout: CubeMapLayout, counts: &[u64], settings: &FilterSettings)
         Threshold::Poisson { z, .. } => Some(z),
         _ => None,
     };
-    let levels = pull(layout, counts);
+    let levels = pull(layout, counts, omega);
     let top = levels.len() - 1;
     let mut intensity: Vec<f64> = levels[top]
         .counts
@@ -532,6 +571,7 @@ fn filter_with(layout: CubeMapLayout, counts: &[u64], settings: &FilterSettings)
         let level = &levels[k];
         let coarse = &levels[k + 1];
         let border_test = k >= settings.first_border_level;
+        let samples = axis_samples(level.layout, coarse.layout, settings.sigma_closeness);
         let (next, next_replaced): (Vec<f64>, Vec<bool>) = (0..level.layout.texel_count())
             .into_par_iter()
             .map(|t| {
@@ -544,12 +584,10 @@ fn filter_with(layout: CubeMapLayout, counts: &[u64], settings: &FilterSettings)
                     return (own, false);
                 }
                 let estimate = upsample(
-                    level.layout,
                     coarse.layout,
                     &intensity,
                     face,
-                    i,
-                    j,
+                    (samples[i as usize], samples[j as usize]),
                     settings,
                 );
                 if let Some(z) = poisson_z {

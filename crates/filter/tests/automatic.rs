@@ -218,10 +218,11 @@ fn the_choice_scores_every_candidate_on_held_out_photons() {
     let layout = CubeMapLayout::new(16);
     let counts = photons(layout, 10 * layout.texel_count(), 3, |_| 1.0);
     let base = FilterSettings::default();
-    let (chosen, scores) = choose_automatic(layout, &counts, &base, |c, candidate| {
-        Ok::<_, ()>(filter(layout, c, candidate).photons_per_sr)
-    })
-    .unwrap();
+    let (chosen, scores) =
+        choose_automatic(&layout.solid_angles(), &counts, &base, |c, candidate| {
+            Ok::<_, ()>(filter(layout, c, candidate).photons_per_sr)
+        })
+        .unwrap();
     assert_eq!(scores.len(), automatic_candidates(&base).len());
     assert!(scores.iter().all(|s| s.1.is_finite() && s.1 > 0.0));
     let best = scores.iter().map(|s| s.1).fold(f64::INFINITY, f64::min);
