@@ -21,8 +21,8 @@
 //!   its count is consistent with noise around the upsampled estimate, so
 //!   caustics and cut-offs survive a high cap;
 //! - no user threshold: [`Threshold::Automatic`] chooses the rule and the
-//!   closeness σ per map by two-fold cross-validation on Poisson-thinned
-//!   halves of the photons ([`choose_automatic`]); a manual threshold stays
+//!   closeness σ per map by K-fold cross-validation on Poisson-thinned
+//!   parts of the photons ([`choose_automatic`]); a manual threshold stays
 //!   available;
 //! - replaced texels are renormalised together so the filtered map keeps
 //!   the traced flux; stable texels are never changed.
@@ -46,7 +46,7 @@ pub enum Threshold {
     /// little as a low one.
     Poisson { cap: f64, z: f64 },
     /// No user threshold: the rule is chosen per map among
-    /// [`automatic_candidates`] by two-fold cross-validation on the photon
+    /// [`automatic_candidates`] by K-fold cross-validation on the photon
     /// counts themselves ([`choose_automatic`]).
     Automatic,
 }
