@@ -91,6 +91,10 @@ pub unsafe fn closest_hit(
     best
 }
 
+/// Off x86-64 there is no AVX2 traversal ([`available`] is false).
+///
+/// # Safety
+/// Never to be called: it panics.
 #[cfg(not(target_arch = "x86_64"))]
 pub unsafe fn closest_hit(
     _: &obvhs::cwbvh::CwBvh,
