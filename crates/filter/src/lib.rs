@@ -116,7 +116,7 @@ pub struct Filtered {
     pub photons_per_sr: Vec<f64>,
     /// Texels whose value was replaced.
     pub replaced: Vec<bool>,
-    /// The threshold used (photons; the Poisson rule's cap on levels 0–1).
+    /// The threshold used (photons; the Poisson rule's cap).
     pub threshold: f64,
     /// The settings applied, with a concrete rule (what `Automatic` chose).
     pub settings: FilterSettings,
@@ -149,8 +149,8 @@ pub const AUTOMATIC_FALLBACK: Threshold = Threshold::Poisson {
 };
 
 /// The settings the automatic mode chooses among (σ of the range term
-/// from `base` but for one candidate). Measured with `lucerna filter-bench` and a wider search:
-/// smooth maps (the opal bell) do best with low thresholds at few photons
+/// from `base` but for one candidate). Measured with `lucerna
+/// filter-bench` and a wider search: smooth maps (the opal bell) do best with low thresholds at few photons
 /// per texel and the Poisson test at z = 4 with the paper's closeness σ of
 /// 0.75 texel, caps growing with the photons (64–128 at 10⁵, 256 at 10⁶,
 /// 1024 at 10⁷ on 128² faces); maps with caustics (the faceted downlight)
@@ -196,15 +196,15 @@ pub fn automatic_candidates(base: &FilterSettings) -> Vec<FilterSettings> {
 /// each fold adds a pass per candidate. On the opal bell (128², 10⁵
 /// photons) 2 and 3 folds chose a rule 6.6 % worse than the best fixed
 /// threshold, 5 folds the best; on the faceted downlight at 10⁵ photons
-/// 2 folds chose between RMSE 0.349 and 0.412 depending on the random
-/// split, 5 folds 0.349.
+/// 2 folds chose between rules of RMSE 0.349 and 0.412 depending on the
+/// random split, 5 folds the better one.
 pub const CV_FOLDS: usize = 5;
 
 /// Splits photon counts into `folds` independent parts: each photon goes
-/// to one part, uniformly at random (multinomial thinning; a normal
-/// approximation above 256 photons per draw), so each part is a Poisson
-/// map of 1/`folds` of the flux, independent of the others. Deterministic
-/// per texel.
+/// to one part, uniformly at random (multinomial thinning: binomial draws
+/// by inversion, a normal approximation above 256 photons), so each part
+/// is a Poisson map of 1/`folds` of the flux, independent of the others.
+/// Deterministic per texel.
 pub fn thinned_folds(counts: &[u64], folds: usize) -> Vec<Vec<u64>> {
     let folds = folds.max(1);
     let per_texel: Vec<Vec<u64>> = counts
@@ -254,10 +254,22 @@ fn unit(key: u64) -> f64 {
 fn binomial(n: u64, p: f64, key: u64) -> u64 {
     let key = key ^ 0x5EED_F11E_7E12_0001;
     if n <= 256 {
-        // One draw per photon.
-        (0..n)
-            .filter(|&i| unit(key.wrapping_add(i.wrapping_mul(0x9E37_79B9))) < p)
-            .count() as u64
+        // Inversion: walk the CDF from 0 with P(k + 1) = P(k) · (n − k) /
+        // (k + 1) · p / (1 − p); about n·p steps ((1 − p)ⁿ ≥ 1e-78 here).
+        if p >= 1.0 {
+            return n;
+        }
+        let u = unit(key);
+        let ratio = p / (1.0 - p);
+        let mut probability = (1.0 - p).powi(n as i32);
+        let mut cumulative = probability;
+        let mut k = 0u64;
+        while u >= cumulative && k < n {
+            probability *= (n - k) as f64 / (k + 1) as f64 * ratio;
+            k += 1;
+            cumulative += probability;
+        }
+        k
     } else {
         // Normal approximation (Box–Muller), clamped to [0, n].
         let u1 = unit(key) + 0.5 / (1u64 << 53) as f64;
