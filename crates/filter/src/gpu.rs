@@ -9,8 +9,8 @@ use lucerna_photometry::CubeMapLayout;
 use wgpu::util::DeviceExt;
 
 use crate::{
-    AUTO_MIN_KEEP, FilterSettings, Filtered, Threshold, choose_automatic, concrete,
-    pyramid_resolutions, pyramid_solid_angles, renormalise, thresholds,
+    AUTO_MIN_KEEP, AutomaticReport, FilterSettings, Filtered, Threshold, choose_automatic,
+    concrete, pyramid_resolutions, pyramid_solid_angles, renormalise, thresholds,
 };
 
 /// Per-level parameters (48 bytes), WGSL twin `LevelParams`.
@@ -223,16 +223,19 @@ impl GpuFilter {
     /// automatic rule is chosen as on the CPU ([`choose_automatic`]), with
     /// its candidates run on the GPU.
     pub fn filter(&self, counts: &[u64], settings: &FilterSettings) -> Result<Filtered, GpuError> {
-        let chosen = match settings.threshold {
+        match settings.threshold {
             Threshold::Automatic => {
-                choose_automatic(&self.omega_level0, counts, settings, |c, candidate| {
-                    Ok(self.filter_with(c, candidate)?.photons_per_sr)
-                })?
-                .0
+                let (best, scores) =
+                    choose_automatic(&self.omega_level0, counts, settings, |c, candidate| {
+                        Ok(self.filter_with(c, candidate)?.photons_per_sr)
+                    })?;
+                Ok(Filtered {
+                    automatic: AutomaticReport::new(&best, &scores),
+                    ..self.filter_with(counts, &best)?
+                })
             }
-            _ => *settings,
-        };
-        self.filter_with(counts, &chosen)
+            _ => self.filter_with(counts, settings),
+        }
     }
 
     /// Filters with concrete settings (`Automatic` reads as its fallback).
@@ -326,6 +329,7 @@ impl GpuFilter {
             replaced,
             threshold,
             settings: *settings,
+            automatic: None,
             renormalisation,
         })
     }

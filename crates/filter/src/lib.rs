@@ -120,6 +120,8 @@ pub struct Filtered {
     pub threshold: f64,
     /// The settings applied, with a concrete rule (what `Automatic` chose).
     pub settings: FilterSettings,
+    /// For the automatic mode, the cross-validated error estimates.
+    pub automatic: Option<AutomaticReport>,
     /// Factor applied to the replaced texels to keep the traced flux.
     pub renormalisation: f64,
 }
@@ -300,8 +302,8 @@ pub fn choose_automatic<E>(
     counts: &[u64],
     base: &FilterSettings,
     mut run: impl FnMut(&[u64], &FilterSettings) -> Result<Vec<f64>, E>,
-) -> Result<(FilterSettings, Vec<(FilterSettings, f64)>), E> {
-    let folds = CV_FOLDS;
+) -> Result<(FilterSettings, Vec<CandidateScore>), E> {
+    let folds = CV_FOLDS.max(2);
     let parts = thinned_folds(counts, folds);
     // Training set of fold k: every photon not in part k, (K − 1)/K of them.
     let training: Vec<Vec<u64>> = parts
@@ -317,30 +319,103 @@ pub fn choose_automatic<E>(
                 .collect()
         })
         .collect();
+    // The held-out intensities' own variance, Σ c / Ω² per part (an
+    // unbiased estimate of Σ var(c / Ω)), and the training maps' mean
+    // intensity, for the error estimate.
+    let held_out_noise: Vec<f64> = parts
+        .iter()
+        .map(|part| {
+            part.iter()
+                .zip(omega)
+                .map(|(&c, &w)| if w > 0.0 { c as f64 / (w * w) } else { 0.0 })
+                .sum()
+        })
+        .collect();
+    let training_mean: Vec<f64> = training
+        .iter()
+        .map(|c| {
+            c.iter()
+                .zip(omega)
+                .map(|(&c, &w)| safe_intensity(c as f64, w))
+                .sum::<f64>()
+                / c.len().max(1) as f64
+        })
+        .collect();
     // The filtered training map estimates K − 1 times what a held-out
     // part's raw intensity estimates.
-    let scale = 1.0 / (folds.max(2) - 1) as f64;
+    let scale = 1.0 / (folds - 1) as f64;
+    let texels = counts.len().max(1) as f64;
     let mut scores = Vec::new();
     for candidate in automatic_candidates(base) {
         let mut score = 0.0f64;
-        for (train, check) in training.iter().zip(&held_out) {
-            let f = run(train, &candidate)?;
-            score += f
+        let mut relative_mse = 0.0f64;
+        for k in 0..folds {
+            let f = run(&training[k], &candidate)?;
+            let squared = f
                 .iter()
-                .zip(check)
+                .zip(&held_out[k])
                 .map(|(x, y)| (x * scale - y).powi(2))
                 .sum::<f64>();
+            score += squared;
+            // E[squared] = scale² · Σ (f − truth)² + Σ var(held out).
+            let mse = (squared - held_out_noise[k]).max(0.0) / (scale * scale) / texels;
+            if training_mean[k] > 0.0 {
+                relative_mse += mse / (training_mean[k] * training_mean[k]);
+            }
         }
-        scores.push((candidate, score));
+        scores.push(CandidateScore {
+            settings: candidate,
+            score,
+            estimated_rmse: (relative_mse / folds as f64).sqrt(),
+        });
     }
-    let best = scores.iter().min_by(|x, y| x.1.total_cmp(&y.1)).map_or(
-        FilterSettings {
-            threshold: AUTOMATIC_FALLBACK,
-            ..*base
-        },
-        |s| s.0,
-    );
+    let best = scores
+        .iter()
+        .min_by(|x, y| x.score.total_cmp(&y.score))
+        .map_or(
+            FilterSettings {
+                threshold: AUTOMATIC_FALLBACK,
+                ..*base
+            },
+            |s| s.settings,
+        );
     Ok((best, scores))
+}
+
+/// One candidate of the automatic mode, as cross-validation judged it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CandidateScore {
+    pub settings: FilterSettings,
+    /// Sum of squared differences to the held-out parts (lower is better).
+    pub score: f64,
+    /// The candidate's RMSE against the true distribution, each map
+    /// scaled by its mean (the paper's measure), estimated from the same
+    /// folds: at (K − 1)/K of the photons, so a little above the error at
+    /// all of them.
+    pub estimated_rmse: f64,
+}
+
+/// What the automatic mode found: the chosen candidate's and the raw map's
+/// estimated errors.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AutomaticReport {
+    /// Estimated mean-scaled RMSE of the chosen rule ([`CandidateScore`]).
+    pub estimated_rmse: f64,
+    /// The same for the unfiltered map.
+    pub raw_estimated_rmse: f64,
+}
+
+impl AutomaticReport {
+    /// The report on a cross-validation's scores for its chosen settings.
+    pub fn new(chosen: &FilterSettings, scores: &[CandidateScore]) -> Option<AutomaticReport> {
+        let of = |pick: &dyn Fn(&CandidateScore) -> bool| {
+            scores.iter().find(|s| pick(s)).map(|s| s.estimated_rmse)
+        };
+        Some(AutomaticReport {
+            estimated_rmse: of(&|s| s.settings == *chosen)?,
+            raw_estimated_rmse: of(&|s| s.settings.threshold == Threshold::Fixed(0.0))?,
+        })
+    }
 }
 
 /// The settings with `Automatic` read as its fallback rule.
@@ -550,21 +625,24 @@ pub fn pyramid_solid_angles(layout: CubeMapLayout) -> Vec<Vec<f64>> {
 pub fn filter(layout: CubeMapLayout, counts: &[u64], settings: &FilterSettings) -> Filtered {
     // The texel solid angles, computed once for every candidate's passes.
     let omega = layout.solid_angles();
-    let chosen = match settings.threshold {
+    match settings.threshold {
         Threshold::Automatic => {
             let chosen = choose_automatic(&omega, counts, settings, |c, candidate| {
                 Ok::<_, std::convert::Infallible>(
                     filter_with(layout, c, candidate, &omega).photons_per_sr,
                 )
             });
-            match chosen {
-                Ok((best, _)) => best,
+            let (best, scores) = match chosen {
+                Ok(chosen) => chosen,
                 Err(never) => match never {},
+            };
+            Filtered {
+                automatic: AutomaticReport::new(&best, &scores),
+                ..filter_with(layout, counts, &best, &omega)
             }
         }
-        _ => *settings,
-    };
-    filter_with(layout, counts, &chosen, &omega)
+        _ => filter_with(layout, counts, settings, &omega),
+    }
 }
 
 /// Filters with concrete settings (`Automatic` reads as its fallback);
@@ -645,6 +723,7 @@ fn filter_with(
         replaced,
         threshold,
         settings: *settings,
+        automatic: None,
         renormalisation,
     }
 }

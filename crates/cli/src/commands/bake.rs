@@ -197,6 +197,13 @@ pub fn exported_candela(map: &IntensityMap, filter: FilterChoice) -> Vec<f64> {
                 report.replaced.len(),
                 report.renormalisation
             );
+            if let Some(a) = report.automatic {
+                eprintln!(
+                    "estimated error of the exported map (RMSE per texel / mean, cross-validated): {:.1} % filtered, {:.1} % raw",
+                    100.0 * a.estimated_rmse,
+                    100.0 * a.raw_estimated_rmse
+                );
+            }
             candela
         }
         None => map.candela(),

@@ -117,7 +117,7 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
     std::fs::create_dir_all(&args.out)?;
     let layout = CubeMapLayout::new(args.resolution);
     let mut csv = String::from(
-        "scene,resolution,photons,method,rule,rmse,rmse_reference_noise_removed,filter_ms\n",
+        "scene,resolution,photons,method,rule,rmse,rmse_reference_noise_removed,filter_ms,estimated_rmse\n",
     );
     let mut summary = String::new();
     for path in &scenes {
@@ -164,8 +164,10 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
             .collect();
         // The same errors with the reference's own noise removed.
         let mut corrected_points: Vec<Vec<f64>> = vec![Vec::new(); series.len()];
-        // The rule the automatic mode chose at each photon count.
+        // The rule the automatic mode chose at each photon count, and the
+        // error it estimated for it.
         let mut chosen = Vec::new();
+        let mut estimated = Vec::new();
         let mut n = 100_000u64;
         while n <= args.max_photons {
             trace_to(&prepared, &settings, &mut counts, &mut done, n);
@@ -174,7 +176,7 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
             corrected_points[0].push(corrected(raw, noise));
             let _ = writeln!(
                 csv,
-                "{name},{},{n},raw,,{raw:.6},{:.6},",
+                "{name},{},{n},raw,,{raw:.6},{:.6},,",
                 args.resolution,
                 corrected(raw, noise)
             );
@@ -201,15 +203,19 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
                 } else {
                     "fixed"
                 };
+                // The rule's description holds commas: quoted.
                 let _ = writeln!(
                     csv,
-                    "{name},{},{n},{method},{},{e:.6},{:.6},{ms:.1}",
+                    "{name},{},{n},{method},\"{}\",{e:.6},{:.6},{ms:.1},{}",
                     args.resolution,
                     f.settings,
-                    corrected(e, noise)
+                    corrected(e, noise),
+                    f.automatic
+                        .map_or(String::new(), |a| format!("{:.6}", a.estimated_rmse))
                 );
-                if threshold == Threshold::Automatic {
+                if let Some(a) = f.automatic {
                     chosen.push(f.settings);
+                    estimated.push(a.estimated_rmse);
                 }
             }
             eprintln!(
@@ -246,7 +252,7 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
                 let raw_10n = raw.get(i + 1).copied();
                 let _ = writeln!(
                     summary,
-                    "{name} {}² N = {:.0e} ({label}): raw {:.4}, raw(10N) {}, best fixed {:.4}, automatic {:.4} ({:+.1} % vs best, {}) {}",
+                    "{name} {}² N = {:.0e} ({label}): raw {:.4}, raw(10N) {}, best fixed {:.4}, automatic {:.4} ({:+.1} % vs best, {}; estimated {}) {}",
                     args.resolution,
                     series[0].points[i].0,
                     raw[i],
@@ -255,6 +261,9 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
                     auto,
                     100.0 * (auto / best_fixed - 1.0),
                     chosen.get(i).map_or(String::new(), ToString::to_string),
+                    estimated
+                        .get(i)
+                        .map_or(String::new(), |e| format!("{e:.4}")),
                     match raw_10n {
                         Some(r) if auto <= r => "filtered(N) ≤ raw(10N): yes",
                         Some(_) => "filtered(N) ≤ raw(10N): NO",
