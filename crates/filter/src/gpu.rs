@@ -10,7 +10,7 @@ use wgpu::util::DeviceExt;
 
 use crate::{
     AUTO_MIN_KEEP, AutomaticReport, FilterSettings, Filtered, Threshold, choose_automatic,
-    concrete, pyramid_resolutions, pyramid_solid_angles, renormalise, thresholds,
+    pyramid_resolutions, pyramid_solid_angles, renormalise, thresholds,
 };
 
 /// Per-level parameters (48 bytes), WGSL twin `LevelParams`.
@@ -238,9 +238,10 @@ impl GpuFilter {
         }
     }
 
-    /// Filters with concrete settings (`Automatic` reads as its fallback).
+    /// Filters with concrete settings (not `Automatic`).
     fn filter_with(&self, counts: &[u64], settings: &FilterSettings) -> Result<Filtered, GpuError> {
-        let settings = &concrete(settings);
+        // `filter` resolves `Automatic` first (`choose_automatic`).
+        debug_assert!(settings.threshold != Threshold::Automatic);
         let rule = settings.threshold;
         let (threshold, border_threshold) = thresholds(rule);
         let (poisson_test, z) = match rule {

@@ -140,7 +140,7 @@ pub fn thresholds(threshold: Threshold) -> (f64, f64) {
     match threshold {
         Threshold::Fixed(t) => (t, t),
         Threshold::Poisson { cap, .. } => (cap, AUTO_BORDER),
-        Threshold::Automatic => (AUTO_MAX, AUTO_BORDER),
+        Threshold::Automatic => thresholds(AUTOMATIC_FALLBACK),
     }
 }
 
@@ -229,14 +229,6 @@ pub fn thinned_folds(counts: &[u64], folds: usize) -> Vec<Vec<u64>> {
     (0..folds)
         .map(|k| per_texel.iter().map(|p| p[k]).collect())
         .collect()
-}
-
-/// Two independent halves ([`thinned_folds`] with two folds).
-pub fn thinned_halves(counts: &[u64]) -> (Vec<u64>, Vec<u64>) {
-    let mut f = thinned_folds(counts, 2).into_iter();
-    let a = f.next().unwrap_or_default();
-    let b = f.next().unwrap_or_default();
-    (a, b)
 }
 
 /// SplitMix64: the thinning's counter-based random bits.
@@ -415,17 +407,6 @@ impl AutomaticReport {
             estimated_rmse: of(&|s| s.settings == *chosen)?,
             raw_estimated_rmse: of(&|s| s.settings.threshold == Threshold::Fixed(0.0))?,
         })
-    }
-}
-
-/// The settings with `Automatic` read as its fallback rule.
-pub fn concrete(settings: &FilterSettings) -> FilterSettings {
-    match settings.threshold {
-        Threshold::Automatic => FilterSettings {
-            threshold: AUTOMATIC_FALLBACK,
-            ..*settings
-        },
-        _ => *settings,
     }
 }
 
@@ -645,15 +626,16 @@ pub fn filter(layout: CubeMapLayout, counts: &[u64], settings: &FilterSettings) 
     }
 }
 
-/// Filters with concrete settings (`Automatic` reads as its fallback);
-/// `omega` holds the texel solid angles.
+/// Filters with concrete settings (not `Automatic`); `omega` holds the
+/// texel solid angles.
 fn filter_with(
     layout: CubeMapLayout,
     counts: &[u64],
     settings: &FilterSettings,
     omega: &[f64],
 ) -> Filtered {
-    let settings = &concrete(settings);
+    // Callers resolve `Automatic` first (`choose_automatic`).
+    debug_assert!(settings.threshold != Threshold::Automatic);
     let rule = settings.threshold;
     let (threshold, border_threshold) = thresholds(rule);
     debug_assert_eq!(counts.len(), layout.texel_count());

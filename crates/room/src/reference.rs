@@ -20,6 +20,14 @@ impl SplitMix {
         z ^= z >> 31;
         (z >> 11) as f64 / (1u64 << 53) as f64
     }
+
+    /// A direction uniform on the unit sphere.
+    pub fn unit_vector(&mut self) -> DVec3 {
+        let z = 2.0 * self.next_f64() - 1.0;
+        let phi = std::f64::consts::TAU * self.next_f64();
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        DVec3::new(r * phi.cos(), r * phi.sin(), z)
+    }
 }
 
 /// One fan triangle (a, b, c) of a convex polygon with k × k jittered

@@ -47,22 +47,15 @@ pub fn grid_points(scene: &RoomScene) -> (Vec<f64>, Vec<f64>) {
     )
 }
 
-/// Illuminance on the work plane by the CPU shading.
-pub fn work_plane_cpu(scene: &RoomScene, shading: Shading) -> WorkPlaneGrid {
+/// The work-plane grid with `lux(k, point)` at every point k (row by row,
+/// x fastest), evaluated in parallel.
+fn grid_of(scene: &RoomScene, lux: impl Fn(usize, DVec3) -> f64 + Sync) -> WorkPlaneGrid {
     let (xs, ys) = grid_points(scene);
     let h = scene.work_plane.height_m;
-    let lux = ys
-        .par_iter()
-        .flat_map_iter(|&y| {
-            xs.iter().map(move |&x| {
-                let p = DVec3::new(x, y, h);
-                scene
-                    .lights
-                    .iter()
-                    .map(|l| light_illuminance(l, p, DVec3::Z, shading).lux)
-                    .sum::<f64>()
-            })
-        })
+    let nx = xs.len();
+    let lux = (0..xs.len() * ys.len())
+        .into_par_iter()
+        .map(|k| lux(k, DVec3::new(xs[k % nx], ys[k / nx], h)))
         .collect();
     WorkPlaneGrid {
         xs,
@@ -72,44 +65,42 @@ pub fn work_plane_cpu(scene: &RoomScene, shading: Shading) -> WorkPlaneGrid {
     }
 }
 
+/// Illuminance on the work plane by the CPU shading.
+pub fn work_plane_cpu(scene: &RoomScene, shading: Shading) -> WorkPlaneGrid {
+    grid_of(scene, |_, p| {
+        scene
+            .lights
+            .iter()
+            .map(|l| light_illuminance(l, p, DVec3::Z, shading).lux)
+            .sum()
+    })
+}
+
 /// The work plane by Monte Carlo integration of eq. 1 over every opening
 /// (MIS of area and profile sampling, `samples` per technique, light and
 /// point): the reference for the figures.
 pub fn work_plane_reference(scene: &RoomScene, samples: usize) -> WorkPlaneGrid {
     use crate::reference::{ProfileDirectionSampler, mis_illuminance, monte_carlo_illuminance};
-    let (xs, ys) = grid_points(scene);
-    let h = scene.work_plane.height_m;
-    let nx = xs.len();
     let samplers: Vec<Option<ProfileDirectionSampler>> = scene
         .lights
         .iter()
         .map(|l| ProfileDirectionSampler::new(&l.profile))
         .collect();
-    let lux = (0..xs.len() * ys.len())
-        .into_par_iter()
-        .map(|k| {
-            let p = DVec3::new(xs[k % nx], ys[k / nx], h);
-            scene
-                .lights
-                .iter()
-                .zip(&samplers)
-                .enumerate()
-                .map(|(i, (l, sampler))| {
-                    let seed = (k * 7919 + i) as u64;
-                    match sampler {
-                        Some(s) => mis_illuminance(l, s, p, DVec3::Z, samples, seed),
-                        None => monte_carlo_illuminance(l, p, DVec3::Z, samples, seed),
-                    }
-                })
-                .sum::<f64>()
-        })
-        .collect();
-    WorkPlaneGrid {
-        xs,
-        ys,
-        height_m: h,
-        lux,
-    }
+    grid_of(scene, |k, p| {
+        scene
+            .lights
+            .iter()
+            .zip(&samplers)
+            .enumerate()
+            .map(|(i, (l, sampler))| {
+                let seed = (k * 7919 + i) as u64;
+                match sampler {
+                    Some(s) => mis_illuminance(l, s, p, DVec3::Z, samples, seed),
+                    None => monte_carlo_illuminance(l, p, DVec3::Z, samples, seed),
+                }
+            })
+            .sum()
+    })
 }
 
 impl WorkPlaneGrid {

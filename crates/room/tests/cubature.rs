@@ -34,13 +34,6 @@ fn light(
     }
 }
 
-fn random_unit(rng: &mut SplitMix) -> DVec3 {
-    let z = 2.0 * rng.next_f64() - 1.0;
-    let phi = std::f64::consts::TAU * rng.next_f64();
-    let r = (1.0 - z * z).sqrt();
-    DVec3::new(r * phi.cos(), r * phi.sin(), z)
-}
-
 #[test]
 fn solid_angle_of_a_cube_face_is_four_pi_over_six() {
     // Two triangles of one face of the cube [-1, 1]³ seen from its centre.
@@ -78,11 +71,11 @@ fn lambertian_rectangle_matches_the_exact_form_factor_within_two_percent() {
     let mut tested = 0;
     for _ in 0..4000 {
         // Receivers within 4 m of the light, in front of its plane.
-        let x = l.position + random_unit(&mut rng) * (0.02 + 4.0 * rng.next_f64());
+        let x = l.position + rng.unit_vector() * (0.02 + 4.0 * rng.next_f64());
         if (x - l.position).dot(l.normal()) <= 1e-3 {
             continue;
         }
-        let n = random_unit(&mut rng);
+        let n = rng.unit_vector();
         let exact = uniform_polygon_illuminance(&polygon, radiance, x, n);
         let got = illuminance(&l, x, n).lux;
         assert!(got.is_finite() && got >= 0.0);
@@ -137,9 +130,9 @@ fn far_field_matches_the_inverse_square_law_within_one_percent() {
         let mut rng = SplitMix(11);
         let (mut worst_point, mut worst_mc, mut tested) = (0.0f64, 0.0f64, 0);
         for _ in 0..600 {
-            let d = random_unit(&mut rng);
+            let d = rng.unit_vector();
             let x = d * size * (5.0 + 20.0 * rng.next_f64());
-            let n = (-d + random_unit(&mut rng) * 0.8).normalize();
+            let n = (-d + rng.unit_vector() * 0.8).normalize();
             if n.dot(-d) < 0.2 || l.candela_towards(d) < 0.05 * 1000.0 {
                 continue;
             }
@@ -198,7 +191,7 @@ fn no_nan_or_negative_anywhere() {
             assert!(r.equivalent_radiance().is_finite());
         };
         for _ in 0..3000 {
-            let n = random_unit(&mut rng);
+            let n = rng.unit_vector();
             let u = 4.0 * rng.next_f64() - 2.0;
             let v = 4.0 * rng.next_f64() - 2.0;
             probe(DVec3::new(u, v, 2.0), n); // in the plane

@@ -42,13 +42,6 @@ fn scene() -> RoomScene {
     RoomScene::new(&room, &phot)
 }
 
-fn random_unit(rng: &mut SplitMix) -> DVec3 {
-    let z = 2.0 * rng.next_f64() - 1.0;
-    let phi = std::f64::consts::TAU * rng.next_f64();
-    let r = (1.0 - z * z).sqrt();
-    DVec3::new(r * phi.cos(), r * phi.sin(), z)
-}
-
 #[test]
 fn wgsl_illuminance_matches_the_cpu_at_random_points() {
     let Some(ctx) = lucerna_gpu::open_for_tests() else {
@@ -65,13 +58,13 @@ fn wgsl_illuminance_matches_the_cpu_at_random_points() {
             12.0 * rng.next_f64(),
             3.0 * rng.next_f64(),
         );
-        points.push((x, random_unit(&mut rng)));
+        points.push((x, rng.unit_vector()));
     }
     // Points in the openings' planes and on the openings.
     for l in &scene.lights {
         for _ in 0..50 {
             let offset = l.rotation * DVec3::new(rng.next_f64() - 0.5, rng.next_f64() - 0.5, 0.0);
-            points.push((l.position + offset, random_unit(&mut rng)));
+            points.push((l.position + offset, rng.unit_vector()));
         }
     }
     for shading in [Shading::Cubature, Shading::PointLight] {

@@ -304,24 +304,12 @@ pub fn trace_batch(
                         trace_range(scene, settings, iteration, start..end, &mut tally);
                     });
                 } else {
-                    trace_range_baseline(scene, settings, iteration, start..end, &mut tally);
+                    trace_range(scene, settings, iteration, start..end, &mut tally);
                 }
                 tally
             },
         )
         .reduce(|| Tally::new(texels), Tally::add)
-}
-
-/// [`trace_range`] for the baseline target, kept out of line.
-#[inline(never)]
-fn trace_range_baseline(
-    scene: &PreparedScene,
-    settings: &TraceSettings,
-    iteration: u32,
-    photons: std::ops::Range<u32>,
-    tally: &mut Tally,
-) {
-    trace_range(scene, settings, iteration, photons, tally);
 }
 
 /// Traces photons `photons` of `iteration` into `tally`, one after another.
