@@ -2,6 +2,7 @@
 //! photon bookkeeping that turns them into candela.
 
 use crate::cubemap::CubeMapLayout;
+use crate::symmetry::TexelSymmetry;
 
 /// Photon counts by escape direction. Every photon carries the same flux
 /// `Φ_emitter / N_emitted` (lm), so the candela of a texel is
@@ -81,6 +82,25 @@ impl IntensityMap {
             0.0
         } else {
             self.photons_escaped() as f64 / self.photons_emitted as f64
+        }
+    }
+
+    /// The map of a luminaire with `symmetry`, each photon counted once in
+    /// every image of its direction ([`TexelSymmetry::pool`]): as if
+    /// `order` times the photons had been traced, so emitted, absorbed and
+    /// cut-off photons scale by the order too and the balance stays exact;
+    /// candela are the average over the images. `symmetry` must be of this
+    /// map's layout.
+    pub fn symmetrised(&self, symmetry: &TexelSymmetry) -> IntensityMap {
+        debug_assert_eq!(symmetry.layout, self.layout);
+        let order = symmetry.order() as u64;
+        IntensityMap {
+            layout: self.layout,
+            counts: symmetry.pool(&self.counts),
+            photons_emitted: self.photons_emitted * order,
+            photons_absorbed: self.photons_absorbed * order,
+            photons_cut_off: self.photons_cut_off * order,
+            emitter_flux_lm: self.emitter_flux_lm,
         }
     }
 

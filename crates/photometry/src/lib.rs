@@ -11,6 +11,7 @@ pub mod ies;
 pub mod intensity_map;
 pub mod ldt;
 pub mod photometry;
+pub mod symmetry;
 pub mod table;
 
 pub use cubemap::{CubeFace, CubeMapLayout};
@@ -21,4 +22,5 @@ pub use ldt::{parse_ldt, to_latin1, write_ldt};
 pub use photometry::{
     Dimensions, Format, LampSet, Metadata, ParsePhotometryError, Photometry, read_photometry, sniff,
 };
+pub use symmetry::{AxialIsometry, AxialSymmetry, TexelSymmetry};
 pub use table::{CandelaTable, Symmetry, table_from_cube_map};
