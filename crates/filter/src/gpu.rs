@@ -5,12 +5,12 @@
 
 use bytemuck::{Pod, Zeroable};
 use lucerna_gpu::{GpuContext, GpuError};
-use lucerna_photometry::CubeMapLayout;
+use lucerna_photometry::{AxialSymmetry, CubeMapLayout, TexelSymmetry};
 use wgpu::util::DeviceExt;
 
 use crate::{
     AUTO_MIN_KEEP, AutomaticReport, FilterSettings, Filtered, Threshold, choose_automatic,
-    pyramid_resolutions, pyramid_solid_angles, renormalise, thresholds,
+    per_traced_photon, pyramid_resolutions, pyramid_solid_angles, renormalise, thresholds,
 };
 
 /// Per-level parameters (48 bytes), WGSL twin `LevelParams`.
@@ -223,19 +223,37 @@ impl GpuFilter {
     /// automatic rule is chosen as on the CPU ([`choose_automatic`]), with
     /// its candidates run on the GPU.
     pub fn filter(&self, counts: &[u64], settings: &FilterSettings) -> Result<Filtered, GpuError> {
-        match settings.threshold {
+        self.filter_symmetric(counts, settings, &TexelSymmetry::none(self.layout))
+    }
+
+    /// [`crate::filter_symmetric`] on the GPU: the images are pooled on the
+    /// CPU (the counts live there), the pyramid is built on the GPU.
+    pub fn filter_symmetric(
+        &self,
+        counts: &[u64],
+        settings: &FilterSettings,
+        symmetry: &TexelSymmetry,
+    ) -> Result<Filtered, GpuError> {
+        debug_assert_eq!(symmetry.layout, self.layout);
+        let pooled = symmetry.pool(counts);
+        let mut filtered = match settings.threshold {
             Threshold::Automatic => {
-                let (best, scores) =
-                    choose_automatic(&self.omega_level0, counts, settings, |c, candidate| {
-                        Ok(self.filter_with(c, candidate)?.photons_per_sr)
-                    })?;
-                Ok(Filtered {
+                let (best, scores) = choose_automatic(
+                    &self.omega_level0,
+                    counts,
+                    settings,
+                    symmetry,
+                    |c, candidate| Ok(self.filter_with(c, candidate)?.photons_per_sr),
+                )?;
+                Filtered {
                     automatic: AutomaticReport::new(&best, &scores),
-                    ..self.filter_with(counts, &best)?
-                })
+                    ..self.filter_with(&pooled, &best)?
+                }
             }
-            _ => self.filter_with(counts, settings),
-        }
+            _ => self.filter_with(&pooled, settings)?,
+        };
+        per_traced_photon(&mut filtered, symmetry);
+        Ok(filtered)
     }
 
     /// Filters with concrete settings (not `Automatic`).
@@ -332,6 +350,7 @@ impl GpuFilter {
             settings: *settings,
             automatic: None,
             renormalisation,
+            symmetry: AxialSymmetry::None,
         })
     }
 }

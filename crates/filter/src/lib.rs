@@ -25,11 +25,15 @@
 //!   parts of the photons ([`choose_automatic`]); a manual threshold stays
 //!   available;
 //! - replaced texels are renormalised together so the filtered map keeps
-//!   the traced flux; stable texels are never changed.
+//!   the traced flux; stable texels are never changed;
+//! - a luminaire's symmetry about its axis ([`TexelSymmetry`]) pools the
+//!   photons of every image of a texel before filtering
+//!   ([`filter_symmetric`]): each texel is judged and interpolated on
+//!   |group| times the photons, with no bias for a symmetric luminaire.
 
 pub mod gpu;
 
-use lucerna_photometry::{CubeFace, CubeMapLayout};
+use lucerna_photometry::{AxialSymmetry, CubeFace, CubeMapLayout, TexelSymmetry};
 use rayon::prelude::*;
 
 /// How unstable texels are told from stable ones.
@@ -124,6 +128,8 @@ pub struct Filtered {
     pub automatic: Option<AutomaticReport>,
     /// Factor applied to the replaced texels to keep the traced flux.
     pub renormalisation: f64,
+    /// The symmetry whose images were pooled (`None`: the counts alone).
+    pub symmetry: AxialSymmetry,
 }
 
 /// One pyramid level: photon counts and solid angles per texel.
@@ -288,11 +294,16 @@ fn binomial(n: u64, p: f64, key: u64) -> u64 {
 /// (K − 1)/K of the photons plus a constant: the winner is the candidate
 /// that would be closest to the truth, judged from the photons alone.
 /// `run` filters counts with concrete settings and returns photons per
-/// steradian; `omega` holds the texel solid angles.
+/// steradian; `omega` holds the texel solid angles. With a symmetry the
+/// photons are split first and each part pooled after
+/// ([`TexelSymmetry::pool`]), so training and held-out parts stay
+/// independent; `counts` are the traced (unpooled) counts and `run` gets
+/// pooled ones.
 pub fn choose_automatic<E>(
     omega: &[f64],
     counts: &[u64],
     base: &FilterSettings,
+    symmetry: &TexelSymmetry,
     mut run: impl FnMut(&[u64], &FilterSettings) -> Result<Vec<f64>, E>,
 ) -> Result<(FilterSettings, Vec<CandidateScore>), E> {
     let folds = CV_FOLDS.max(2);
@@ -300,8 +311,12 @@ pub fn choose_automatic<E>(
     // Training set of fold k: every photon not in part k, (K − 1)/K of them.
     let training: Vec<Vec<u64>> = parts
         .iter()
-        .map(|part| counts.iter().zip(part).map(|(&c, &p)| c - p).collect())
+        .map(|part| {
+            let rest: Vec<u64> = counts.iter().zip(part).map(|(&c, &p)| c - p).collect();
+            symmetry.pool(&rest)
+        })
         .collect();
+    let parts: Vec<Vec<u64>> = parts.iter().map(|part| symmetry.pool(part)).collect();
     let held_out: Vec<Vec<f64>> = parts
         .iter()
         .map(|part| {
@@ -311,15 +326,23 @@ pub fn choose_automatic<E>(
                 .collect()
         })
         .collect();
-    // The held-out intensities' own variance, Σ c / Ω² per part (an
-    // unbiased estimate of Σ var(c / Ω)), and the training maps' mean
+    // The held-out intensities' own variance, Σ m·c / Ω² per part (an
+    // unbiased estimate of Σ var(c / Ω); m is the texel's multiplicity
+    // under the symmetry, 1 without), and the training maps' mean
     // intensity, for the error estimate.
     let held_out_noise: Vec<f64> = parts
         .iter()
         .map(|part| {
             part.iter()
                 .zip(omega)
-                .map(|(&c, &w)| if w > 0.0 { c as f64 / (w * w) } else { 0.0 })
+                .enumerate()
+                .map(|(t, (&c, &w))| {
+                    if w > 0.0 {
+                        symmetry.multiplicity(t) as f64 * c as f64 / (w * w)
+                    } else {
+                        0.0
+                    }
+                })
                 .sum()
         })
         .collect();
@@ -604,11 +627,26 @@ pub fn pyramid_solid_angles(layout: CubeMapLayout) -> Vec<Vec<f64>> {
 
 /// Filters a map of photon counts (texel order of `layout`).
 pub fn filter(layout: CubeMapLayout, counts: &[u64], settings: &FilterSettings) -> Filtered {
+    filter_symmetric(counts, settings, &TexelSymmetry::none(layout))
+}
+
+/// Filters the traced counts of a luminaire with `symmetry` (its layout is
+/// the map's): every texel gets the photons of all its images
+/// ([`TexelSymmetry::pool`]) before the pull, so stability, the Poisson
+/// test and the interpolation see |group| times the photons; the result is
+/// per traced photon, as from [`filter`].
+pub fn filter_symmetric(
+    counts: &[u64],
+    settings: &FilterSettings,
+    symmetry: &TexelSymmetry,
+) -> Filtered {
+    let layout = symmetry.layout;
     // The texel solid angles, computed once for every candidate's passes.
     let omega = layout.solid_angles();
-    match settings.threshold {
+    let pooled = symmetry.pool(counts);
+    let mut filtered = match settings.threshold {
         Threshold::Automatic => {
-            let chosen = choose_automatic(&omega, counts, settings, |c, candidate| {
+            let chosen = choose_automatic(&omega, counts, settings, symmetry, |c, candidate| {
                 Ok::<_, std::convert::Infallible>(
                     filter_with(layout, c, candidate, &omega).photons_per_sr,
                 )
@@ -619,11 +657,23 @@ pub fn filter(layout: CubeMapLayout, counts: &[u64], settings: &FilterSettings) 
             };
             Filtered {
                 automatic: AutomaticReport::new(&best, &scores),
-                ..filter_with(layout, counts, &best, &omega)
+                ..filter_with(layout, &pooled, &best, &omega)
             }
         }
-        _ => filter_with(layout, counts, settings, &omega),
+        _ => filter_with(layout, &pooled, settings, &omega),
+    };
+    per_traced_photon(&mut filtered, symmetry);
+    filtered
+}
+
+/// Turns a filter result on pooled counts into photons per steradian per
+/// traced photon (pooling counted each photon `order` times).
+pub fn per_traced_photon(filtered: &mut Filtered, symmetry: &TexelSymmetry) {
+    let order = symmetry.order() as f64;
+    if order > 1.0 {
+        filtered.photons_per_sr.iter_mut().for_each(|v| *v /= order);
     }
+    filtered.symmetry = symmetry.symmetry;
 }
 
 /// Filters with concrete settings (not `Automatic`); `omega` holds the
@@ -707,15 +757,19 @@ fn filter_with(
         settings: *settings,
         automatic: None,
         renormalisation,
+        symmetry: AxialSymmetry::None,
     }
 }
 
-/// Filters an intensity map; returns candela per texel and the report.
+/// Filters an intensity map of a luminaire with `symmetry` (of the map's
+/// layout; [`TexelSymmetry::none`] for none); returns candela per texel and
+/// the report.
 pub fn filter_map(
     map: &lucerna_photometry::IntensityMap,
     settings: &FilterSettings,
+    symmetry: &TexelSymmetry,
 ) -> (Vec<f64>, Filtered) {
-    let f = filter(map.layout, &map.counts, settings);
+    let f = filter_symmetric(&map.counts, settings, symmetry);
     let phi = map.flux_per_photon_lm();
     (f.photons_per_sr.iter().map(|v| v * phi).collect(), f)
 }

@@ -9,8 +9,8 @@ use common::photons;
 use lucerna_filter::{
     FilterSettings, Threshold, automatic_candidates, choose_automatic, filter, thinned_folds,
 };
-use lucerna_photometry::CubeMapLayout;
 use lucerna_photometry::cubemap::rectangle_solid_angle;
+use lucerna_photometry::{CubeMapLayout, TexelSymmetry};
 
 /// Two halves of `counts` (two-fold thinning).
 fn halves(counts: &[u64]) -> (Vec<u64>, Vec<u64>) {
@@ -248,11 +248,14 @@ fn the_choice_scores_every_candidate_on_held_out_photons() {
     let layout = CubeMapLayout::new(16);
     let counts = photons(layout, 10 * layout.texel_count(), 3, |_| 1.0);
     let base = FilterSettings::default();
-    let (chosen, scores) =
-        choose_automatic(&layout.solid_angles(), &counts, &base, |c, candidate| {
-            Ok::<_, ()>(filter(layout, c, candidate).photons_per_sr)
-        })
-        .unwrap();
+    let (chosen, scores) = choose_automatic(
+        &layout.solid_angles(),
+        &counts,
+        &base,
+        &TexelSymmetry::none(layout),
+        |c, candidate| Ok::<_, ()>(filter(layout, c, candidate).photons_per_sr),
+    )
+    .unwrap();
     assert_eq!(scores.len(), automatic_candidates(&base).len());
     assert!(scores.iter().all(|s| s.score.is_finite() && s.score > 0.0));
     let best = scores.iter().map(|s| s.score).fold(f64::INFINITY, f64::min);

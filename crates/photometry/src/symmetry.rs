@@ -198,12 +198,13 @@ impl std::fmt::Display for AxialSymmetry {
 }
 
 /// A symmetry group acting on the texels of one cube-map layout: for every
-/// isometry, the texel each texel maps onto.
+/// isometry but the identity, the texel each texel maps onto.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TexelSymmetry {
     pub symmetry: AxialSymmetry,
     pub layout: CubeMapLayout,
-    /// `images[g][t]`: the texel isometry g maps texel t onto.
+    /// `images[g − 1][t]`: the texel the group's isometry g (≥ 1) maps
+    /// texel t onto; the identity is implicit, so no symmetry costs nothing.
     images: Vec<Vec<u32>>,
 }
 
@@ -215,10 +216,12 @@ impl TexelSymmetry {
         let images = symmetry
             .elements()
             .into_iter()
+            .filter(|&g| g != AxialIsometry::Identity)
             .map(|g| {
                 (0..layout.texel_count())
                     .map(|t| {
-                        layout.texel_of_direction(g.apply(layout.texel_centre_direction(t))) as u32
+                        let image = g.apply(layout.texel_centre_direction(t));
+                        layout.texel_of_direction(image) as u32
                     })
                     .collect()
             })
@@ -235,14 +238,18 @@ impl TexelSymmetry {
         TexelSymmetry::new(layout, AxialSymmetry::None)
     }
 
-    /// Number of isometries.
+    /// Number of isometries, the identity included.
     pub fn order(&self) -> usize {
-        self.images.len()
+        self.images.len() + 1
     }
 
-    /// The image of texel `t` under the group's isometry `g`.
+    /// The image of texel `t` under the group's isometry `g` (0: identity,
+    /// in the order of [`AxialSymmetry::elements`]).
     pub fn image(&self, g: usize, t: usize) -> usize {
-        self.images[g][t] as usize
+        match g {
+            0 => t,
+            g => self.images[g - 1][t] as usize,
+        }
     }
 
     /// Sum of the counts of every image of each texel, one term per
@@ -251,11 +258,16 @@ impl TexelSymmetry {
     /// that an isometry maps onto themselves count those photons once per
     /// such isometry, so the total is exactly `order()` × the input total.
     pub fn pool(&self, counts: &[u64]) -> Vec<u64> {
-        if self.order() == 1 {
-            return counts.to_vec();
-        }
+        debug_assert_eq!(counts.len(), self.layout.texel_count());
         (0..counts.len())
-            .map(|t| self.images.iter().map(|g| counts[g[t] as usize]).sum())
+            .map(|t| {
+                counts[t]
+                    + self
+                        .images
+                        .iter()
+                        .map(|g| counts[g[t] as usize])
+                        .sum::<u64>()
+            })
             .collect()
     }
 
@@ -263,7 +275,7 @@ impl TexelSymmetry {
     /// that many times a sum of independent counts, so its variance is
     /// `multiplicity × count` rather than `count`.
     pub fn multiplicity(&self, t: usize) -> usize {
-        self.images.iter().filter(|g| g[t] as usize == t).count()
+        1 + self.images.iter().filter(|g| g[t] as usize == t).count()
     }
 }
 

@@ -11,6 +11,7 @@ pub mod prepared;
 pub mod rng;
 pub mod sampling;
 pub mod session;
+pub mod symmetry;
 // reason: SIMD intrinsics and `#[target_feature]` functions, called only
 // after run-time feature detection.
 #[allow(unsafe_code)]
@@ -19,3 +20,4 @@ pub mod wide_traversal;
 pub use cpu::{Fate, Tally, TraceSettings, trace_batch};
 pub use prepared::{PrepareError, PreparedScene};
 pub use session::{Backend, BackendRequest, IterationReport, Session, choose_backend};
+pub use symmetry::{LuminaireSymmetry, luminaire_symmetry};

@@ -8,11 +8,14 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 use lucerna_photometry::{
-    CubeMapLayout, IesVersion, IntensityMap, Symmetry, to_latin1, write_ies, write_ldt,
+    AxialSymmetry, CubeMapLayout, IesVersion, IntensityMap, Symmetry, TexelSymmetry, to_latin1,
+    write_ies, write_ldt,
 };
 use lucerna_scene::{Scene, TessellatedScene, load_scene, tessellate, write_atomically};
 use lucerna_tracer::export::{ExportOptions, photometry_from_candela};
-use lucerna_tracer::{BackendRequest, PreparedScene, Session, TraceSettings, choose_backend};
+use lucerna_tracer::{
+    BackendRequest, PreparedScene, Session, TraceSettings, choose_backend, luminaire_symmetry,
+};
 
 /// Which tracer runs the bake.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -33,6 +36,15 @@ pub enum SymmetryArg {
     Quadrant,
     C0C180,
     C90C270,
+}
+
+/// Whether photons are pooled over the luminaire's symmetry.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum PoolSymmetry {
+    /// The symmetry found in the luminaire's geometry.
+    Auto,
+    /// No pooling.
+    None,
 }
 
 #[derive(Debug, clap::Args)]
@@ -67,10 +79,17 @@ pub struct BakeArgs {
     /// until the table holds the traced flux within 0.5 % (narrow beams).
     #[arg(long)]
     pub gamma_step: Option<f64>,
-    /// Average the table over a symmetry (halves noise where the luminaire
-    /// has it).
+    /// Average the exported table over a symmetry the user imposes (even
+    /// one the geometry lacks, such as rotational), and declare it in the
+    /// files.
     #[arg(long, value_enum, default_value_t = SymmetryArg::None)]
     pub symmetrise: SymmetryArg,
+    /// Pool the photons of every image of a direction under the
+    /// luminaire's own symmetry about its axis (quarter turns, mirror
+    /// planes), found from its geometry: `auto` (worth up to 8× the
+    /// photons, unbiased) or `none` (the counts as traced).
+    #[arg(long, value_enum, default_value_t = PoolSymmetry::Auto)]
+    pub symmetry: PoolSymmetry,
     /// Export the map filtered by the pull-push bilateral filter: `auto`
     /// (rule chosen per map by cross-validation on the photons), a photon
     /// threshold such as 100, or `none` for the raw map.
@@ -175,16 +194,46 @@ pub fn load_luminaire(path: &Path) -> Result<(Scene, TessellatedScene, PreparedS
     Ok((scene, tessellated, prepared))
 }
 
+/// The symmetry the photons are pooled over, with a line saying which.
+pub fn pooling_symmetry(
+    choice: PoolSymmetry,
+    scene: &Scene,
+    tessellated: &TessellatedScene,
+    layout: CubeMapLayout,
+) -> TexelSymmetry {
+    let symmetry = match choice {
+        PoolSymmetry::None => AxialSymmetry::None,
+        PoolSymmetry::Auto => {
+            let found = luminaire_symmetry(scene, tessellated);
+            if let Some(why) = &found.limited_by {
+                eprintln!("symmetry: {why}");
+            }
+            found.symmetry
+        }
+    };
+    if symmetry != AxialSymmetry::None {
+        eprintln!(
+            "symmetry: {symmetry}: each photon counted in its {} images",
+            symmetry.order()
+        );
+    }
+    TexelSymmetry::new(layout, symmetry)
+}
+
 /// The map's candela per texel as exported: raw, or filtered (with a line
-/// on what the filter did).
-pub fn exported_candela(map: &IntensityMap, filter: FilterChoice) -> Vec<f64> {
+/// on what the filter did); both pooled over `symmetry`.
+pub fn exported_candela(
+    map: &IntensityMap,
+    filter: FilterChoice,
+    symmetry: &TexelSymmetry,
+) -> Vec<f64> {
     match filter.0 {
         Some(threshold) => {
             let settings = lucerna_filter::FilterSettings {
                 threshold,
                 ..Default::default()
             };
-            let (candela, report) = lucerna_filter::filter_map(map, &settings);
+            let (candela, report) = lucerna_filter::filter_map(map, &settings, symmetry);
             eprintln!(
                 "filtered: {}{}, {} of {} texels replaced, renormalised by {:.4}",
                 report.settings,
@@ -206,7 +255,7 @@ pub fn exported_candela(map: &IntensityMap, filter: FilterChoice) -> Vec<f64> {
             }
             candela
         }
-        None => map.candela(),
+        None => map.symmetrised(symmetry).candela(),
     }
 }
 
@@ -306,7 +355,8 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
             .file_name()
             .map_or(String::new(), |s| s.to_string_lossy().into_owned()),
     };
-    let candela = exported_candela(&map, args.filter);
+    let symmetry = pooling_symmetry(args.symmetry, &scene, &tessellated, map.layout);
+    let candela = exported_candela(&map, args.filter, &symmetry);
     let photometry = photometry_from_candela(&map, &candela, &scene, &tessellated, &options);
     // cd/klm of the lamp (emitter) flux, as in the LDT; validation keeps
     // the flux > 0.

@@ -75,7 +75,8 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((w, h))
 }
 
-/// Traces a luminaire scene into photometry (auto backend, filtered map).
+/// Traces a luminaire scene into photometry (auto backend, filtered map
+/// pooled over the luminaire's symmetry).
 fn bake_profile(path: &Path, photons: u64) -> Result<Photometry> {
     let (scene, tessellated, prepared) = super::bake::load_luminaire(path)?;
     let settings = TraceSettings {
@@ -90,9 +91,16 @@ fn bake_profile(path: &Path, photons: u64) -> Result<Photometry> {
         session.iterate_at_most(left)?;
     }
     let map = session.snapshot();
+    let symmetry = super::bake::pooling_symmetry(
+        super::bake::PoolSymmetry::Auto,
+        &scene,
+        &tessellated,
+        map.layout,
+    );
     let candela = super::bake::exported_candela(
         &map,
         super::bake::FilterChoice(Some(lucerna_filter::Threshold::Automatic)),
+        &symmetry,
     );
     let options = ExportOptions {
         c_step_deg: 5.0,
