@@ -88,14 +88,14 @@ fn texel_at(resolution: u32, face: u32, cx: i32, cy: i32) -> u32 {
     if cx >= 0 && cx < n && cy >= 0 && cy < n {
         return face * resolution * resolution + u32(cy) * resolution + u32(cx);
     }
-    // Past a cube corner: step across one edge only (as in Rust).
-    var y = cy;
-    if cx < 0 || cx >= n {
-        y = clamp(cy, 0, n - 1);
+    // Past a cube corner: the face's own corner texel (as in Rust).
+    if (cx < 0 || cx >= n) && (cy < 0 || cy >= n) {
+        return face * resolution * resolution + u32(clamp(cy, 0, n - 1)) * resolution
+            + u32(clamp(cx, 0, n - 1));
     }
     let step = 2.0 / f32(n);
     let a = -1.0 + (f32(cx) + 0.5) * step;
-    let b = -1.0 + (f32(y) + 0.5) * step;
+    let b = -1.0 + (f32(cy) + 0.5) * step;
     return cube_texel_of_direction(cube_face_direction(face, a, b), resolution);
 }
 

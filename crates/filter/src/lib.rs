@@ -472,13 +472,14 @@ fn texel_at(layout: CubeMapLayout, face: CubeFace, cx: i64, cy: i64) -> usize {
     if (0..n).contains(&cx) && (0..n).contains(&cy) {
         return layout.texel_index(face, cx as u32, cy as u32);
     }
-    // Past a cube corner there is no diagonal neighbour: step across one
-    // edge only, so the lookup never hangs on a tie between two faces.
-    let cy = if (0..n).contains(&cx) {
-        cy
-    } else {
-        cy.clamp(0, n - 1)
-    };
+    // Past a cube corner there is no diagonal neighbour (three faces meet):
+    // the face's own corner texel stands in. Clamping both coordinates is
+    // the same choice from either edge, so the filter keeps the cube's
+    // symmetries (a luminaire's quarter turns and diagonal mirrors).
+    let inside = |c: i64| (0..n).contains(&c);
+    if !inside(cx) && !inside(cy) {
+        return layout.texel_index(face, cx.clamp(0, n - 1) as u32, cy.clamp(0, n - 1) as u32);
+    }
     let step = 2.0 / n as f64;
     let a = -1.0 + (cx as f64 + 0.5) * step;
     let b = -1.0 + (cy as f64 + 0.5) * step;

@@ -5,8 +5,8 @@ mod common;
 
 use common::photons;
 use lucerna_filter::gpu::GpuFilter;
-use lucerna_filter::{FilterSettings, Threshold, filter};
-use lucerna_photometry::CubeMapLayout;
+use lucerna_filter::{FilterSettings, Threshold, filter, filter_symmetric};
+use lucerna_photometry::{AxialSymmetry, CubeMapLayout, TexelSymmetry};
 
 fn context() -> Option<lucerna_gpu::GpuContext> {
     lucerna_gpu::open_for_tests()
@@ -57,5 +57,41 @@ fn gpu_filter_matches_the_cpu_reference() {
                 cpu.renormalisation
             );
         }
+    }
+}
+
+#[test]
+fn gpu_filter_with_a_symmetry_matches_the_cpu_reference() {
+    let Some(ctx) = context() else { return };
+    let layout = CubeMapLayout::new(32);
+    let gpu = GpuFilter::new(ctx, layout).unwrap();
+    let sym = TexelSymmetry::new(layout, AxialSymmetry::Square);
+    let counts = photons(layout, 4 * layout.texel_count(), 9, |d| {
+        if d[2] > 0.5 {
+            0.5 + 0.5 * (d[0] * d[1]).abs()
+        } else {
+            0.05
+        }
+    });
+    for threshold in [Threshold::Automatic, Threshold::Fixed(100.0)] {
+        let settings = FilterSettings {
+            threshold,
+            ..Default::default()
+        };
+        let cpu = filter_symmetric(&counts, &settings, &sym);
+        let g = gpu.filter_symmetric(&counts, &settings, &sym).unwrap();
+        assert_eq!(g.settings, cpu.settings, "{threshold:?}");
+        assert_eq!(g.symmetry, AxialSymmetry::Square);
+        let differing = (0..counts.len())
+            .filter(|&t| {
+                let (a, b) = (g.photons_per_sr[t], cpu.photons_per_sr[t]);
+                (a - b).abs() > 1e-3 * b.abs().max(1.0) || g.replaced[t] != cpu.replaced[t]
+            })
+            .count();
+        assert!(
+            differing * 1000 <= counts.len(),
+            "{threshold:?}: {differing} of {} texels differ",
+            counts.len()
+        );
     }
 }

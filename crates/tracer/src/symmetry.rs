@@ -234,7 +234,7 @@ pub fn luminaire_symmetry(scene: &Scene, tessellated: &TessellatedScene) -> Lumi
             around[vertex[i as usize] as usize].push(t as u32);
         }
     }
-    let grid = TriangleGrid::new(mesh.triangle_count(), extent, &corners);
+    let grid = TriangleGrid::new(mesh.triangle_count(), extent, corners);
     let holds = |g: AxialIsometry| {
         if g.is_mirror() && twisted.is_some() {
             return false;
