@@ -389,3 +389,73 @@ fn bake_can_export_the_filtered_map() {
     ]);
     assert!(!out.status.success());
 }
+
+#[test]
+fn bake_pools_photons_over_the_luminaires_symmetry() {
+    // The faceted downlight has all eight symmetries: with `--symmetry
+    // auto` the exported table is the same in C-planes a quarter turn or a
+    // mirror apart; with `none` they differ by the photon noise.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = assets().join("luminaires/faceted_downlight.toml");
+    let mut tables = Vec::new();
+    for choice in ["auto", "none"] {
+        let out_dir = dir.path().join(choice);
+        let out = lucerna(&[
+            "bake",
+            scene.to_str().unwrap(),
+            "--photons",
+            "200000",
+            "--resolution",
+            "64",
+            "--backend",
+            "cpu",
+            "--symmetry",
+            choice,
+            "--out",
+            out_dir.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let said = text(&out.stderr).contains("symmetry: quarter turns and four mirror planes");
+        assert_eq!(said, choice == "auto", "{}", text(&out.stderr));
+        let bytes = std::fs::read(out_dir.join("faceted_downlight.ies")).unwrap();
+        tables.push(lucerna_photometry::read_photometry(&bytes).unwrap().table);
+    }
+    // RMS difference between I(C, γ) and I at the image of C, relative to
+    // the mean intensity, over the lit hemisphere.
+    let asymmetry = |table: &lucerna_photometry::CandelaTable, image: fn(f64) -> f64| {
+        let g = table.gammas_deg.len();
+        let at = |c: f64| {
+            let c = c.rem_euclid(360.0);
+            table
+                .c_planes_deg
+                .iter()
+                .position(|&x| (x - c).abs() < 1e-6)
+        };
+        let (mut sum, mut sq, mut n) = (0.0, 0.0, 0);
+        for (i, &c) in table.c_planes_deg.iter().enumerate() {
+            let Some(j) = at(image(c)) else { continue };
+            for k in 0..g {
+                if table.gammas_deg[k] > 60.0 {
+                    continue;
+                }
+                let (a, b) = (table.candela[i * g + k], table.candela[j * g + k]);
+                sum += a;
+                sq += (a - b).powi(2);
+                n += 1;
+            }
+        }
+        (sq / n as f64).sqrt() / (sum / n as f64)
+    };
+    let images: [(&str, fn(f64) -> f64); 3] = [
+        ("quarter turn", |c| c + 90.0),
+        ("mirror in C0-C180", |c| 360.0 - c),
+        ("mirror in C45-C225", |c| 90.0 - c),
+    ];
+    for (name, image) in images {
+        let (pooled, traced) = (asymmetry(&tables[0], image), asymmetry(&tables[1], image));
+        eprintln!("{name}: asymmetry {pooled:.5} pooled, {traced:.5} as traced");
+        assert!(pooled < 0.1 * traced, "{name}: {pooled} vs {traced}");
+    }
+    let flux = |t: &lucerna_photometry::CandelaTable| t.flux_lm();
+    assert!((flux(&tables[0]) / flux(&tables[1]) - 1.0).abs() < 0.01);
+}

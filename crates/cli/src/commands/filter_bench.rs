@@ -8,11 +8,11 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, Result};
-use lucerna_filter::{FilterSettings, Threshold, filter};
-use lucerna_photometry::CubeMapLayout;
+use lucerna_filter::{FilterSettings, Threshold, filter, filter_symmetric};
+use lucerna_photometry::{CubeMapLayout, TexelSymmetry};
 use lucerna_pictures::chart::{Series, log_log_chart_png};
 use lucerna_scene::write_atomically;
-use lucerna_tracer::{PreparedScene, TraceSettings, trace_batch};
+use lucerna_tracer::{PreparedScene, TraceSettings, luminaire_symmetry, trace_batch};
 
 #[derive(Debug, clap::Args)]
 pub struct FilterBenchArgs {
@@ -81,9 +81,10 @@ pub fn rmse_mean_scaled(a: &[f64], b: &[f64]) -> f64 {
 
 /// The part of a mean-scaled MSE against the reference that is the
 /// reference's own Poisson noise: mean over texels of var(r_t) / mean(r)²
-/// with var(r_t) = c_t / Ω_t² (an estimate independent of the reference
-/// sees it added to its true error).
-pub fn reference_noise_mse(layout: CubeMapLayout, counts: &[u64]) -> f64 {
+/// with var(r_t) = m_t · c_t / Ω_t² (an estimate independent of the
+/// reference sees it added to its true error); `counts` may be pooled over
+/// a symmetry, m_t is then the texel's multiplicity (1 without).
+pub fn reference_noise_mse(layout: CubeMapLayout, counts: &[u64], symmetry: &TexelSymmetry) -> f64 {
     let intensity = raw_intensity(layout, counts);
     let mean = intensity.iter().sum::<f64>() / intensity.len() as f64;
     if mean <= 0.0 {
@@ -92,7 +93,9 @@ pub fn reference_noise_mse(layout: CubeMapLayout, counts: &[u64]) -> f64 {
     counts
         .iter()
         .enumerate()
-        .map(|(t, &c)| c as f64 / layout.texel_solid_angle(t).powi(2))
+        .map(|(t, &c)| {
+            symmetry.multiplicity(t) as f64 * c as f64 / layout.texel_solid_angle(t).powi(2)
+        })
         .sum::<f64>()
         / counts.len() as f64
         / (mean * mean)
@@ -102,6 +105,25 @@ pub fn reference_noise_mse(layout: CubeMapLayout, counts: &[u64]) -> f64 {
 /// error is all reference noise).
 fn corrected(rmse: f64, reference_noise_mse: f64) -> f64 {
     (rmse * rmse - reference_noise_mse).max(0.0).sqrt()
+}
+
+/// One way of turning counts into an intensity map.
+struct Method {
+    /// Series name in the CSV and plot.
+    label: String,
+    /// Filter rule, or none for the raw map.
+    threshold: Option<Threshold>,
+    /// Pool the photons over the luminaire's symmetry.
+    symmetric: bool,
+    /// Drawn in the plot (the CSV has every method).
+    plotted: bool,
+}
+
+/// Errors of one method at each photon count.
+#[derive(Default)]
+struct Errors {
+    measured: Vec<f64>,
+    corrected: Vec<f64>,
 }
 
 pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
@@ -117,14 +139,17 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
     std::fs::create_dir_all(&args.out)?;
     let layout = CubeMapLayout::new(args.resolution);
     let mut csv = String::from(
-        "scene,resolution,photons,method,rule,rmse,rmse_reference_noise_removed,filter_ms,estimated_rmse\n",
+        "scene,resolution,photons,method,symmetry,rule,rmse,rmse_reference_noise_removed,filter_ms,estimated_rmse\n",
     );
     let mut summary = String::new();
     for path in &scenes {
         let name = path
             .file_stem()
             .map_or(String::new(), |s| s.to_string_lossy().into_owned());
-        let (_, _, prepared) = super::bake::load_luminaire(path)?;
+        let (scene, tessellated, prepared) = super::bake::load_luminaire(path)?;
+        let found = luminaire_symmetry(&scene, &tessellated);
+        let symmetry = TexelSymmetry::new(layout, found.symmetry);
+        let none = TexelSymmetry::none(layout);
         let start = Instant::now();
         let reference_settings = TraceSettings {
             seed: 1_000_003,
@@ -140,10 +165,14 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
             &mut done,
             args.reference_photons,
         );
-        let noise = reference_noise_mse(layout, &reference);
+        // The reference is pooled over the luminaire's symmetry too: its
+        // noise drops by √order, every comparison gets sharper.
+        let reference = symmetry.pool(&reference);
+        let noise = reference_noise_mse(layout, &reference, &symmetry);
         let reference = raw_intensity(layout, &reference);
         eprintln!(
-            "{name}: reference of {} photons in {:.0} s",
+            "{name}: symmetry {}; reference of {} photons in {:.0} s",
+            found.symmetry,
             args.reference_photons,
             start.elapsed().as_secs_f64()
         );
@@ -152,71 +181,95 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
             max_bounces: 64,
             layout,
         };
+        let mut methods = Vec::new();
+        for symmetric in [false, true] {
+            let tag = if symmetric { ", symmetry" } else { "" };
+            methods.push(Method {
+                label: format!("raw{tag}"),
+                threshold: None,
+                symmetric,
+                plotted: true,
+            });
+            for t in FIXED {
+                methods.push(Method {
+                    label: format!("T = {t}{tag}"),
+                    threshold: Some(Threshold::Fixed(t)),
+                    symmetric,
+                    plotted: t == 100.0,
+                });
+            }
+            methods.push(Method {
+                label: format!("automatic{tag}"),
+                threshold: Some(Threshold::Automatic),
+                symmetric,
+                plotted: true,
+            });
+        }
+        let mut errors: Vec<Errors> = methods.iter().map(|_| Errors::default()).collect();
+        // The rules the automatic modes chose at each photon count, and the
+        // errors they estimated.
+        let mut chosen: Vec<Vec<String>> = vec![Vec::new(); methods.len()];
         let mut counts = vec![0u64; layout.texel_count()];
         let mut done = 0;
-        let mut series: Vec<Series> = std::iter::once("raw".to_owned())
-            .chain(FIXED.iter().map(|t| format!("T = {t}")))
-            .chain(std::iter::once("automatic".to_owned()))
-            .map(|name| Series {
-                name,
-                points: Vec::new(),
-            })
-            .collect();
-        // The same errors with the reference's own noise removed.
-        let mut corrected_points: Vec<Vec<f64>> = vec![Vec::new(); series.len()];
-        // The rule the automatic mode chose at each photon count, and the
-        // error it estimated for it.
-        let mut chosen = Vec::new();
-        let mut estimated = Vec::new();
+        let mut photon_counts = Vec::new();
         let mut n = 100_000u64;
         while n <= args.max_photons {
             trace_to(&prepared, &settings, &mut counts, &mut done, n);
-            let raw = rmse_mean_scaled(&raw_intensity(layout, &counts), &reference);
-            series[0].points.push((n as f64, raw));
-            corrected_points[0].push(corrected(raw, noise));
-            let _ = writeln!(
-                csv,
-                "{name},{},{n},raw,,{raw:.6},{:.6},,",
-                args.resolution,
-                corrected(raw, noise)
-            );
-            let thresholds = FIXED
-                .iter()
-                .map(|&t| Threshold::Fixed(t))
-                .chain(std::iter::once(Threshold::Automatic));
-            for (k, threshold) in thresholds.enumerate() {
+            photon_counts.push(n);
+            for (k, method) in methods.iter().enumerate() {
+                let sym = if method.symmetric { &symmetry } else { &none };
                 let t0 = Instant::now();
-                let f = filter(
-                    layout,
-                    &counts,
-                    &FilterSettings {
-                        threshold,
-                        ..Default::default()
-                    },
-                );
-                let ms = t0.elapsed().as_secs_f64() * 1e3;
-                let e = rmse_mean_scaled(&f.photons_per_sr, &reference);
-                series[k + 1].points.push((n as f64, e));
-                corrected_points[k + 1].push(corrected(e, noise));
-                let method = if threshold == Threshold::Automatic {
-                    "automatic"
-                } else {
-                    "fixed"
+                let (intensity, rule, estimate) = match method.threshold {
+                    None => {
+                        let pooled = sym.pool(&counts);
+                        let order = sym.order() as f64;
+                        let mut v = raw_intensity(layout, &pooled);
+                        v.iter_mut().for_each(|x| *x /= order);
+                        (v, String::new(), None)
+                    }
+                    Some(threshold) => {
+                        let f = filter_symmetric(
+                            &counts,
+                            &FilterSettings {
+                                threshold,
+                                ..Default::default()
+                            },
+                            sym,
+                        );
+                        let estimate = f.automatic.map(|a| a.estimated_rmse);
+                        (f.photons_per_sr, f.settings.to_string(), estimate)
+                    }
                 };
+                let ms = t0.elapsed().as_secs_f64() * 1e3;
+                let e = rmse_mean_scaled(&intensity, &reference);
+                errors[k].measured.push(e);
+                errors[k].corrected.push(corrected(e, noise));
+                if let Some(estimate) = estimate {
+                    chosen[k].push(format!("{rule}; estimated {estimate:.4}"));
+                }
                 // The rule's description holds commas: quoted.
                 let _ = writeln!(
                     csv,
-                    "{name},{},{n},{method},\"{}\",{e:.6},{:.6},{ms:.1},{}",
+                    "{name},{},{n},{},{},\"{rule}\",{e:.6},{:.6},{},{}",
                     args.resolution,
-                    f.settings,
+                    match method.threshold {
+                        None => "raw",
+                        Some(Threshold::Automatic) => "automatic",
+                        Some(_) => "fixed",
+                    },
+                    if method.symmetric {
+                        found.symmetry.order()
+                    } else {
+                        1
+                    },
                     corrected(e, noise),
-                    f.automatic
-                        .map_or(String::new(), |a| format!("{:.6}", a.estimated_rmse))
+                    if method.threshold.is_some() {
+                        format!("{ms:.1}")
+                    } else {
+                        String::new()
+                    },
+                    estimate.map_or(String::new(), |e| format!("{e:.6}"))
                 );
-                if let Some(a) = f.automatic {
-                    chosen.push(f.settings);
-                    estimated.push(a.estimated_rmse);
-                }
             }
             eprintln!(
                 "{name}: {n} photons done ({:.0} s)",
@@ -226,52 +279,87 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
         }
         // Targets: filtered(N) ≤ raw(10 N); automatic within 10 % of the
         // best fixed threshold. Both as measured and with the reference's
-        // noise (√MSE {noise}) taken out.
+        // noise taken out; without and with the symmetry.
         let _ = writeln!(
             summary,
-            "{name} {}²: reference noise alone gives RMSE {:.4}",
+            "{name} {}²: symmetry {} ({}); reference of {} photons pooled, its noise alone gives RMSE {:.4}",
             args.resolution,
+            found.symmetry,
+            found
+                .limited_by
+                .as_deref()
+                .unwrap_or("found from the geometry"),
+            args.reference_photons,
             noise.sqrt()
         );
-        for (label, values) in [
-            (
-                "measured",
-                series
-                    .iter()
-                    .map(|s| s.points.iter().map(|p| p.1).collect::<Vec<_>>())
-                    .collect::<Vec<_>>(),
-            ),
-            ("reference noise removed", corrected_points.clone()),
-        ] {
-            let raw = &values[0];
-            for i in 0..raw.len() {
-                let best_fixed = (1..=FIXED.len())
-                    .map(|k| values[k][i])
-                    .fold(f64::INFINITY, f64::min);
-                let auto = values[FIXED.len() + 1][i];
-                let raw_10n = raw.get(i + 1).copied();
-                let _ = writeln!(
-                    summary,
-                    "{name} {}² N = {:.0e} ({label}): raw {:.4}, raw(10N) {}, best fixed {:.4}, automatic {:.4} ({:+.1} % vs best, {}; estimated {}) {}",
-                    args.resolution,
-                    series[0].points[i].0,
-                    raw[i],
-                    raw_10n.map_or("—".to_owned(), |v| format!("{v:.4}")),
-                    best_fixed,
-                    auto,
-                    100.0 * (auto / best_fixed - 1.0),
-                    chosen.get(i).map_or(String::new(), ToString::to_string),
-                    estimated
-                        .get(i)
-                        .map_or(String::new(), |e| format!("{e:.4}")),
-                    match raw_10n {
-                        Some(r) if auto <= r => "filtered(N) ≤ raw(10N): yes",
-                        Some(_) => "filtered(N) ≤ raw(10N): NO",
-                        None => "",
-                    }
-                );
+        let index = |label: &str| methods.iter().position(|m| m.label == label);
+        for corrected_errors in [false, true] {
+            let label = if corrected_errors {
+                "reference noise removed"
+            } else {
+                "measured"
+            };
+            let of = |k: usize| {
+                if corrected_errors {
+                    &errors[k].corrected
+                } else {
+                    &errors[k].measured
+                }
+            };
+            for symmetric in [false, true] {
+                if symmetric && found.symmetry.order() == 1 {
+                    continue;
+                }
+                let tag = if symmetric { ", symmetry" } else { "" };
+                let (Some(raw_k), Some(sym_raw_k), Some(auto_k)) = (
+                    index("raw"),
+                    index(&format!("raw{tag}")),
+                    index(&format!("automatic{tag}")),
+                ) else {
+                    continue;
+                };
+                for (i, &n) in photon_counts.iter().enumerate() {
+                    let best_fixed = methods
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, m)| {
+                            m.symmetric == symmetric
+                                && matches!(m.threshold, Some(Threshold::Fixed(_)))
+                        })
+                        .map(|(k, _)| of(k)[i])
+                        .fold(f64::INFINITY, f64::min);
+                    let auto = of(auto_k)[i];
+                    let raw_10n = of(raw_k).get(i + 1).copied();
+                    let _ = writeln!(
+                        summary,
+                        "{name} {}² N = {n:.0e} ({label}{tag}): raw {:.4}, raw(10N) {}, best fixed {best_fixed:.4}, automatic {auto:.4} ({:+.1} % vs best; {}) {}",
+                        args.resolution,
+                        of(sym_raw_k)[i],
+                        raw_10n.map_or("—".to_owned(), |v| format!("{v:.4}")),
+                        100.0 * (auto / best_fixed - 1.0),
+                        chosen[auto_k].get(i).map_or("", String::as_str),
+                        match raw_10n {
+                            Some(r) if auto <= r => "filtered(N) ≤ raw(10N): yes",
+                            Some(_) => "filtered(N) ≤ raw(10N): NO",
+                            None => "",
+                        }
+                    );
+                }
             }
         }
+        let series: Vec<Series> = methods
+            .iter()
+            .zip(&errors)
+            .filter(|(m, _)| m.plotted && (!m.symmetric || found.symmetry.order() > 1))
+            .map(|(m, e)| Series {
+                name: m.label.clone(),
+                points: photon_counts
+                    .iter()
+                    .zip(&e.measured)
+                    .map(|(&n, &e)| (n as f64, e))
+                    .collect(),
+            })
+            .collect();
         let png = log_log_chart_png(
             &series,
             &format!(
