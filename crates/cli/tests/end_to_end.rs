@@ -446,7 +446,8 @@ fn bake_pools_photons_over_the_luminaires_symmetry() {
         }
         (sq / n as f64).sqrt() / (sum / n as f64)
     };
-    let images: [(&str, fn(f64) -> f64); 3] = [
+    type Image = fn(f64) -> f64;
+    let images: [(&str, Image); 3] = [
         ("quarter turn", |c| c + 90.0),
         ("mirror in C0-C180", |c| 360.0 - c),
         ("mirror in C45-C225", |c| 90.0 - c),
