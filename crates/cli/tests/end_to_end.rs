@@ -417,6 +417,19 @@ fn bake_pools_photons_over_the_luminaires_symmetry() {
         assert!(out.status.success(), "{}", text(&out.stderr));
         let said = text(&out.stderr).contains("symmetry: quarter turns and four mirror planes");
         assert_eq!(said, choice == "auto", "{}", text(&out.stderr));
+        // The files declare the symmetry they were pooled over.
+        for file in ["faceted_downlight.ies", "faceted_downlight.ldt"] {
+            let bytes = std::fs::read(out_dir.join(file)).unwrap();
+            let declared = lucerna_photometry::read_photometry(&bytes)
+                .unwrap()
+                .symmetry;
+            let expected = if choice == "auto" {
+                lucerna_photometry::Symmetry::Quadrant
+            } else {
+                lucerna_photometry::Symmetry::None
+            };
+            assert_eq!(declared, expected, "{choice} {file}");
+        }
         let bytes = std::fs::read(out_dir.join("faceted_downlight.ies")).unwrap();
         tables.push(lucerna_photometry::read_photometry(&bytes).unwrap().table);
     }

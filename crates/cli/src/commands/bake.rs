@@ -81,7 +81,9 @@ pub struct BakeArgs {
     pub gamma_step: Option<f64>,
     /// Average the exported table over a symmetry the user imposes (even
     /// one the geometry lacks, such as rotational), and declare it in the
-    /// files.
+    /// files. By default the files declare what the photons were pooled
+    /// over (`--symmetry`): quadrant or one mirror plane, where the formats
+    /// can say it.
     #[arg(long, value_enum, default_value_t = SymmetryArg::None)]
     pub symmetrise: SymmetryArg,
     /// Pool the photons of every image of a direction under the
@@ -338,11 +340,17 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
         .scene
         .file_stem()
         .map_or("luminaire".to_owned(), |s| s.to_string_lossy().into_owned());
+    let symmetry = pooling_symmetry(args.symmetry, &scene, &tessellated, map.layout);
+    let candela = exported_candela(&map, args.filter, &symmetry);
     let options = ExportOptions {
         c_step_deg: args.c_step,
         gamma_step_deg: args.gamma_step,
         symmetrise: match args.symmetrise {
-            SymmetryArg::None => None,
+            // A pooled map is exactly symmetric: the files say so (and
+            // store only the C-planes the symmetry needs).
+            SymmetryArg::None => {
+                Some(symmetry.symmetry.file_symmetry()).filter(|&s| s != Symmetry::None)
+            }
             SymmetryArg::Rotational => Some(Symmetry::Rotational),
             SymmetryArg::Quadrant => Some(Symmetry::Quadrant),
             SymmetryArg::C0C180 => Some(Symmetry::AboutC0C180),
@@ -355,8 +363,6 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
             .file_name()
             .map_or(String::new(), |s| s.to_string_lossy().into_owned()),
     };
-    let symmetry = pooling_symmetry(args.symmetry, &scene, &tessellated, map.layout);
-    let candela = exported_candela(&map, args.filter, &symmetry);
     let photometry = photometry_from_candela(&map, &candela, &scene, &tessellated, &options);
     // cd/klm of the lamp (emitter) flux, as in the LDT; validation keeps
     // the flux > 0.
