@@ -5,8 +5,8 @@
 use std::time::{Duration, Instant};
 
 use lucerna_gpu::{GpuContext, GpuError};
-use lucerna_photometry::IntensityMap;
 use lucerna_photometry::cubemap::rectangle_solid_angle;
+use lucerna_photometry::{AxialSymmetry, IntensityMap, TexelSymmetry};
 
 use crate::cpu::{Tally, TraceSettings, trace_batch};
 use crate::gpu::GpuTracer;
@@ -171,6 +171,9 @@ pub struct Session {
     bounces: u64,
     rays: u64,
     tracing_time: Duration,
+    /// The symmetry the map's photons will be pooled over: the reported
+    /// peak error is that of the pooled map.
+    symmetry: TexelSymmetry,
 }
 
 impl Session {
@@ -202,7 +205,15 @@ impl Session {
             bounces: 0,
             rays: 0,
             tracing_time: Duration::ZERO,
+            symmetry: TexelSymmetry::none(settings.layout),
         }
+    }
+
+    /// Reports the peak error of the map pooled over the luminaire's
+    /// `symmetry` (what an export with pooling holds). A restart forgets
+    /// it: a changed scene may have another symmetry.
+    pub fn pool_over(&mut self, symmetry: AxialSymmetry) {
+        self.symmetry = TexelSymmetry::new(self.settings.layout, symmetry);
     }
 
     /// Drops everything traced and starts over on a changed scene (on the
@@ -282,7 +293,7 @@ impl Session {
             rays_per_second: self.rays as f64 / seconds,
             mean_bounces: self.bounces as f64 / total.max(1) as f64,
             flux_relative_error: flux_relative_error(&self.map),
-            peak_relative_error: peak_relative_error(&self.map),
+            peak_relative_error: peak_relative_error(&self.map, &self.symmetry),
         }
     }
 }
@@ -309,14 +320,17 @@ pub fn flux_relative_error(map: &IntensityMap) -> f64 {
 /// Poisson error 1/√n of the brightest block of texels (blocks of 1/8 of a
 /// face edge, compared per steradian), relative. A block's solid angle is
 /// the exact solid angle of its face rectangle, so this costs a few hundred
-/// `atan2` per iteration rather than one per texel.
-pub fn peak_relative_error(map: &IntensityMap) -> f64 {
+/// `atan2` per iteration rather than one per texel. With a symmetry, the
+/// block's estimate pools the photons of all its images: n counts each
+/// texel of their union once.
+pub fn peak_relative_error(map: &IntensityMap, symmetry: &TexelSymmetry) -> f64 {
     let n = map.layout.resolution as usize;
     let b = (n / 8).max(1);
     let blocks = n.div_ceil(b);
     let step = 2.0 / n as f64;
     let mut best_intensity = 0.0;
     let mut best_count = 0u64;
+    let mut best_block = (0, 0, 0);
     for face in 0..6 {
         for by in 0..blocks {
             for bx in 0..blocks {
@@ -337,9 +351,21 @@ pub fn peak_relative_error(map: &IntensityMap) -> f64 {
                 if intensity > best_intensity {
                     best_intensity = intensity;
                     best_count = count;
+                    best_block = (face, bx, by);
                 }
             }
         }
+    }
+    if symmetry.order() > 1 && best_count > 0 {
+        let (face, bx, by) = best_block;
+        let mut union: Vec<usize> = (by * b..((by + 1) * b).min(n))
+            .flat_map(|y| (bx * b..((bx + 1) * b).min(n)).map(move |x| face * n * n + y * n + x))
+            .flat_map(|t| (0..symmetry.order()).map(move |g| (g, t)))
+            .map(|(g, t)| symmetry.image(g, t))
+            .collect();
+        union.sort_unstable();
+        union.dedup();
+        best_count = union.iter().map(|&t| map.counts[t]).sum();
     }
     if best_count == 0 {
         f64::INFINITY

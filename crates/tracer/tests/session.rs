@@ -4,7 +4,7 @@
 use std::path::Path;
 use std::time::Duration;
 
-use lucerna_photometry::CubeMapLayout;
+use lucerna_photometry::{AxialSymmetry, CubeMapLayout, TexelSymmetry};
 use lucerna_tracer::{PreparedScene, Session, TraceSettings};
 
 fn prepared(name: &str) -> PreparedScene {
@@ -113,5 +113,17 @@ fn peak_error_compares_blocks_per_steradian() {
     fill(&mut map, 0, 0, 50); // 3200 photons, but brighter per steradian
     assert!(3200.0 / corner > 6400.0 / centre);
     map.photons_emitted = map.photons_escaped();
-    assert!((peak_relative_error(&map) - 1.0 / 3200f64.sqrt()).abs() < 1e-12);
+    let none = TexelSymmetry::none(layout);
+    assert!((peak_relative_error(&map, &none) - 1.0 / 3200f64.sqrt()).abs() < 1e-12);
+    // Pooled over the square's symmetry, the corner block's images are the
+    // face's four corner blocks (the diagonal mirror keeps it in place):
+    // their photons count once each.
+    let square = TexelSymmetry::new(layout, AxialSymmetry::Square);
+    assert!((peak_relative_error(&map, &square) - 1.0 / 3200f64.sqrt()).abs() < 1e-12);
+    fill(&mut map, 7, 0, 50);
+    fill(&mut map, 0, 7, 50);
+    fill(&mut map, 7, 7, 50);
+    map.photons_emitted = map.photons_escaped();
+    assert!((peak_relative_error(&map, &none) - 1.0 / 3200f64.sqrt()).abs() < 1e-12);
+    assert!((peak_relative_error(&map, &square) - 1.0 / 12800f64.sqrt()).abs() < 1e-12);
 }

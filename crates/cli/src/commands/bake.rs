@@ -290,7 +290,10 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
     };
     let (backend, choice) = choose_backend(request, &prepared, &settings)?;
     eprintln!("tracing on the {} ({})", backend.describe(), choice.reason);
+    let symmetry = pooling_symmetry(args.symmetry, &scene, &tessellated, settings.layout);
     let mut session = Session::with_backend(prepared, settings, backend);
+    // The reported (and --rel-error's) peak error is the pooled map's.
+    session.pool_over(symmetry.symmetry);
     let bar = match limit {
         Some(n) => ProgressBar::new(n),
         None => ProgressBar::new_spinner(),
@@ -340,7 +343,6 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
         .scene
         .file_stem()
         .map_or("luminaire".to_owned(), |s| s.to_string_lossy().into_owned());
-    let symmetry = pooling_symmetry(args.symmetry, &scene, &tessellated, map.layout);
     let candela = exported_candela(&map, args.filter, &symmetry);
     let options = ExportOptions {
         c_step_deg: args.c_step,
