@@ -5,11 +5,12 @@
 //! (`TexelSymmetry::pool`): |group| times the photons for free.
 //!
 //! A group is claimed only when every triangle's image under each of its
-//! isometries is a triangle of the scene with the same material, facing
-//! the image of its direction, with the images of its shading normals,
-//! and emitter triangles map onto emitter triangles of the same flux.
-//! Vertices match within a millionth of the luminaire's size (generators
-//! round differently at mirrored angles; a modelling error is far larger).
+//! isometries lies on the scene's surface of the same material (emitters:
+//! the same flux), facing the image of its direction where the side
+//! matters, with the images of its shading normals; see
+//! [`luminaire_symmetry`]. Vertices match within a millionth of the
+//! luminaire's size (generators round differently at mirrored angles; a
+//! modelling error is far larger).
 
 use std::collections::HashMap;
 
