@@ -60,6 +60,9 @@ impl std::fmt::Display for Threshold {
         match self {
             Threshold::Fixed(t) if *t <= 0.0 => write!(f, "no filtering (raw)"),
             Threshold::Fixed(t) => write!(f, "fixed threshold {t:.0}"),
+            Threshold::Poisson { cap, z } if *cap >= UNCAPPED => {
+                write!(f, "Poisson test (no cap, z {z})")
+            }
             Threshold::Poisson { cap, z } => write!(f, "Poisson test (cap {cap:.0}, z {z})"),
             Threshold::Automatic => write!(f, "automatic"),
         }
@@ -72,6 +75,9 @@ pub const AUTO_Z: f64 = 4.0;
 /// Fewest photons a texel needs before the Poisson test believes its
 /// excess over the estimate is structure rather than noise.
 pub const AUTO_MIN_KEEP: f64 = 32.0;
+/// A cap no texel reaches: the Poisson test alone decides which texels
+/// are kept (finite, so it survives the f32 of the WGSL twin).
+pub const UNCAPPED: f64 = 1e15;
 /// The fallback rule's cap (relative noise ≤ 1/√256 ≈ 6 % above it).
 pub const AUTO_MAX: f64 = 256.0;
 /// Threshold the Poisson rule uses for Algorithm 2's border test.
@@ -164,9 +170,12 @@ pub const AUTOMATIC_FALLBACK: Threshold = Threshold::Poisson {
 /// 1024 at 10⁷ on 128² faces); maps with caustics (the faceted downlight)
 /// with z = 3 and σ = 0.5, which keep more of their structure, and at few
 /// photons with a range σ of 3 (the downlight at 10⁵ photons: RMSE 0.349
-/// → 0.289, below the raw map's at 10⁶). Plus the
-/// paper's fixed thresholds 100 and 250, and the raw map (where every
-/// smoothing loses to the counts).
+/// → 0.289, below the raw map's at 10⁶). With many photons per texel
+/// (10⁷–10⁸ photons, or pooled over a symmetry) smooth bright regions are
+/// best replaced wherever the Poisson test allows, with no cap (512²:
+/// opal bell at 10⁸ RMSE 0.0385 → 0.0285, downlight pooled at 10⁸ 0.0535
+/// → 0.0331). Plus the paper's fixed thresholds 100 and 250, and the raw
+/// map (where every smoothing loses to the counts).
 pub fn automatic_candidates(base: &FilterSettings) -> Vec<FilterSettings> {
     let with = |threshold: Threshold, sigma_closeness: f64| FilterSettings {
         threshold,
@@ -177,9 +186,16 @@ pub fn automatic_candidates(base: &FilterSettings) -> Vec<FilterSettings> {
     for cap in [64.0, 128.0, 256.0, 1024.0] {
         v.push(with(Threshold::Poisson { cap, z: AUTO_Z }, 0.75));
     }
-    for cap in [256.0, 1024.0, 4096.0] {
+    for cap in [256.0, 1024.0, 4096.0, UNCAPPED] {
         v.push(with(Threshold::Poisson { cap, z: 3.0 }, 0.5));
     }
+    v.push(with(
+        Threshold::Poisson {
+            cap: UNCAPPED,
+            z: AUTO_Z,
+        },
+        0.75,
+    ));
     // Sharp interpolation with almost no range weighting: caustics at few
     // photons per texel, where the range term follows the noise.
     v.push(FilterSettings {
