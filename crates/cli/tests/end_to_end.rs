@@ -6,7 +6,7 @@ use std::path::Path;
 use std::process::Command;
 
 mod common;
-use common::{assets, lucerna, text};
+use common::{assets, bake_on_cpu, lucerna, text};
 
 #[test]
 fn validate_accepts_every_example() {
@@ -161,18 +161,7 @@ fn convert_of_a_bad_file_fails_and_writes_nothing() {
 fn bake_writes_every_output_and_the_files_read_back() {
     let dir = tempfile::tempdir().unwrap();
     let scene = assets().join("luminaires/parabolic_spot.toml");
-    let out = lucerna(&[
-        "bake",
-        scene.to_str().unwrap(),
-        "--photons",
-        "200000",
-        "--resolution",
-        "64",
-        "--backend",
-        "cpu",
-        "--out",
-        dir.path().to_str().unwrap(),
-    ]);
+    let out = bake_on_cpu(&scene, 200_000, 64, dir.path(), &[]);
     assert!(out.status.success(), "{}", text(&out.stderr));
     for name in [
         "parabolic_spot.ies",
@@ -353,20 +342,7 @@ fn bake_can_export_the_filtered_map() {
     let raw_dir = dir.path().join("raw");
     let filtered_dir = dir.path().join("filtered");
     for (out_dir, filter) in [(&raw_dir, "none"), (&filtered_dir, "auto")] {
-        let out = lucerna(&[
-            "bake",
-            scene.to_str().unwrap(),
-            "--photons",
-            "200000",
-            "--resolution",
-            "64",
-            "--backend",
-            "cpu",
-            "--filter",
-            filter,
-            "--out",
-            out_dir.to_str().unwrap(),
-        ]);
+        let out = bake_on_cpu(&scene, 200_000, 64, out_dir, &["--filter", filter]);
         assert!(out.status.success(), "{}", text(&out.stderr));
     }
     let (raw_flux, _) = figures(&raw_dir.join("opal_bell.ies"));
@@ -400,20 +376,7 @@ fn bake_pools_photons_over_the_luminaires_symmetry() {
     let mut tables = Vec::new();
     for choice in ["auto", "none"] {
         let out_dir = dir.path().join(choice);
-        let out = lucerna(&[
-            "bake",
-            scene.to_str().unwrap(),
-            "--photons",
-            "200000",
-            "--resolution",
-            "64",
-            "--backend",
-            "cpu",
-            "--symmetry",
-            choice,
-            "--out",
-            out_dir.to_str().unwrap(),
-        ]);
+        let out = bake_on_cpu(&scene, 200_000, 64, &out_dir, &["--symmetry", choice]);
         assert!(out.status.success(), "{}", text(&out.stderr));
         let said = text(&out.stderr).contains("symmetry: quarter turns and four mirror planes");
         assert_eq!(said, choice == "auto", "{}", text(&out.stderr));

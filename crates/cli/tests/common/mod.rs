@@ -1,5 +1,6 @@
 //! Helpers shared by the end-to-end tests: run the `lucerna` binary, find
 //! the repository's assets, read its output.
+#![allow(dead_code)] // reason: each test binary uses a part
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -9,6 +10,32 @@ pub fn lucerna(args: &[&str]) -> Output {
         .args(args)
         .output()
         .expect("the lucerna binary runs")
+}
+
+/// `lucerna bake SCENE --photons N --resolution R --backend cpu --out DIR`
+/// plus `extra` arguments.
+pub fn bake_on_cpu(
+    scene: &Path,
+    photons: u64,
+    resolution: u32,
+    out: &Path,
+    extra: &[&str],
+) -> Output {
+    let (photons, resolution) = (photons.to_string(), resolution.to_string());
+    let mut args = vec![
+        "bake",
+        scene.to_str().expect("UTF-8 path"),
+        "--photons",
+        &photons,
+        "--resolution",
+        &resolution,
+        "--backend",
+        "cpu",
+        "--out",
+        out.to_str().expect("UTF-8 path"),
+    ];
+    args.extend_from_slice(extra);
+    lucerna(&args)
 }
 
 pub fn assets() -> PathBuf {
