@@ -9,8 +9,8 @@ use lucerna_photometry::{AxialSymmetry, CubeMapLayout, TexelSymmetry};
 use wgpu::util::DeviceExt;
 
 use crate::{
-    AUTO_MIN_KEEP, AutomaticReport, FilterSettings, Filtered, Threshold, choose_automatic,
-    per_traced_photon, pyramid_resolutions, pyramid_solid_angles, renormalise, thresholds,
+    AUTO_MIN_KEEP, FilterSettings, Filtered, Threshold, filter_pooled, pyramid_resolutions,
+    pyramid_solid_angles, renormalise, thresholds,
 };
 
 /// Per-level parameters (48 bytes), WGSL twin `LevelParams`.
@@ -220,7 +220,7 @@ impl GpuFilter {
     }
 
     /// Filters counts (texel order of the layout given to `new`). The
-    /// automatic rule is chosen as on the CPU ([`choose_automatic`]), with
+    /// automatic rule is chosen as on the CPU ([`crate::choose_automatic`]), with
     /// its candidates run on the GPU.
     pub fn filter(&self, counts: &[u64], settings: &FilterSettings) -> Result<Filtered, GpuError> {
         self.filter_symmetric(counts, settings, &TexelSymmetry::none(self.layout))
@@ -235,25 +235,13 @@ impl GpuFilter {
         symmetry: &TexelSymmetry,
     ) -> Result<Filtered, GpuError> {
         debug_assert_eq!(symmetry.layout, self.layout);
-        let pooled = symmetry.pool(counts);
-        let mut filtered = match settings.threshold {
-            Threshold::Automatic => {
-                let (best, scores) = choose_automatic(
-                    &self.omega_level0,
-                    counts,
-                    settings,
-                    symmetry,
-                    |c, candidate| Ok(self.filter_with(c, candidate)?.photons_per_sr),
-                )?;
-                Filtered {
-                    automatic: AutomaticReport::new(&best, &scores),
-                    ..self.filter_with(&pooled, &best)?
-                }
-            }
-            _ => self.filter_with(&pooled, settings)?,
-        };
-        per_traced_photon(&mut filtered, symmetry);
-        Ok(filtered)
+        filter_pooled(
+            &self.omega_level0,
+            counts,
+            settings,
+            symmetry,
+            |c, concrete| self.filter_with(c, concrete),
+        )
     }
 
     /// Filters with concrete settings (not `Automatic`).

@@ -346,19 +346,16 @@ pub fn choose_automatic<E>(
     // unbiased estimate of Σ var(c / Ω); m is the texel's multiplicity
     // under the symmetry, 1 without), and the training maps' mean
     // intensity, for the error estimate.
+    let multiplicity: Vec<f64> = (0..counts.len())
+        .map(|t| symmetry.multiplicity(t) as f64)
+        .collect();
     let held_out_noise: Vec<f64> = parts
         .iter()
         .map(|part| {
             part.iter()
                 .zip(omega)
-                .enumerate()
-                .map(|(t, (&c, &w))| {
-                    if w > 0.0 {
-                        symmetry.multiplicity(t) as f64 * c as f64 / (w * w)
-                    } else {
-                        0.0
-                    }
-                })
+                .zip(&multiplicity)
+                .map(|((&c, &w), &m)| if w > 0.0 { m * c as f64 / (w * w) } else { 0.0 })
                 .sum()
         })
         .collect();
@@ -660,37 +657,48 @@ pub fn filter_symmetric(
     let layout = symmetry.layout;
     // The texel solid angles, computed once for every candidate's passes.
     let omega = layout.solid_angles();
+    let filtered = filter_pooled(&omega, counts, settings, symmetry, |c, concrete| {
+        Ok::<_, std::convert::Infallible>(filter_with(layout, c, concrete, &omega))
+    });
+    match filtered {
+        Ok(filtered) => filtered,
+        Err(never) => match never {},
+    }
+}
+
+/// What the CPU and GPU filters share: pools the traced counts over
+/// `symmetry`, resolves `Automatic` by cross-validation
+/// ([`choose_automatic`], each candidate through `pass`), runs the final
+/// pass on the pooled counts and scales the result to photons per traced
+/// photon (pooling counted each photon `order` times). `pass` filters
+/// counts with concrete settings.
+pub(crate) fn filter_pooled<E>(
+    omega: &[f64],
+    counts: &[u64],
+    settings: &FilterSettings,
+    symmetry: &TexelSymmetry,
+    mut pass: impl FnMut(&[u64], &FilterSettings) -> Result<Filtered, E>,
+) -> Result<Filtered, E> {
     let pooled = symmetry.pool(counts);
     let mut filtered = match settings.threshold {
         Threshold::Automatic => {
-            let chosen = choose_automatic(&omega, counts, settings, symmetry, |c, candidate| {
-                Ok::<_, std::convert::Infallible>(
-                    filter_with(layout, c, candidate, &omega).photons_per_sr,
-                )
-            });
-            let (best, scores) = match chosen {
-                Ok(chosen) => chosen,
-                Err(never) => match never {},
-            };
+            let (best, scores) =
+                choose_automatic(omega, counts, settings, symmetry, |c, candidate| {
+                    Ok(pass(c, candidate)?.photons_per_sr)
+                })?;
             Filtered {
                 automatic: AutomaticReport::new(&best, &scores),
-                ..filter_with(layout, &pooled, &best, &omega)
+                ..pass(&pooled, &best)?
             }
         }
-        _ => filter_with(layout, &pooled, settings, &omega),
+        _ => pass(&pooled, settings)?,
     };
-    per_traced_photon(&mut filtered, symmetry);
-    filtered
-}
-
-/// Turns a filter result on pooled counts into photons per steradian per
-/// traced photon (pooling counted each photon `order` times).
-pub fn per_traced_photon(filtered: &mut Filtered, symmetry: &TexelSymmetry) {
     let order = symmetry.order() as f64;
     if order > 1.0 {
         filtered.photons_per_sr.iter_mut().for_each(|v| *v /= order);
     }
     filtered.symmetry = symmetry.symmetry;
+    Ok(filtered)
 }
 
 /// Filters with concrete settings (not `Automatic`); `omega` holds the
