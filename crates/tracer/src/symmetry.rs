@@ -68,6 +68,9 @@ impl Welded {
         for dx in -1..=1 {
             for dy in -1..=1 {
                 for dz in -1..=1 {
+                    if (dx, dy, dz) == (0, 0, 0) {
+                        continue; // looked at first
+                    }
                     if let Some(i) = near(&[c[0] + dx, c[1] + dy, c[2] + dz]) {
                         return Some(i);
                     }
