@@ -11,6 +11,7 @@ pub mod ies;
 pub mod intensity_map;
 pub mod ldt;
 pub mod photometry;
+pub mod resample;
 pub mod symmetry;
 pub mod table;
 
@@ -23,4 +24,5 @@ pub use photometry::{
     Dimensions, Format, LampSet, Metadata, ParsePhotometryError, Photometry, read_photometry, sniff,
 };
 pub use symmetry::{AxialIsometry, AxialSymmetry, TexelSymmetry};
-pub use table::{CandelaTable, Symmetry, table_from_cube_map};
+pub use resample::{CellBinning, table_from_cube_map};
+pub use table::{CandelaTable, Symmetry};

@@ -1,5 +1,5 @@
-//! Candela tables on C-γ grids (photometry type C), their symmetries, and
-//! resampling from a cube-map intensity map.
+//! Candela tables on C-γ grids (photometry type C) and their symmetries
+//! (resampling from cube maps is `resample`).
 //!
 //! Direction of (C, γ): `d = (sin γ cos C, sin γ sin C, −cos γ)`: γ = 0 at
 //! nadir, C counter-clockwise seen from above, C0 along +x, C90 along +y.
@@ -8,7 +8,7 @@ use std::f64::consts::TAU;
 
 use serde::{Deserialize, Serialize};
 
-use crate::cubemap::{CubeMapLayout, Dir, rectangle_solid_angle};
+use crate::cubemap::Dir;
 
 /// Symmetry of a light distribution about the photometric axis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -409,143 +409,4 @@ pub fn uniform_c_planes(step_deg: f64) -> Vec<f64> {
 pub fn uniform_gammas(step_deg: f64, max_deg: f64) -> Vec<f64> {
     let n = (max_deg / step_deg).round() as usize;
     (0..=n).map(|i| i as f64 * max_deg / n as f64).collect()
-}
-
-/// Boundaries between neighbouring γ angles (midpoints), clipped to the
-/// first and last angle; the cell of angle j is [edges[j], edges[j+1]].
-fn gamma_cell_edges(g: &[f64]) -> Vec<f64> {
-    let mut e = Vec::with_capacity(g.len() + 1);
-    e.push(g[0]);
-    for w in g.windows(2) {
-        e.push(0.5 * (w[0] + w[1]));
-    }
-    e.push(g[g.len() - 1]);
-    e
-}
-
-/// Resamples cube-map intensities (cd per texel) onto a C-γ grid by
-/// integrating over each table cell's solid angle: every texel is split
-/// into sub-texels small against the cells, whose exact solid angles are
-/// binned by the cell their centre falls in; a cell's candela is the
-/// solid-angle-weighted mean. Point sampling would alias where texels are
-/// smaller than cells. Cells at γ = 0° and 180° are polar caps shared by
-/// every C-plane.
-pub fn table_from_cube_map(
-    layout: CubeMapLayout,
-    candela_per_texel: &[f64],
-    c_planes_deg: &[f64],
-    gammas_deg: &[f64],
-) -> CandelaTable {
-    let (nc, ng) = (c_planes_deg.len(), gammas_deg.len());
-    let gamma_edges = gamma_cell_edges(gammas_deg);
-    // Sub-texels per texel edge: at most 1/16 of the local cell width, so
-    // that binning by sub-texel centre blurs cell edges by little,
-    // which near the poles shrinks with sin γ in the C direction.
-    let texel_deg = 90.0 / f64::from(layout.resolution);
-    let min_gamma_step = gammas_deg
-        .windows(2)
-        .map(|w| w[1] - w[0])
-        .fold(f64::INFINITY, f64::min);
-    let c_step = if nc > 1 {
-        360.0 / nc as f64
-    } else {
-        f64::INFINITY
-    };
-    let split_for = |gamma_deg: f64| {
-        let sin = gamma_deg
-            .to_radians()
-            .sin()
-            .max((0.5 * min_gamma_step).to_radians().sin());
-        let cell = min_gamma_step.min(c_step * sin);
-        ((16.0 * texel_deg / cell).ceil() as u32).clamp(1, 64)
-    };
-    let mut weighted = vec![0.0; nc * ng];
-    let mut solid_angle = vec![0.0; nc * ng];
-    let mut cap_weighted = [0.0; 2];
-    let mut cap_solid_angle = [0.0; 2];
-    let pole = |j: usize| gammas_deg[j] <= 0.0 || gammas_deg[j] >= 180.0;
-    for texel in 0..layout.texel_count() {
-        let value = candela_per_texel[texel];
-        let (face, a0, b0, a1, b1) = layout.texel_bounds(texel);
-        let (_, centre_gamma) = angles(layout.texel_centre_direction(texel));
-        let split = split_for(centre_gamma.to_degrees());
-        let (da, db) = ((a1 - a0) / f64::from(split), (b1 - b0) / f64::from(split));
-        for si in 0..split {
-            for sj in 0..split {
-                let (sa0, sb0) = (a0 + f64::from(si) * da, b0 + f64::from(sj) * db);
-                let omega = rectangle_solid_angle(sa0, sb0, sa0 + da, sb0 + db);
-                let d = face.direction(sa0 + 0.5 * da, sb0 + 0.5 * db);
-                let (c, g) = angles(d);
-                let (c_deg, g_deg) = (c.to_degrees(), g.to_degrees());
-                if g_deg < gamma_edges[0] || g_deg > gamma_edges[ng] {
-                    continue;
-                }
-                let j = (gamma_edges.partition_point(|&e| e <= g_deg).max(1) - 1).min(ng - 1);
-                if pole(j) {
-                    let k = usize::from(gammas_deg[j] >= 180.0);
-                    cap_weighted[k] += value * omega;
-                    cap_solid_angle[k] += omega;
-                    continue;
-                }
-                let i = nearest_c_plane(c_planes_deg, c_deg);
-                weighted[i * ng + j] += value * omega;
-                solid_angle[i * ng + j] += omega;
-            }
-        }
-    }
-    // A cell smaller than the sub-texels may catch no sample: it then lies
-    // within one texel, whose value is its mean.
-    let point = |c_deg: f64, g_deg: f64| {
-        candela_per_texel
-            [layout.texel_of_direction(direction(c_deg.to_radians(), g_deg.to_radians()))]
-    };
-    let mut candela = vec![0.0; nc * ng];
-    for i in 0..nc {
-        for j in 0..ng {
-            let (w, omega) = if pole(j) {
-                let k = usize::from(gammas_deg[j] >= 180.0);
-                (cap_weighted[k], cap_solid_angle[k])
-            } else {
-                (weighted[i * ng + j], solid_angle[i * ng + j])
-            };
-            candela[i * ng + j] = if omega > 0.0 {
-                w / omega
-            } else {
-                point(c_planes_deg[i], gammas_deg[j])
-            };
-        }
-    }
-    CandelaTable {
-        c_planes_deg: c_planes_deg.to_vec(),
-        gammas_deg: gammas_deg.to_vec(),
-        candela,
-    }
-}
-
-/// Index of the C-plane nearest to `c_deg` (ascending planes), around the
-/// circle.
-fn nearest_c_plane(c_planes_deg: &[f64], c_deg: f64) -> usize {
-    let n = c_planes_deg.len();
-    let distance = |i: usize| {
-        let d = (c_planes_deg[i] - c_deg).rem_euclid(360.0);
-        d.min(360.0 - d)
-    };
-    let above = c_planes_deg.partition_point(|&x| x < c_deg) % n;
-    let below = (above + n - 1) % n;
-    if distance(below) <= distance(above) {
-        below
-    } else {
-        above
-    }
-}
-
-/// Point intensities of a table on every texel centre of a cube map (cd),
-/// e.g. to show an IES file on the cube view or compare it with a bake.
-pub fn cube_map_from_table(table: &CandelaTable, layout: CubeMapLayout) -> Vec<f64> {
-    (0..layout.texel_count())
-        .map(|t| {
-            let (c, g) = angles(layout.texel_centre_direction(t));
-            table.intensity(c.to_degrees(), g.to_degrees())
-        })
-        .collect()
 }

@@ -4,7 +4,8 @@
 
 use std::f64::consts::PI;
 
-use lucerna_photometry::table::{angles, cube_map_from_table, uniform_c_planes, uniform_gammas};
+use lucerna_photometry::resample::cube_map_from_table;
+use lucerna_photometry::table::{angles, uniform_c_planes, uniform_gammas};
 use lucerna_photometry::{
     CandelaTable, CubeMapLayout, IesVersion, IntensityMap, LampSet, Metadata, Photometry, Symmetry,
     figures, read_photometry, table_from_cube_map, write_ies, write_ldt,

@@ -1,10 +1,9 @@
 //! From a traced intensity map to a photometric data set the exporters
 //! write: candela table, symmetry, and the metadata of a simulation.
 
-use lucerna_photometry::table::{uniform_c_planes, uniform_gammas};
-use lucerna_photometry::{
-    Dimensions, Format, IntensityMap, LampSet, Metadata, Photometry, Symmetry, table_from_cube_map,
-};
+use lucerna_photometry::resample::{GammaGrid, TableResampler};
+use lucerna_photometry::table::uniform_c_planes;
+use lucerna_photometry::{Dimensions, Format, IntensityMap, LampSet, Metadata, Photometry, Symmetry};
 use lucerna_scene::{Scene, TessellatedScene};
 
 /// How the bake's table is laid out and labelled.
@@ -37,16 +36,6 @@ pub fn luminous_opening(tessellated: &TessellatedScene) -> Dimensions {
     }
 }
 
-/// Relative photometry of a bake from its raw map.
-pub fn photometry_from_map(
-    map: &IntensityMap,
-    scene: &Scene,
-    tessellated: &TessellatedScene,
-    options: &ExportOptions,
-) -> Photometry {
-    photometry_from_candela(map, &map.candela(), scene, tessellated, options)
-}
-
 /// Relative photometry of a bake: lamp lumens = emitter flux, `candela`
 /// per texel (raw or filtered) resampled by cell integration; `map`
 /// supplies the bookkeeping.
@@ -56,19 +45,17 @@ pub fn photometry_from_candela(
     scene: &Scene,
     tessellated: &TessellatedScene,
     options: &ExportOptions,
+    resampler: &mut TableResampler,
 ) -> Photometry {
     let c_planes = uniform_c_planes(options.c_step_deg);
-    let traced_flux = map.escaped_flux_lm();
-    let mut step = options.gamma_step_deg.unwrap_or(2.5);
-    let mut table =
-        table_from_cube_map(map.layout, candela, &c_planes, &uniform_gammas(step, 180.0));
-    if options.gamma_step_deg.is_none() {
-        while step > 0.125 + 1e-9 && (table.flux_lm() - traced_flux).abs() > 0.005 * traced_flux {
-            step /= 2.0;
-            table =
-                table_from_cube_map(map.layout, candela, &c_planes, &uniform_gammas(step, 180.0));
-        }
-    }
+    let gammas = match options.gamma_step_deg {
+        Some(step) => GammaGrid::Step(step),
+        None => GammaGrid::Automatic {
+            flux_lm: map.escaped_flux_lm(),
+            tolerance: 0.005,
+        },
+    };
+    let table = resampler.table(map.layout, candela, &c_planes, gammas);
     let (table, symmetry) = match options.symmetrise {
         Some(s) => (table.symmetrised(s), s),
         None => (table, Symmetry::None),

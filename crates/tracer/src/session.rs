@@ -29,17 +29,19 @@ impl Backend {
         }
     }
 
-    /// Traces photons `0 .. count` of `iteration`.
+    /// Traces photons `first .. first + count` of random-number block
+    /// `block`.
     pub fn trace(
         &self,
         scene: &PreparedScene,
         settings: &TraceSettings,
-        iteration: u32,
+        block: u32,
+        first: u32,
         count: u32,
     ) -> Result<Tally, GpuError> {
         match self {
-            Backend::Cpu => Ok(trace_batch(scene, settings, iteration, 0, count)),
-            Backend::Gpu(g) => g.trace_batch(iteration, 0, count),
+            Backend::Cpu => Ok(trace_batch(scene, settings, block, first, count)),
+            Backend::Gpu(g) => g.trace_batch(block, first, count),
         }
     }
 }
@@ -68,9 +70,9 @@ pub fn measure(
     settings: &TraceSettings,
     photons: u32,
 ) -> Result<f64, GpuError> {
-    backend.trace(scene, settings, u32::MAX, photons.min(4096))?;
+    backend.trace(scene, settings, u32::MAX, 0, photons.min(4096))?;
     let start = Instant::now();
-    backend.trace(scene, settings, u32::MAX - 1, photons)?;
+    backend.trace(scene, settings, u32::MAX - 1, 0, photons)?;
     Ok(f64::from(photons) / start.elapsed().as_secs_f64().max(1e-9))
 }
 
@@ -138,6 +140,9 @@ pub fn choose_backend(
         }
     }
 }
+
+/// Photons per random-number block (the tracers' `iteration` argument).
+const PHOTONS_PER_BLOCK: u64 = 1 << 30;
 
 /// What one iteration did, and where the bake stands.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -255,11 +260,24 @@ impl Session {
     /// Traces one iteration of at most `limit` photons, sized to the time
     /// budget.
     pub fn iterate_at_most(&mut self, limit: u64) -> Result<IterationReport, GpuError> {
-        let photons = u64::from(self.photons_per_iteration).min(limit).max(1) as u32;
+        // Photon k of the session is photon k mod 2³⁰ of random-number
+        // block k / 2³⁰, however iterations split the photons: a seed and a
+        // photon count give the same counts on one backend, whatever the
+        // timing.
+        let emitted = self.map.photons_emitted;
+        let (block, first) = (emitted / PHOTONS_PER_BLOCK, emitted % PHOTONS_PER_BLOCK);
+        let photons = u64::from(self.photons_per_iteration)
+            .min(limit)
+            .min(PHOTONS_PER_BLOCK - first)
+            .max(1) as u32;
         let start = Instant::now();
-        let tally = self
-            .backend
-            .trace(&self.scene, &self.settings, self.iteration, photons)?;
+        let tally = self.backend.trace(
+            &self.scene,
+            &self.settings,
+            block as u32,
+            first as u32,
+            photons,
+        )?;
         let elapsed = start.elapsed();
         self.tracing_time += elapsed;
         for (a, &b) in self.map.counts.iter_mut().zip(&tally.counts) {

@@ -365,7 +365,14 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
             .file_name()
             .map_or(String::new(), |s| s.to_string_lossy().into_owned()),
     };
-    let photometry = photometry_from_candela(&map, &candela, &scene, &tessellated, &options);
+    let photometry = photometry_from_candela(
+        &map,
+        &candela,
+        &scene,
+        &tessellated,
+        &options,
+        &mut lucerna_photometry::resample::TableResampler::new(),
+    );
     // cd/klm of the lamp (emitter) flux, as in the LDT; validation keeps
     // the flux > 0.
     let per_klm = 1000.0 / map.emitter_flux_lm;

@@ -47,7 +47,7 @@ fn run(
 ) -> Result<(f64, Tally)> {
     let batch = 1u32 << 20;
     let trace = |iteration: u32, count: u32| -> Result<Tally> {
-        Ok(backend.trace(prepared, settings, iteration, count)?)
+        Ok(backend.trace(prepared, settings, iteration, 0, count)?)
     };
     trace(u32::MAX, 10_000)?;
     let start = Instant::now();

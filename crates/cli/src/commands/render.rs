@@ -116,6 +116,7 @@ fn bake_profile(path: &Path, photons: u64) -> Result<Photometry> {
         &scene,
         &tessellated,
         &options,
+        &mut lucerna_photometry::resample::TableResampler::new(),
     ))
 }
 
