@@ -11,6 +11,7 @@ pub mod mesh;
 pub mod model;
 pub mod obj;
 pub mod profile;
+pub mod shapes;
 pub mod tessellate;
 pub mod validate;
 
@@ -20,5 +21,6 @@ pub use file::{
 };
 pub use mesh::{MeshDefect, TriangleMesh};
 pub use model::*;
+pub use shapes::ShapeGenerator;
 pub use tessellate::{SurfaceKind, TessellateError, TessellatedScene, emitter_mesh, tessellate};
 pub use validate::{Invalid, validate};

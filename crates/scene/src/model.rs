@@ -7,6 +7,10 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
+/// Shapes have their own module, one file each; the enum is part of the
+/// file format, so it is reachable from here too.
+pub use crate::shapes::Shape;
+
 /// The scene-file format version this build reads and writes.
 pub const FORMAT_VERSION: u32 = 1;
 
@@ -140,171 +144,34 @@ pub enum Interpolation {
     CatmullRom,
 }
 
-fn default_around() -> u32 {
+// Serde defaults of the file format, shared by the shapes in `crate::shapes`.
+
+/// Default steps around the axis of a surface of revolution (and disks).
+pub(crate) fn default_around() -> u32 {
     64
 }
-fn default_along() -> u32 {
+/// Default steps along a generated curve (meridian of a reflector or dome).
+pub(crate) fn default_along() -> u32 {
     32
 }
-fn default_per_span() -> u32 {
+/// Default steps per span between two control points of a profile.
+pub(crate) fn default_per_span() -> u32 {
     8
 }
-fn yes() -> bool {
+pub(crate) fn yes() -> bool {
     true
 }
-fn is_false(b: &bool) -> bool {
+pub(crate) fn is_false(b: &bool) -> bool {
     !*b
 }
-fn is_true(b: &bool) -> bool {
+pub(crate) fn is_true(b: &bool) -> bool {
     *b
 }
-fn is_zero(x: &f64) -> bool {
+pub(crate) fn is_zero(x: &f64) -> bool {
     *x == 0.0
 }
-fn is_zero_u32(x: &u32) -> bool {
+pub(crate) fn is_zero_u32(x: &u32) -> bool {
     *x == 0
-}
-
-/// Geometry generators. Surfaces of revolution are about the local z axis;
-/// their normals point towards the axis (the lamp side). Closed solids (box,
-/// cylinder) have outward normals.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
-pub enum Shape {
-    /// Paraboloid reflector with its focus at the origin, opening downwards
-    /// (−z): vertex at z = f, `r² = 4 f (f − z)`. `neck_diameter` cuts a
-    /// hole around the vertex for the lamp.
-    Paraboloid {
-        focal_length: f64,
-        aperture_diameter: f64,
-        #[serde(default, skip_serializing_if = "is_zero")]
-        neck_diameter: f64,
-        #[serde(default = "default_around")]
-        segments_around: u32,
-        #[serde(default = "default_along")]
-        segments_along: u32,
-        /// Flat facets (`segments_around` × `segments_along`) instead of a
-        /// smooth surface.
-        #[serde(default, skip_serializing_if = "is_false")]
-        faceted: bool,
-    },
-    /// Ellipsoidal reflector section: near focus at the origin, far focus at
-    /// (0, 0, −`focal_distance`), vertex `vertex_distance` above the near
-    /// focus; the section ends at the plane z = −`cut_below_focus`.
-    Ellipsoid {
-        focal_distance: f64,
-        vertex_distance: f64,
-        cut_below_focus: f64,
-        #[serde(default, skip_serializing_if = "is_zero")]
-        neck_diameter: f64,
-        #[serde(default = "default_around")]
-        segments_around: u32,
-        #[serde(default = "default_along")]
-        segments_along: u32,
-        #[serde(default, skip_serializing_if = "is_false")]
-        faceted: bool,
-    },
-    /// A profile `[r, z]` (metres, r ≥ 0) revolved about the z axis.
-    Revolved {
-        profile: Vec<[f64; 2]>,
-        #[serde(default)]
-        interpolation: Interpolation,
-        #[serde(default = "default_around")]
-        segments_around: u32,
-        /// Segments per span between two control points.
-        #[serde(default = "default_per_span")]
-        segments_per_span: u32,
-        #[serde(default, skip_serializing_if = "is_false")]
-        faceted: bool,
-    },
-    /// A profile `[x, z]` extruded along y over `length` (centred), for
-    /// linear reflectors and troughs; end caps close the profile's chord.
-    Extruded {
-        profile: Vec<[f64; 2]>,
-        length: f64,
-        #[serde(default)]
-        interpolation: Interpolation,
-        #[serde(default = "default_per_span")]
-        segments_per_span: u32,
-        #[serde(default = "yes", skip_serializing_if = "is_true")]
-        end_caps: bool,
-    },
-    /// Parallel thin blades along y, spaced along x, hanging from z = 0 down
-    /// to −`blade_height`, each tilted by `tilt_deg` about its own long axis;
-    /// optional cross blades along x make a cell louvre.
-    Louvre {
-        blade_count: u32,
-        spacing: f64,
-        blade_height: f64,
-        blade_length: f64,
-        #[serde(default, skip_serializing_if = "is_zero")]
-        tilt_deg: f64,
-        #[serde(default, skip_serializing_if = "is_zero_u32")]
-        cross_blade_count: u32,
-        #[serde(default, skip_serializing_if = "is_zero")]
-        cross_spacing: f64,
-    },
-    /// Rectangular flat plate in the z = 0 plane, normal −z.
-    Plate { width: f64, depth: f64 },
-    /// Circular flat disk in the z = 0 plane, normal −z.
-    Disk {
-        radius: f64,
-        #[serde(default = "default_around")]
-        segments_around: u32,
-    },
-    /// Spherical cap (bell, diffuser dome): pole at z = `height`, rim in the
-    /// z = 0 plane, normals towards the sphere's centre.
-    Dome {
-        radius: f64,
-        height: f64,
-        #[serde(default = "default_around")]
-        segments_around: u32,
-        #[serde(default = "default_along")]
-        segments_along: u32,
-    },
-    /// Cylinder about z, centred at the origin, outward normals.
-    Cylinder {
-        radius: f64,
-        height: f64,
-        #[serde(default = "yes", skip_serializing_if = "is_true")]
-        cap_top: bool,
-        #[serde(default = "yes", skip_serializing_if = "is_true")]
-        cap_bottom: bool,
-        #[serde(default = "default_around")]
-        segments_around: u32,
-    },
-    /// Axis-aligned box centred at the origin, outward normals.
-    Box {
-        size: [f64; 3],
-        #[serde(default, skip_serializing_if = "is_false")]
-        open_bottom: bool,
-    },
-    /// Wavefront OBJ mesh, path relative to the scene file. Materials are
-    /// assigned per OBJ object/group name (or its `usemtl` name) through
-    /// `group_materials`; the part's `material` is the default.
-    Mesh {
-        path: String,
-        #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
-        group_materials: BTreeMap<String, String>,
-    },
-}
-
-impl Shape {
-    pub fn kind(&self) -> &'static str {
-        match self {
-            Shape::Paraboloid { .. } => "paraboloid",
-            Shape::Ellipsoid { .. } => "ellipsoid",
-            Shape::Revolved { .. } => "revolved",
-            Shape::Extruded { .. } => "extruded",
-            Shape::Louvre { .. } => "louvre",
-            Shape::Plate { .. } => "plate",
-            Shape::Disk { .. } => "disk",
-            Shape::Dome { .. } => "dome",
-            Shape::Cylinder { .. } => "cylinder",
-            Shape::Box { .. } => "box",
-            Shape::Mesh { .. } => "mesh",
-        }
-    }
 }
 
 /// A piece of the luminaire: a shape, where it is, what it is made of.

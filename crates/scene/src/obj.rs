@@ -129,6 +129,15 @@ pub fn material_for<'a>(
     group_materials: &'a BTreeMap<String, String>,
     default: &'a str,
 ) -> &'a str {
+    assigned_material(group, group_materials).unwrap_or(default)
+}
+
+/// The material `group_materials` assigns to an OBJ group, by group name,
+/// then by its OBJ material name; `None` leaves it to the part's default.
+pub fn assigned_material<'a>(
+    group: &ObjGroup,
+    group_materials: &'a BTreeMap<String, String>,
+) -> Option<&'a str> {
     group_materials
         .get(&group.name)
         .or_else(|| {
@@ -137,5 +146,5 @@ pub fn material_for<'a>(
                 .as_ref()
                 .and_then(|m| group_materials.get(m))
         })
-        .map_or(default, String::as_str)
+        .map(String::as_str)
 }

@@ -6,11 +6,12 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec2;
 
-use crate::generators::{generate, revolve};
+use crate::generators::revolve;
 use crate::mesh::{MeshDefect, TriangleMesh};
-use crate::model::{EmitterShape, Material, Scene, Shape};
-use crate::obj::{LoadObjError, load_obj, material_for};
+use crate::model::{EmitterShape, Material, Scene};
+use crate::obj::LoadObjError;
 use crate::profile::sample_curve;
+use crate::shapes::{Cylinder, Disk, Plate, ShapeGenerator};
 
 /// Name of the implicit material of emitters that name none.
 pub const EMITTER_ABSORBER: &str = "<emitter absorber>";
@@ -74,11 +75,12 @@ impl TessellatedScene {
 /// The emitter's surface in its local frame, normals along the emission.
 pub fn emitter_mesh(shape: &EmitterShape) -> TriangleMesh {
     match *shape {
-        EmitterShape::Disk { radius } => generate(&Shape::Disk {
+        EmitterShape::Disk { radius } => Disk {
             radius,
             segments_around: 32,
-        }),
-        EmitterShape::Rectangle { width, depth } => generate(&Shape::Plate { width, depth }),
+        }
+        .generate(),
+        EmitterShape::Rectangle { width, depth } => Plate { width, depth }.generate(),
         EmitterShape::Sphere { radius } => {
             // South pole to north pole: the right-hand normal points out.
             let strip = sample_curve(
@@ -90,13 +92,14 @@ pub fn emitter_mesh(shape: &EmitterShape) -> TriangleMesh {
             );
             Some(revolve(&[strip], 32, false))
         }
-        EmitterShape::Cylinder { radius, height } => generate(&Shape::Cylinder {
+        EmitterShape::Cylinder { radius, height } => Cylinder {
             radius,
             height,
             cap_top: false,
             cap_bottom: false,
             segments_around: 32,
-        }),
+        }
+        .generate(),
     }
     .unwrap_or_default()
 }
@@ -150,29 +153,21 @@ pub fn tessellate(scene: &Scene, scene_dir: &Path) -> Result<TessellatedScene, T
     };
     for (index, part) in scene.parts.iter().enumerate().filter(|(_, p)| p.enabled) {
         let luminaire_from_part = part.transform.matrix();
-        if let Shape::Mesh {
-            path,
-            group_materials,
-        } = &part.shape
-        {
-            let file = scene_dir.join(path);
-            let groups = load_obj(&file).map_err(|source| TessellateError::Obj {
-                part: part.name.clone(),
-                path: file.clone(),
-                source,
-            })?;
-            for group in &groups {
-                let mesh = group.mesh.transformed(&luminaire_from_part);
-                mesh.check()
-                    .map_err(|d| mesh_error(&part.name, Some(&group.name), d))?;
-                let material = material_for(group, group_materials, &part.material);
-                let m = material_index(&materials, &part.name, material)?;
-                push(&mut out, &part.name, SurfaceKind::Part, index, &mesh, m);
-            }
-        } else if let Some(local) = generate(&part.shape) {
-            let mesh = local.transformed(&luminaire_from_part);
-            mesh.check().map_err(|d| mesh_error(&part.name, None, d))?;
-            let m = material_index(&materials, &part.name, &part.material)?;
+        let surfaces =
+            part.shape
+                .generator()
+                .tessellate(scene_dir)
+                .map_err(|e| TessellateError::Obj {
+                    part: part.name.clone(),
+                    path: e.path,
+                    source: e.source,
+                })?;
+        for surface in &surfaces {
+            let mesh = surface.mesh.transformed(&luminaire_from_part);
+            mesh.check()
+                .map_err(|d| mesh_error(&part.name, surface.group.as_deref(), d))?;
+            let material = surface.material.as_deref().unwrap_or(&part.material);
+            let m = material_index(&materials, &part.name, material)?;
             push(&mut out, &part.name, SurfaceKind::Part, index, &mesh, m);
         }
     }

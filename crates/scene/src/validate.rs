@@ -1,9 +1,14 @@
 //! Parameter validation: every number finite and in its physical range,
 //! every reference resolved, every resolution sane.
+//!
+//! This file holds the scene-level checks and the range checks every shape
+//! shares ([`Checker`]); each shape's own ranges live with its parameters in
+//! [`crate::shapes`].
 
+use std::collections::BTreeMap;
 use std::fmt;
 
-use crate::model::{Emitter, EmitterShape, FORMAT_VERSION, Material, Part, Scene, Shape};
+use crate::model::{Emitter, EmitterShape, FORMAT_VERSION, Material, Part, Scene};
 
 /// Where a value sits in the scene file, e.g. `part[2].shape.focal_length`
 /// (the TOML key path, used to find its line).
@@ -17,12 +22,14 @@ pub enum PathSegment {
 }
 
 impl FieldPath {
-    fn key(&self, k: &str) -> FieldPath {
+    /// The path of key `k` inside this table.
+    pub fn key(&self, k: &str) -> FieldPath {
         let mut p = self.clone();
         p.0.push(PathSegment::Key(k.to_owned()));
         p
     }
-    fn index(&self, i: usize) -> FieldPath {
+    /// The path of element `i` of this array.
+    pub fn index(&self, i: usize) -> FieldPath {
         let mut p = self.clone();
         p.0.push(PathSegment::Index(i));
         p
@@ -55,19 +62,26 @@ pub const MAX_SEGMENTS: u32 = 4096;
 /// Largest length parameter (m) accepted for any shape.
 pub const MAX_LENGTH_M: f64 = 50.0;
 
-struct Checker {
+/// Collects the problems of one scene, in file order; its range checks are
+/// the ones shapes share, so equal limits read the same in every shape.
+#[derive(Debug)]
+pub struct Checker<'a> {
+    /// The scene's materials, for the references a shape makes (OBJ groups).
+    materials: &'a BTreeMap<String, Material>,
     problems: Vec<Invalid>,
 }
 
-impl Checker {
-    fn fail(&mut self, field: FieldPath, message: impl Into<String>) {
+impl Checker<'_> {
+    /// Records a problem at `field`.
+    pub fn fail(&mut self, field: FieldPath, message: impl Into<String>) {
         self.problems.push(Invalid {
             field,
             message: message.into(),
         });
     }
 
-    fn finite(&mut self, at: &FieldPath, name: &str, v: f64) -> bool {
+    /// Whether `v` is finite; a range check only makes sense after it.
+    pub fn finite(&mut self, at: &FieldPath, name: &str, v: f64) -> bool {
         if v.is_finite() {
             true
         } else {
@@ -76,14 +90,15 @@ impl Checker {
         }
     }
 
-    fn fraction(&mut self, at: &FieldPath, name: &str, v: f64) {
+    /// A fraction of the incident flux, in [0, 1].
+    pub fn fraction(&mut self, at: &FieldPath, name: &str, v: f64) {
         if self.finite(at, name, v) && !(0.0..=1.0).contains(&v) {
             self.fail(at.key(name), format!("must be between 0 and 1, got {v}"));
         }
     }
 
     /// A length in (0, MAX_LENGTH_M] metres.
-    fn length(&mut self, at: &FieldPath, name: &str, v: f64) {
+    pub fn length(&mut self, at: &FieldPath, name: &str, v: f64) {
         if self.finite(at, name, v) && !(v > 0.0 && v <= MAX_LENGTH_M) {
             self.fail(
                 at.key(name),
@@ -92,7 +107,8 @@ impl Checker {
         }
     }
 
-    fn non_negative(&mut self, at: &FieldPath, name: &str, v: f64) {
+    /// A length in [0, MAX_LENGTH_M] metres (an optional hole, an offset).
+    pub fn non_negative(&mut self, at: &FieldPath, name: &str, v: f64) {
         if self.finite(at, name, v) && !(0.0..=MAX_LENGTH_M).contains(&v) {
             self.fail(
                 at.key(name),
@@ -101,7 +117,8 @@ impl Checker {
         }
     }
 
-    fn segments(&mut self, at: &FieldPath, name: &str, v: u32, min: u32) {
+    /// A resolution (or count) between `min` and MAX_SEGMENTS.
+    pub fn segments(&mut self, at: &FieldPath, name: &str, v: u32, min: u32) {
         if !(min..=MAX_SEGMENTS).contains(&v) {
             self.fail(
                 at.key(name),
@@ -196,15 +213,26 @@ impl Checker {
         }
     }
 
-    fn profile(&mut self, at: &FieldPath, profile: &[[f64; 2]], revolved: bool) {
+    /// Checks the control points under `at.profile`: 2 to MAX_SEGMENTS
+    /// points, each finite and within ±MAX_LENGTH_M, no zero-length span.
+    /// `point_rule` is the shape's own condition on each point (a revolved
+    /// profile's r ≥ 0), returning the message when a point breaks it.
+    /// Returns false when the points are unusable, so that the shape's
+    /// further checks on them would only repeat the problem.
+    pub fn profile(
+        &mut self,
+        at: &FieldPath,
+        profile: &[[f64; 2]],
+        point_rule: impl Fn([f64; 2]) -> Option<String>,
+    ) -> bool {
         let at = at.key("profile");
         if profile.len() < 2 {
             self.fail(at.clone(), "needs at least 2 control points");
-            return;
+            return false;
         }
         if profile.len() > MAX_SEGMENTS as usize {
             self.fail(at.clone(), format!("at most {MAX_SEGMENTS} control points"));
-            return;
+            return false;
         }
         for (i, p) in profile.iter().enumerate() {
             if p.iter().any(|x| !x.is_finite() || x.abs() > MAX_LENGTH_M) {
@@ -212,13 +240,10 @@ impl Checker {
                     at.index(i),
                     format!("must be finite and within ±{MAX_LENGTH_M} m, got {p:?}"),
                 );
-                return;
+                return false;
             }
-            if revolved && p[0] < 0.0 {
-                self.fail(
-                    at.index(i),
-                    format!("radius r must be ≥ 0 in a revolved profile, got {}", p[0]),
-                );
+            if let Some(message) = point_rule(*p) {
+                self.fail(at.index(i), message);
             }
         }
         let extent = profile
@@ -237,227 +262,30 @@ impl Checker {
                 );
             }
         }
-        if revolved {
-            // A span lying on the axis revolves into nothing.
-            for i in 1..profile.len() {
-                if profile[i][0] == 0.0 && profile[i - 1][0] == 0.0 {
-                    self.fail(
-                        at.index(i),
-                        "two consecutive points on the axis (r = 0) give a zero-area surface",
-                    );
-                }
-            }
+        true
+    }
+
+    /// `segments_per_span` of a profile with `control_points` points: the
+    /// samples along the whole profile stay within MAX_SEGMENTS too.
+    pub fn profile_segments(
+        &mut self,
+        at: &FieldPath,
+        control_points: usize,
+        segments_per_span: u32,
+    ) {
+        self.segments(at, "segments_per_span", segments_per_span, 1);
+        if control_points.saturating_mul(segments_per_span as usize) > MAX_SEGMENTS as usize {
+            self.fail(
+                at.key("segments_per_span"),
+                format!("control points × segments_per_span must be ≤ {MAX_SEGMENTS}"),
+            );
         }
     }
 
-    fn shape(&mut self, at: &FieldPath, shape: &Shape) {
-        let at = at.key("shape");
-        match shape {
-            &Shape::Paraboloid {
-                focal_length,
-                aperture_diameter,
-                neck_diameter,
-                segments_around,
-                segments_along,
-                ..
-            } => {
-                self.length(&at, "focal_length", focal_length);
-                self.length(&at, "aperture_diameter", aperture_diameter);
-                self.non_negative(&at, "neck_diameter", neck_diameter);
-                if neck_diameter >= aperture_diameter {
-                    self.fail(
-                        at.key("neck_diameter"),
-                        format!(
-                            "must be smaller than aperture_diameter ({aperture_diameter}), got {neck_diameter}"
-                        ),
-                    );
-                }
-                self.segments(&at, "segments_around", segments_around, 3);
-                self.segments(&at, "segments_along", segments_along, 1);
-            }
-            &Shape::Ellipsoid {
-                focal_distance,
-                vertex_distance,
-                cut_below_focus,
-                neck_diameter,
-                segments_around,
-                segments_along,
-                ..
-            } => {
-                self.length(&at, "focal_distance", focal_distance);
-                self.length(&at, "vertex_distance", vertex_distance);
-                self.non_negative(&at, "neck_diameter", neck_diameter);
-                if self.finite(&at, "cut_below_focus", cut_below_focus) {
-                    // The section must run from the vertex (z = vertex_distance)
-                    // to the cut plane, above the far vertex.
-                    let far_vertex = focal_distance + vertex_distance;
-                    if !(cut_below_focus > -vertex_distance && cut_below_focus < far_vertex) {
-                        self.fail(
-                            at.key("cut_below_focus"),
-                            format!(
-                                "must lie between −vertex_distance ({}) and the far vertex ({far_vertex}), got {cut_below_focus}",
-                                -vertex_distance
-                            ),
-                        );
-                    }
-                }
-                let c = 0.5 * focal_distance;
-                let a = c + vertex_distance;
-                let b = (a * a - c * c).sqrt();
-                if neck_diameter >= 2.0 * b {
-                    self.fail(
-                        at.key("neck_diameter"),
-                        format!(
-                            "must be smaller than the ellipsoid's minor diameter {}",
-                            2.0 * b
-                        ),
-                    );
-                } else if cut_below_focus.is_finite() && neck_diameter > 0.0 {
-                    let t0 = (0.5 * neck_diameter / b).asin();
-                    let z0 = -c + a * t0.cos();
-                    if -cut_below_focus >= z0 {
-                        self.fail(
-                            at.key("cut_below_focus"),
-                            "the cut plane lies above the neck: the section is empty",
-                        );
-                    }
-                }
-                self.segments(&at, "segments_around", segments_around, 3);
-                self.segments(&at, "segments_along", segments_along, 1);
-            }
-            Shape::Revolved {
-                profile,
-                segments_around,
-                segments_per_span,
-                ..
-            } => {
-                self.profile(&at, profile, true);
-                self.segments(&at, "segments_around", *segments_around, 3);
-                self.segments(&at, "segments_per_span", *segments_per_span, 1);
-                if profile.len().saturating_mul(*segments_per_span as usize) > MAX_SEGMENTS as usize
-                {
-                    self.fail(
-                        at.key("segments_per_span"),
-                        format!("control points × segments_per_span must be ≤ {MAX_SEGMENTS}"),
-                    );
-                }
-            }
-            Shape::Extruded {
-                profile,
-                length,
-                segments_per_span,
-                ..
-            } => {
-                self.profile(&at, profile, false);
-                self.length(&at, "length", *length);
-                self.segments(&at, "segments_per_span", *segments_per_span, 1);
-                if profile.len().saturating_mul(*segments_per_span as usize) > MAX_SEGMENTS as usize
-                {
-                    self.fail(
-                        at.key("segments_per_span"),
-                        format!("control points × segments_per_span must be ≤ {MAX_SEGMENTS}"),
-                    );
-                }
-            }
-            &Shape::Louvre {
-                blade_count,
-                spacing,
-                blade_height,
-                blade_length,
-                tilt_deg,
-                cross_blade_count,
-                cross_spacing,
-            } => {
-                self.segments(&at, "blade_count", blade_count, 1);
-                self.length(&at, "spacing", spacing);
-                self.length(&at, "blade_height", blade_height);
-                self.length(&at, "blade_length", blade_length);
-                if self.finite(&at, "tilt_deg", tilt_deg) && tilt_deg.abs() >= 89.0 {
-                    self.fail(
-                        at.key("tilt_deg"),
-                        format!("must be within ±89°, got {tilt_deg}"),
-                    );
-                }
-                if cross_blade_count > MAX_SEGMENTS {
-                    self.fail(
-                        at.key("cross_blade_count"),
-                        format!("must be ≤ {MAX_SEGMENTS}, got {cross_blade_count}"),
-                    );
-                }
-                if cross_blade_count > 0 {
-                    self.length(&at, "cross_spacing", cross_spacing);
-                    if blade_count < 2 {
-                        self.fail(
-                            at.key("cross_blade_count"),
-                            "cross blades span between blades: needs blade_count ≥ 2",
-                        );
-                    }
-                }
-            }
-            &Shape::Plate { width, depth } => {
-                self.length(&at, "width", width);
-                self.length(&at, "depth", depth);
-            }
-            &Shape::Disk {
-                radius,
-                segments_around,
-            } => {
-                self.length(&at, "radius", radius);
-                self.segments(&at, "segments_around", segments_around, 3);
-            }
-            &Shape::Dome {
-                radius,
-                height,
-                segments_around,
-                segments_along,
-            } => {
-                self.length(&at, "radius", radius);
-                self.length(&at, "height", height);
-                if height > 2.0 * radius {
-                    self.fail(
-                        at.key("height"),
-                        format!(
-                            "a spherical cap is at most 2 × radius = {} high",
-                            2.0 * radius
-                        ),
-                    );
-                }
-                self.segments(&at, "segments_around", segments_around, 3);
-                self.segments(&at, "segments_along", segments_along, 1);
-            }
-            &Shape::Cylinder {
-                radius,
-                height,
-                segments_around,
-                ..
-            } => {
-                self.length(&at, "radius", radius);
-                self.length(&at, "height", height);
-                self.segments(&at, "segments_around", segments_around, 3);
-            }
-            Shape::Box { size, .. } => {
-                for (i, &v) in size.iter().enumerate() {
-                    if !(v.is_finite() && v > 0.0 && v <= MAX_LENGTH_M) {
-                        self.fail(
-                            at.key("size").index(i),
-                            format!(
-                                "must be a length in metres, > 0 and ≤ {MAX_LENGTH_M}, got {v}"
-                            ),
-                        );
-                    }
-                }
-            }
-            Shape::Mesh { path, .. } => {
-                if path.trim().is_empty() {
-                    self.fail(at.key("path"), "must name an OBJ file");
-                }
-            }
-        }
-    }
-
-    fn material_ref(&mut self, scene: &Scene, at: FieldPath, name: &str) {
-        if !scene.materials.contains_key(name) {
-            let known: Vec<&str> = scene.materials.keys().map(String::as_str).collect();
+    /// `name` must be a material defined in the scene's `[materials]`.
+    pub fn material_ref(&mut self, at: FieldPath, name: &str) {
+        if !self.materials.contains_key(name) {
+            let known: Vec<&str> = self.materials.keys().map(String::as_str).collect();
             self.fail(
                 at,
                 format!(
@@ -472,28 +300,16 @@ impl Checker {
         }
     }
 
-    fn part(&mut self, scene: &Scene, at: &FieldPath, part: &Part) {
+    fn part(&mut self, at: &FieldPath, part: &Part) {
         if part.name.trim().is_empty() {
             self.fail(at.key("name"), "must not be empty");
         }
-        self.material_ref(scene, at.key("material"), &part.material);
-        if let Shape::Mesh {
-            group_materials, ..
-        } = &part.shape
-        {
-            for (group, material) in group_materials {
-                self.material_ref(
-                    scene,
-                    at.key("shape").key("group_materials").key(group),
-                    material,
-                );
-            }
-        }
-        self.shape(at, &part.shape);
+        self.material_ref(at.key("material"), &part.material);
+        part.shape.generator().validate(&at.key("shape"), self);
         self.transform(at, &part.transform);
     }
 
-    fn emitter(&mut self, scene: &Scene, at: &FieldPath, e: &Emitter) {
+    fn emitter(&mut self, at: &FieldPath, e: &Emitter) {
         if e.name.trim().is_empty() {
             self.fail(at.key("name"), "must not be empty");
         }
@@ -526,7 +342,7 @@ impl Checker {
             );
         }
         if let Some(m) = &e.material {
-            self.material_ref(scene, at.key("material"), m);
+            self.material_ref(at.key("material"), m);
         }
         self.transform(at, &e.transform);
     }
@@ -535,6 +351,7 @@ impl Checker {
 /// Checks a scene's parameters; returns every problem found, in file order.
 pub fn validate(scene: &Scene) -> Vec<Invalid> {
     let mut c = Checker {
+        materials: &scene.materials,
         problems: Vec::new(),
     };
     let root = FieldPath::default();
@@ -560,10 +377,10 @@ pub fn validate(scene: &Scene) -> Vec<Invalid> {
         );
     }
     for (i, e) in scene.emitters.iter().enumerate() {
-        c.emitter(scene, &root.key("emitter").index(i), e);
+        c.emitter(&root.key("emitter").index(i), e);
     }
     for (i, p) in scene.parts.iter().enumerate() {
-        c.part(scene, &root.key("part").index(i), p);
+        c.part(&root.key("part").index(i), p);
     }
     c.problems
 }

@@ -7,36 +7,39 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 use lucerna_scene::generators::generate;
+use lucerna_scene::shapes::{
+    BoxShape, Cylinder, Disk, Dome, Ellipsoid, Extruded, Louvre, Paraboloid, Plate, Revolved,
+};
 use lucerna_scene::{Interpolation, Shape, TriangleMesh};
 
 fn all_default_shapes() -> Vec<Shape> {
     let profile = vec![[0.01, 0.0], [0.02, -0.01], [0.035, -0.03], [0.04, -0.05]];
     let mut shapes = vec![
-        Shape::Paraboloid {
+        Shape::Paraboloid(Paraboloid {
             focal_length: 0.025,
             aperture_diameter: 0.1,
             neck_diameter: 0.0,
             segments_around: 64,
             segments_along: 32,
             faceted: false,
-        },
-        Shape::Paraboloid {
+        }),
+        Shape::Paraboloid(Paraboloid {
             focal_length: 0.025,
             aperture_diameter: 0.1,
             neck_diameter: 0.02,
             segments_around: 64,
             segments_along: 32,
             faceted: false,
-        },
-        Shape::Paraboloid {
+        }),
+        Shape::Paraboloid(Paraboloid {
             focal_length: 0.025,
             aperture_diameter: 0.1,
             neck_diameter: 0.0,
             segments_around: 12,
             segments_along: 6,
             faceted: true,
-        },
-        Shape::Ellipsoid {
+        }),
+        Shape::Ellipsoid(Ellipsoid {
             focal_distance: 0.1,
             vertex_distance: 0.015,
             cut_below_focus: 0.03,
@@ -44,8 +47,8 @@ fn all_default_shapes() -> Vec<Shape> {
             segments_around: 64,
             segments_along: 32,
             faceted: false,
-        },
-        Shape::Ellipsoid {
+        }),
+        Shape::Ellipsoid(Ellipsoid {
             focal_distance: 0.1,
             vertex_distance: 0.015,
             cut_below_focus: 0.03,
@@ -53,43 +56,43 @@ fn all_default_shapes() -> Vec<Shape> {
             segments_around: 16,
             segments_along: 8,
             faceted: true,
-        },
-        Shape::Plate {
+        }),
+        Shape::Plate(Plate {
             width: 0.1,
             depth: 0.05,
-        },
-        Shape::Disk {
+        }),
+        Shape::Disk(Disk {
             radius: 0.05,
             segments_around: 64,
-        },
-        Shape::Dome {
+        }),
+        Shape::Dome(Dome {
             radius: 0.15,
             height: 0.1,
             segments_around: 64,
             segments_along: 32,
-        },
-        Shape::Dome {
+        }),
+        Shape::Dome(Dome {
             radius: 0.15,
             height: 0.3,
             segments_around: 64,
             segments_along: 32,
-        },
-        Shape::Cylinder {
+        }),
+        Shape::Cylinder(Cylinder {
             radius: 0.05,
             height: 0.1,
             cap_top: true,
             cap_bottom: true,
             segments_around: 64,
-        },
-        Shape::Box {
+        }),
+        Shape::Box(BoxShape {
             size: [0.1, 0.2, 0.05],
             open_bottom: false,
-        },
-        Shape::Box {
+        }),
+        Shape::Box(BoxShape {
             size: [0.1, 0.2, 0.05],
             open_bottom: true,
-        },
-        Shape::Louvre {
+        }),
+        Shape::Louvre(Louvre {
             blade_count: 5,
             spacing: 0.02,
             blade_height: 0.015,
@@ -97,26 +100,26 @@ fn all_default_shapes() -> Vec<Shape> {
             tilt_deg: 20.0,
             cross_blade_count: 10,
             cross_spacing: 0.04,
-        },
+        }),
     ];
     for interpolation in [Interpolation::Linear, Interpolation::CatmullRom] {
         for faceted in [false, true] {
-            shapes.push(Shape::Revolved {
+            shapes.push(Shape::Revolved(Revolved {
                 profile: profile.clone(),
                 interpolation,
                 segments_around: 48,
                 segments_per_span: 8,
                 faceted,
-            });
+            }));
         }
-        shapes.push(Shape::Revolved {
+        shapes.push(Shape::Revolved(Revolved {
             profile: vec![[0.0, 0.02], [0.02, 0.0], [0.03, -0.03]],
             interpolation,
             segments_around: 48,
             segments_per_span: 8,
             faceted: false,
-        });
-        shapes.push(Shape::Extruded {
+        }));
+        shapes.push(Shape::Extruded(Extruded {
             profile: vec![
                 [-0.04, -0.05],
                 [-0.02, -0.015],
@@ -128,15 +131,15 @@ fn all_default_shapes() -> Vec<Shape> {
             interpolation,
             segments_per_span: 8,
             end_caps: true,
-        });
+        }));
         // Counter-clockwise profile: caps must follow the other orientation.
-        shapes.push(Shape::Extruded {
+        shapes.push(Shape::Extruded(Extruded {
             profile: vec![[0.04, -0.05], [0.0, 0.0], [-0.04, -0.05]],
             length: 0.5,
             interpolation,
             segments_per_span: 4,
             end_caps: true,
-        });
+        }));
     }
     shapes
 }
@@ -186,14 +189,14 @@ fn every_generator_gives_clean_consistently_wound_meshes() {
 
 #[test]
 fn surfaces_of_revolution_face_the_axis() {
-    let shape = Shape::Paraboloid {
+    let shape = Shape::Paraboloid(Paraboloid {
         focal_length: 0.025,
         aperture_diameter: 0.1,
         neck_diameter: 0.0,
         segments_around: 32,
         segments_along: 16,
         faceted: false,
-    };
+    });
     let mesh = generate(&shape).unwrap();
     for t in 0..mesh.triangle_count() {
         let [a, b, c] = mesh.corners(t);
@@ -206,14 +209,14 @@ fn surfaces_of_revolution_face_the_axis() {
 #[test]
 fn paraboloid_vertices_lie_on_the_paraboloid() {
     let f = 0.025;
-    let shape = Shape::Paraboloid {
+    let shape = Shape::Paraboloid(Paraboloid {
         focal_length: f,
         aperture_diameter: 0.1,
         neck_diameter: 0.01,
         segments_around: 64,
         segments_along: 32,
         faceted: false,
-    };
+    });
     let mesh = generate(&shape).unwrap();
     for p in &mesh.positions {
         let p = p.as_dvec3();
@@ -233,7 +236,7 @@ fn paraboloid_vertices_lie_on_the_paraboloid() {
 #[test]
 fn ellipsoid_vertices_sum_to_the_major_axis() {
     let (fd, vd) = (0.1, 0.015);
-    let shape = Shape::Ellipsoid {
+    let shape = Shape::Ellipsoid(Ellipsoid {
         focal_distance: fd,
         vertex_distance: vd,
         cut_below_focus: 0.03,
@@ -241,7 +244,7 @@ fn ellipsoid_vertices_sum_to_the_major_axis() {
         segments_around: 32,
         segments_along: 16,
         faceted: false,
-    };
+    });
     let mesh = generate(&shape).unwrap();
     let (f1, f2) = (DVec3::ZERO, DVec3::new(0.0, 0.0, -fd));
     let major = fd + 2.0 * vd;
@@ -255,12 +258,12 @@ fn ellipsoid_vertices_sum_to_the_major_axis() {
 #[test]
 fn dome_area_matches_the_spherical_cap() {
     for (r, h) in [(0.15, 0.15), (0.1, 0.04), (0.1, 0.18)] {
-        let mesh = generate(&Shape::Dome {
+        let mesh = generate(&Shape::Dome(Dome {
             radius: r,
             height: h,
             segments_around: 256,
             segments_along: 128,
-        })
+        }))
         .unwrap();
         let exact = 2.0 * PI * r * h;
         assert!(
@@ -311,13 +314,13 @@ fn revolved_area_converges_to_the_surface_of_revolution() {
     let exact = revolution_area(&profile);
     let mut previous = f64::INFINITY;
     for n in [8u32, 16, 32, 64, 128] {
-        let mesh = generate(&Shape::Revolved {
+        let mesh = generate(&Shape::Revolved(Revolved {
             profile: profile.clone(),
             interpolation: Interpolation::CatmullRom,
             segments_around: 4 * n,
             segments_per_span: n,
             faceted: false,
-        })
+        }))
         .unwrap();
         let error = (mesh.area() - exact).abs() / exact;
         assert!(
@@ -334,12 +337,12 @@ fn revolved_area_converges_to_the_surface_of_revolution() {
 
 #[test]
 fn a_mirroring_transform_keeps_winding_and_normals_consistent() {
-    let mesh = generate(&Shape::Dome {
+    let mesh = generate(&Shape::Dome(Dome {
         radius: 0.1,
         height: 0.05,
         segments_around: 16,
         segments_along: 8,
-    })
+    }))
     .unwrap();
     let t = lucerna_scene::Transform {
         scale: [1.0, -2.0, 0.5],

@@ -3,6 +3,7 @@
 //! that pass validation.
 
 use lucerna_scene::generators::generate;
+use lucerna_scene::shapes::{Cylinder, Dome, Ellipsoid, Extruded, Louvre, Paraboloid, Revolved};
 use lucerna_scene::{Interpolation, Shape};
 use proptest::prelude::*;
 
@@ -21,14 +22,16 @@ fn shape() -> impl Strategy<Value = Shape> {
             1u32..40,
             any::<bool>()
         )
-            .prop_map(|(f, a, neck, around, along, faceted)| Shape::Paraboloid {
-                focal_length: f,
-                aperture_diameter: a,
-                neck_diameter: a * neck,
-                segments_around: around,
-                segments_along: along,
-                faceted
-            }),
+            .prop_map(|(f, a, neck, around, along, faceted)| Shape::Paraboloid(
+                Paraboloid {
+                    focal_length: f,
+                    aperture_diameter: a,
+                    neck_diameter: a * neck,
+                    segments_around: around,
+                    segments_along: along,
+                    faceted
+                }
+            )),
         (
             len(),
             len(),
@@ -37,15 +40,17 @@ fn shape() -> impl Strategy<Value = Shape> {
             1u32..40,
             any::<bool>()
         )
-            .prop_map(|(fd, vd, cut, around, along, faceted)| Shape::Ellipsoid {
-                focal_distance: fd,
-                vertex_distance: vd,
-                cut_below_focus: -vd + cut * (fd + 2.0 * vd) * 0.999 + 1e-6,
-                neck_diameter: 0.0,
-                segments_around: around,
-                segments_along: along,
-                faceted
-            }),
+            .prop_map(|(fd, vd, cut, around, along, faceted)| Shape::Ellipsoid(
+                Ellipsoid {
+                    focal_distance: fd,
+                    vertex_distance: vd,
+                    cut_below_focus: -vd + cut * (fd + 2.0 * vd) * 0.999 + 1e-6,
+                    neck_diameter: 0.0,
+                    segments_around: around,
+                    segments_along: along,
+                    faceted
+                }
+            )),
         (
             prop::collection::vec((0.0f64..0.5, -0.5f64..0.5), 2..8),
             seg.clone(),
@@ -53,17 +58,19 @@ fn shape() -> impl Strategy<Value = Shape> {
             any::<bool>(),
             any::<bool>()
         )
-            .prop_map(|(pts, around, per, faceted, linear)| Shape::Revolved {
-                profile: pts.into_iter().map(|(r, z)| [r, z]).collect(),
-                interpolation: if linear {
-                    Interpolation::Linear
-                } else {
-                    Interpolation::CatmullRom
-                },
-                segments_around: around,
-                segments_per_span: per,
-                faceted
-            }),
+            .prop_map(
+                |(pts, around, per, faceted, linear)| Shape::Revolved(Revolved {
+                    profile: pts.into_iter().map(|(r, z)| [r, z]).collect(),
+                    interpolation: if linear {
+                        Interpolation::Linear
+                    } else {
+                        Interpolation::CatmullRom
+                    },
+                    segments_around: around,
+                    segments_per_span: per,
+                    faceted
+                })
+            ),
         (
             prop::collection::vec((-0.5f64..0.5, -0.5f64..0.5), 2..8),
             len(),
@@ -71,17 +78,19 @@ fn shape() -> impl Strategy<Value = Shape> {
             any::<bool>(),
             any::<bool>()
         )
-            .prop_map(|(pts, length, per, caps, linear)| Shape::Extruded {
-                profile: pts.into_iter().map(|(x, z)| [x, z]).collect(),
-                length,
-                interpolation: if linear {
-                    Interpolation::Linear
-                } else {
-                    Interpolation::CatmullRom
-                },
-                segments_per_span: per,
-                end_caps: caps
-            }),
+            .prop_map(
+                |(pts, length, per, caps, linear)| Shape::Extruded(Extruded {
+                    profile: pts.into_iter().map(|(x, z)| [x, z]).collect(),
+                    length,
+                    interpolation: if linear {
+                        Interpolation::Linear
+                    } else {
+                        Interpolation::CatmullRom
+                    },
+                    segments_per_span: per,
+                    end_caps: caps
+                })
+            ),
         (
             1u32..20,
             len(),
@@ -91,7 +100,7 @@ fn shape() -> impl Strategy<Value = Shape> {
             0u32..10,
             len()
         )
-            .prop_map(|(n, s, h, l, tilt, cn, cs)| Shape::Louvre {
+            .prop_map(|(n, s, h, l, tilt, cn, cs)| Shape::Louvre(Louvre {
                 blade_count: n.max(2),
                 spacing: s,
                 blade_height: h,
@@ -99,23 +108,23 @@ fn shape() -> impl Strategy<Value = Shape> {
                 tilt_deg: tilt,
                 cross_blade_count: cn,
                 cross_spacing: cs
-            }),
+            })),
         (len(), 0.01f64..2.0, seg.clone(), 1u32..40).prop_map(|(r, hf, around, along)| {
-            Shape::Dome {
+            Shape::Dome(Dome {
                 radius: r,
                 height: r * hf,
                 segments_around: around,
                 segments_along: along,
-            }
+            })
         }),
         (len(), len(), any::<bool>(), any::<bool>(), seg).prop_map(|(r, h, t, b, around)| {
-            Shape::Cylinder {
+            Shape::Cylinder(Cylinder {
                 radius: r,
                 height: h,
                 cap_top: t,
                 cap_bottom: b,
                 segments_around: around,
-            }
+            })
         }),
     ]
 }

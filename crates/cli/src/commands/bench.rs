@@ -7,6 +7,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use lucerna_photometry::CubeMapLayout;
+use lucerna_scene::shapes::Revolved;
 use lucerna_scene::{Interpolation, Shape};
 use lucerna_tracer::bvh::{Bvh, CpuTraversal};
 use lucerna_tracer::gpu::GpuTracer;
@@ -142,13 +143,13 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
         println!();
         println!("{:>10} {:>12} {:>12}", "triangles", "CWBVH ms", "BVH2 ms");
         for (around, along) in [(100u32, 50u32), (316, 158), (1000, 500)] {
-            let shape = Shape::Revolved {
+            let shape = Shape::Revolved(Revolved {
                 profile: vec![[0.0, 0.03], [0.02, 0.02], [0.04, 0.0], [0.05, -0.03]],
                 interpolation: Interpolation::CatmullRom,
                 segments_around: around,
                 segments_per_span: along / 3,
                 faceted: false,
-            };
+            });
             let mesh = lucerna_scene::generators::generate(&shape).context("a generated mesh")?;
             let corners: Vec<[glam::Vec3; 3]> = mesh
                 .triangles

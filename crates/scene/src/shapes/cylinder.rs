@@ -1,0 +1,67 @@
+//! Cylinder (housings, tubes, cans).
+
+use glam::{DVec2, DVec3};
+use serde::{Deserialize, Serialize};
+
+use super::ShapeGenerator;
+use crate::generators::{disk, revolve};
+use crate::mesh::TriangleMesh;
+use crate::profile::sample_curve;
+use crate::validate::{Checker, FieldPath};
+
+/// Cylinder about z, centred at the origin, outward normals.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Cylinder {
+    /// Radius (m).
+    pub radius: f64,
+    /// Extent along z (m).
+    pub height: f64,
+    /// Close the top (z = height / 2) with a disk.
+    #[serde(
+        default = "crate::model::yes",
+        skip_serializing_if = "crate::model::is_true"
+    )]
+    pub cap_top: bool,
+    /// Close the bottom (z = −height / 2) with a disk.
+    #[serde(
+        default = "crate::model::yes",
+        skip_serializing_if = "crate::model::is_true"
+    )]
+    pub cap_bottom: bool,
+    #[serde(default = "crate::model::default_around")]
+    pub segments_around: u32,
+}
+
+impl ShapeGenerator for Cylinder {
+    fn kind(&self) -> &'static str {
+        "cylinder"
+    }
+
+    fn validate(&self, at: &FieldPath, check: &mut Checker<'_>) {
+        check.length(at, "radius", self.radius);
+        check.length(at, "height", self.height);
+        check.segments(at, "segments_around", self.segments_around, 3);
+    }
+
+    fn generate(&self) -> Option<TriangleMesh> {
+        let (radius, segments_around) = (self.radius, self.segments_around);
+        let h = 0.5 * self.height;
+        // Bottom to top: the right-hand normal of the profile points out.
+        let side = sample_curve(
+            -h,
+            h,
+            1,
+            |z| DVec2::new(radius, z),
+            |_| DVec2::new(0.0, 1.0),
+        );
+        let mut mesh = revolve(&[side], segments_around, false);
+        if self.cap_top {
+            mesh.append(&disk(radius, h, segments_around, DVec3::Z));
+        }
+        if self.cap_bottom {
+            mesh.append(&disk(radius, -h, segments_around, DVec3::NEG_Z));
+        }
+        Some(mesh)
+    }
+}

@@ -1,0 +1,34 @@
+//! Flat circular disk (PCBs, canopies, round covers).
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use super::ShapeGenerator;
+use crate::generators::disk;
+use crate::mesh::TriangleMesh;
+use crate::validate::{Checker, FieldPath};
+
+/// Circular flat disk in the z = 0 plane, centred, normal −z.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Disk {
+    /// Radius (m).
+    pub radius: f64,
+    #[serde(default = "crate::model::default_around")]
+    pub segments_around: u32,
+}
+
+impl ShapeGenerator for Disk {
+    fn kind(&self) -> &'static str {
+        "disk"
+    }
+
+    fn validate(&self, at: &FieldPath, check: &mut Checker<'_>) {
+        check.length(at, "radius", self.radius);
+        check.segments(at, "segments_around", self.segments_around, 3);
+    }
+
+    fn generate(&self) -> Option<TriangleMesh> {
+        Some(disk(self.radius, 0.0, self.segments_around, DVec3::NEG_Z))
+    }
+}

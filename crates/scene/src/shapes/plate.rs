@@ -1,0 +1,43 @@
+//! Flat rectangular plate (covers, PCBs, baffles).
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use super::ShapeGenerator;
+use crate::generators::quad;
+use crate::mesh::TriangleMesh;
+use crate::validate::{Checker, FieldPath};
+
+/// Rectangular flat plate in the z = 0 plane, centred, normal −z.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Plate {
+    /// Extent along x (m).
+    pub width: f64,
+    /// Extent along y (m).
+    pub depth: f64,
+}
+
+impl ShapeGenerator for Plate {
+    fn kind(&self) -> &'static str {
+        "plate"
+    }
+
+    fn validate(&self, at: &FieldPath, check: &mut Checker<'_>) {
+        check.length(at, "width", self.width);
+        check.length(at, "depth", self.depth);
+    }
+
+    fn generate(&self) -> Option<TriangleMesh> {
+        let (hw, hd) = (0.5 * self.width, 0.5 * self.depth);
+        Some(quad(
+            [
+                DVec3::new(-hw, -hd, 0.0),
+                DVec3::new(-hw, hd, 0.0),
+                DVec3::new(hw, hd, 0.0),
+                DVec3::new(hw, -hd, 0.0),
+            ],
+            DVec3::NEG_Z,
+        ))
+    }
+}

@@ -1,0 +1,63 @@
+//! A drawn profile revolved about the axis (custom reflectors, cones).
+
+use serde::{Deserialize, Serialize};
+
+use super::ShapeGenerator;
+use crate::generators::revolve;
+use crate::mesh::TriangleMesh;
+use crate::model::Interpolation;
+use crate::profile::sample_profile;
+use crate::validate::{Checker, FieldPath};
+
+/// A profile `[r, z]` (metres, r ≥ 0) revolved about the z axis.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Revolved {
+    /// Control points `[r, z]` (m).
+    pub profile: Vec<[f64; 2]>,
+    #[serde(default)]
+    pub interpolation: Interpolation,
+    #[serde(default = "crate::model::default_around")]
+    pub segments_around: u32,
+    /// Segments per span between two control points.
+    #[serde(default = "crate::model::default_per_span")]
+    pub segments_per_span: u32,
+    /// Flat facets instead of a smooth surface.
+    #[serde(default, skip_serializing_if = "crate::model::is_false")]
+    pub faceted: bool,
+}
+
+impl ShapeGenerator for Revolved {
+    fn kind(&self) -> &'static str {
+        "revolved"
+    }
+
+    fn validate(&self, at: &FieldPath, check: &mut Checker<'_>) {
+        let negative_radius = |p: [f64; 2]| {
+            (p[0] < 0.0)
+                .then(|| format!("radius r must be ≥ 0 in a revolved profile, got {}", p[0]))
+        };
+        if check.profile(at, &self.profile, negative_radius) {
+            // A span lying on the axis revolves into nothing.
+            let profile = &self.profile;
+            for i in 1..profile.len() {
+                if profile[i][0] == 0.0 && profile[i - 1][0] == 0.0 {
+                    check.fail(
+                        at.key("profile").index(i),
+                        "two consecutive points on the axis (r = 0) give a zero-area surface",
+                    );
+                }
+            }
+        }
+        check.segments(at, "segments_around", self.segments_around, 3);
+        check.profile_segments(at, self.profile.len(), self.segments_per_span);
+    }
+
+    fn generate(&self) -> Option<TriangleMesh> {
+        Some(revolve(
+            &sample_profile(&self.profile, self.interpolation, self.segments_per_span),
+            self.segments_around,
+            self.faceted,
+        ))
+    }
+}

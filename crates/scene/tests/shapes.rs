@@ -1,0 +1,336 @@
+#![allow(clippy::unwrap_used, clippy::expect_used)] // reason: test helpers may panic
+//! Every part shape: its kind name is the `type` of the file format, it
+//! round-trips through TOML, its defaults are those of the file format,
+//! and it validates and tessellates through the `Shape` dispatch.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use lucerna_scene::shapes::{
+    BoxShape, Cylinder, Disk, Dome, Ellipsoid, Extruded, Louvre, Mesh, Paraboloid, Plate, Revolved,
+};
+use lucerna_scene::{
+    Emission, Emitter, EmitterShape, Interpolation, LoadSceneError, Material, Part, Scene, Shape,
+    Transform, parse_scene, scene_to_toml, tessellate, validate,
+};
+
+/// One shape of each kind, every optional field away from its default so
+/// that all of them are written out.
+fn examples() -> Vec<Shape> {
+    vec![
+        Shape::Paraboloid(Paraboloid {
+            focal_length: 0.025,
+            aperture_diameter: 0.1,
+            neck_diameter: 0.02,
+            segments_around: 24,
+            segments_along: 12,
+            faceted: true,
+        }),
+        Shape::Ellipsoid(Ellipsoid {
+            focal_distance: 0.1,
+            vertex_distance: 0.015,
+            cut_below_focus: 0.03,
+            neck_diameter: 0.01,
+            segments_around: 24,
+            segments_along: 12,
+            faceted: true,
+        }),
+        Shape::Revolved(Revolved {
+            profile: vec![[0.01, 0.0], [0.02, -0.01], [0.04, -0.05]],
+            interpolation: Interpolation::Linear,
+            segments_around: 24,
+            segments_per_span: 4,
+            faceted: true,
+        }),
+        Shape::Extruded(Extruded {
+            profile: vec![[-0.04, -0.05], [0.0, 0.0], [0.04, -0.05]],
+            length: 0.5,
+            interpolation: Interpolation::Linear,
+            segments_per_span: 4,
+            end_caps: false,
+        }),
+        Shape::Louvre(Louvre {
+            blade_count: 3,
+            spacing: 0.02,
+            blade_height: 0.015,
+            blade_length: 0.3,
+            tilt_deg: 15.0,
+            cross_blade_count: 4,
+            cross_spacing: 0.05,
+        }),
+        Shape::Plate(Plate {
+            width: 0.1,
+            depth: 0.05,
+        }),
+        Shape::Disk(Disk {
+            radius: 0.05,
+            segments_around: 24,
+        }),
+        Shape::Dome(Dome {
+            radius: 0.15,
+            height: 0.1,
+            segments_around: 24,
+            segments_along: 12,
+        }),
+        Shape::Cylinder(Cylinder {
+            radius: 0.05,
+            height: 0.1,
+            cap_top: false,
+            cap_bottom: false,
+            segments_around: 24,
+        }),
+        Shape::Box(BoxShape {
+            size: [0.1, 0.2, 0.05],
+            open_bottom: true,
+        }),
+        Shape::Mesh(Mesh {
+            path: "../meshes/cone_reflector.obj".to_owned(),
+            group_materials: BTreeMap::from([("BlackMatte".to_owned(), "black".to_owned())]),
+        }),
+    ]
+}
+
+fn scene_of(shapes: Vec<Shape>) -> Scene {
+    Scene {
+        format_version: 1,
+        name: "shapes".into(),
+        description: String::new(),
+        manufacturer: String::new(),
+        materials: BTreeMap::from([
+            ("alu".to_owned(), Material::Mirror { reflectance: 0.9 }),
+            ("black".to_owned(), Material::Absorber),
+        ]),
+        emitters: vec![Emitter {
+            name: "LED".into(),
+            shape: EmitterShape::Disk { radius: 0.002 },
+            flux_lm: 100.0,
+            emission: Emission::Lambertian,
+            material: None,
+            enabled: true,
+            transform: Default::default(),
+        }],
+        parts: shapes
+            .into_iter()
+            .map(|shape| Part {
+                name: shape.kind().to_owned(),
+                // The OBJ is in millimetres.
+                transform: match shape {
+                    Shape::Mesh(_) => Transform {
+                        scale: [0.001; 3],
+                        ..Transform::default()
+                    },
+                    _ => Transform::default(),
+                },
+                shape,
+                material: "alu".into(),
+                enabled: true,
+            })
+            .collect(),
+    }
+}
+
+fn luminaires_dir() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/luminaires")
+}
+
+#[test]
+fn every_shape_type_of_the_file_format_has_an_example() {
+    // The file format's own list: serde names every variant it accepts.
+    let err = toml::from_str::<Shape>("type = \"no_such_shape\"").unwrap_err();
+    let message = err.message();
+    let accepted: Vec<&str> = message
+        .split("expected one of ")
+        .nth(1)
+        .unwrap_or_else(|| panic!("unexpected serde message: {message}"))
+        .split(", ")
+        .map(|s| s.trim().trim_matches('`'))
+        .collect();
+    let kinds: Vec<&str> = examples().iter().map(Shape::kind).collect();
+    assert_eq!(
+        kinds, accepted,
+        "each shape needs one example here, in the enum's order"
+    );
+}
+
+#[test]
+fn kind_is_the_type_written_in_the_file() {
+    for shape in examples() {
+        let table = toml::Table::try_from(&shape).expect("a shape serialises to a table");
+        assert_eq!(
+            table.get("type").and_then(toml::Value::as_str),
+            Some(shape.kind()),
+            "{shape:?}"
+        );
+    }
+}
+
+#[test]
+fn every_shape_round_trips_through_toml() {
+    let scene = scene_of(examples());
+    assert_eq!(validate(&scene), vec![], "the examples are valid");
+    let text = scene_to_toml(&scene).expect("serialises");
+    let again = parse_scene(&text, Path::new("saved.toml"))
+        .unwrap_or_else(|e| panic!("re-read: {e}\n{text}"));
+    assert_eq!(scene, again, "{text}");
+}
+
+#[test]
+fn omitted_fields_take_the_file_formats_defaults() {
+    let cases = [
+        (
+            "type = \"paraboloid\"\nfocal_length = 0.02\naperture_diameter = 0.08",
+            Shape::Paraboloid(Paraboloid {
+                focal_length: 0.02,
+                aperture_diameter: 0.08,
+                neck_diameter: 0.0,
+                segments_around: 64,
+                segments_along: 32,
+                faceted: false,
+            }),
+        ),
+        (
+            "type = \"ellipsoid\"\nfocal_distance = 0.1\nvertex_distance = 0.015\ncut_below_focus = 0.03",
+            Shape::Ellipsoid(Ellipsoid {
+                focal_distance: 0.1,
+                vertex_distance: 0.015,
+                cut_below_focus: 0.03,
+                neck_diameter: 0.0,
+                segments_around: 64,
+                segments_along: 32,
+                faceted: false,
+            }),
+        ),
+        (
+            "type = \"revolved\"\nprofile = [[0.01, 0.0], [0.02, -0.01]]",
+            Shape::Revolved(Revolved {
+                profile: vec![[0.01, 0.0], [0.02, -0.01]],
+                interpolation: Interpolation::CatmullRom,
+                segments_around: 64,
+                segments_per_span: 8,
+                faceted: false,
+            }),
+        ),
+        (
+            "type = \"extruded\"\nprofile = [[0.01, 0.0], [0.02, -0.01]]\nlength = 1.0",
+            Shape::Extruded(Extruded {
+                profile: vec![[0.01, 0.0], [0.02, -0.01]],
+                length: 1.0,
+                interpolation: Interpolation::CatmullRom,
+                segments_per_span: 8,
+                end_caps: true,
+            }),
+        ),
+        (
+            "type = \"louvre\"\nblade_count = 3\nspacing = 0.02\nblade_height = 0.01\nblade_length = 0.5",
+            Shape::Louvre(Louvre {
+                blade_count: 3,
+                spacing: 0.02,
+                blade_height: 0.01,
+                blade_length: 0.5,
+                tilt_deg: 0.0,
+                cross_blade_count: 0,
+                cross_spacing: 0.0,
+            }),
+        ),
+        (
+            "type = \"plate\"\nwidth = 0.1\ndepth = 0.2",
+            Shape::Plate(Plate {
+                width: 0.1,
+                depth: 0.2,
+            }),
+        ),
+        (
+            "type = \"disk\"\nradius = 0.1",
+            Shape::Disk(Disk {
+                radius: 0.1,
+                segments_around: 64,
+            }),
+        ),
+        (
+            "type = \"dome\"\nradius = 0.1\nheight = 0.05",
+            Shape::Dome(Dome {
+                radius: 0.1,
+                height: 0.05,
+                segments_around: 64,
+                segments_along: 32,
+            }),
+        ),
+        (
+            "type = \"cylinder\"\nradius = 0.1\nheight = 0.05",
+            Shape::Cylinder(Cylinder {
+                radius: 0.1,
+                height: 0.05,
+                cap_top: true,
+                cap_bottom: true,
+                segments_around: 64,
+            }),
+        ),
+        (
+            "type = \"box\"\nsize = [0.1, 0.2, 0.3]",
+            Shape::Box(BoxShape {
+                size: [0.1, 0.2, 0.3],
+                open_bottom: false,
+            }),
+        ),
+        (
+            "type = \"mesh\"\npath = \"a.obj\"",
+            Shape::Mesh(Mesh {
+                path: "a.obj".to_owned(),
+                group_materials: BTreeMap::new(),
+            }),
+        ),
+    ];
+    for (text, expected) in cases {
+        let shape: Shape = toml::from_str(text).unwrap_or_else(|e| panic!("{text}: {e}"));
+        assert_eq!(shape, expected, "{text}");
+        let written = toml::to_string(&shape).expect("serialises");
+        assert_eq!(
+            toml::from_str::<Shape>(&written).ok(),
+            Some(expected),
+            "{written}"
+        );
+    }
+}
+
+#[test]
+fn every_example_tessellates_through_the_dispatch() {
+    let shapes = examples();
+    for shape in &shapes {
+        let generated = shape.generator().generate();
+        assert_eq!(generated.is_none(), matches!(shape, Shape::Mesh(_)));
+        if let Some(mesh) = generated {
+            mesh.check().unwrap_or_else(|e| panic!("{shape:?}: {e}"));
+        }
+        let surfaces = shape
+            .generator()
+            .tessellate(&luminaires_dir())
+            .unwrap_or_else(|e| panic!("{shape:?}: {e}"));
+        assert!(!surfaces.is_empty(), "{shape:?}");
+    }
+    let t = tessellate(&scene_of(shapes), &luminaires_dir()).expect("tessellates");
+    t.mesh.check().expect("a clean luminaire");
+    // Ten generated parts, two OBJ groups, one emitter.
+    assert_eq!(t.surfaces.len(), 13);
+}
+
+#[test]
+fn an_unknown_field_in_a_shape_is_a_syntax_error_at_its_line() {
+    let mut scene = scene_of(vec![examples().swap_remove(7)]);
+    scene.parts[0].name = "bell".into();
+    let text = scene_to_toml(&scene)
+        .expect("serialises")
+        .replace("height = 0.1", "height = 0.1\nthickness = 0.002");
+    let line = 1 + text
+        .lines()
+        .position(|l| l.starts_with("thickness"))
+        .expect("inserted");
+    match parse_scene(&text, Path::new("bell.toml")) {
+        Err(LoadSceneError::Syntax {
+            line: at, message, ..
+        }) => {
+            assert_eq!(at, line, "{message}\n{text}");
+            assert!(message.contains("thickness"), "{message}");
+        }
+        other => panic!("{other:?}\n{text}"),
+    }
+}
