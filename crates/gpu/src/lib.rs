@@ -3,6 +3,43 @@
 
 pub mod shaders;
 
+/// Which processor a job asks for: the one backend request of the
+/// workspace, for the photon tracer, the filter and the room renderer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum BackendRequest {
+    /// The native CPU implementation.
+    Cpu,
+    /// The WGSL implementation on a GPU adapter (a software one included).
+    Gpu,
+    /// A hardware GPU if there is one; otherwise whichever the job finds
+    /// faster (the tracer measures the software adapter against the CPU).
+    #[default]
+    Auto,
+}
+
+impl std::str::FromStr for BackendRequest {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.to_ascii_lowercase().as_str() {
+            "cpu" => Ok(BackendRequest::Cpu),
+            "gpu" => Ok(BackendRequest::Gpu),
+            "auto" => Ok(BackendRequest::Auto),
+            _ => Err(format!("'{s}' is not cpu, gpu or auto")),
+        }
+    }
+}
+
+impl std::fmt::Display for BackendRequest {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            BackendRequest::Cpu => "cpu",
+            BackendRequest::Gpu => "gpu",
+            BackendRequest::Auto => "auto",
+        })
+    }
+}
+
 /// A device ready for compute, with what it is.
 #[derive(Debug, Clone)]
 pub struct GpuContext {

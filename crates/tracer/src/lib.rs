@@ -5,7 +5,6 @@
 
 pub mod bvh;
 pub mod cpu;
-pub mod export;
 pub mod gpu;
 pub mod prepared;
 pub mod rng;

@@ -46,15 +46,7 @@ impl Backend {
     }
 }
 
-/// What the caller asks for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum BackendRequest {
-    Cpu,
-    Gpu,
-    /// A hardware GPU if there is one; otherwise whichever of the software
-    /// adapter and the CPU tracer is faster on this scene, measured.
-    Auto,
-}
+pub use lucerna_gpu::BackendRequest;
 
 /// Photons/s of each candidate, and why the choice fell as it did.
 #[derive(Debug, Clone)]
@@ -226,13 +218,6 @@ impl Session {
     pub fn restart(&mut self, scene: PreparedScene) {
         let target = self.target_iteration_time;
         *self = Session::start(scene, self.settings);
-        self.target_iteration_time = target;
-    }
-
-    /// Starts over on a changed scene with a new backend.
-    pub fn restart_with(&mut self, scene: PreparedScene, backend: Backend) {
-        let target = self.target_iteration_time;
-        *self = Session::with_backend(scene, self.settings, backend);
         self.target_iteration_time = target;
     }
 

@@ -101,7 +101,7 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
         "bounces"
     );
     for path in &scenes {
-        let (_, _, mut prepared) = super::bake::load_luminaire(path)?;
+        let mut prepared = lucerna_simulation::Luminaire::load(path)?.prepared;
         let best_traversal = prepared.bvh.traversal;
         let mut backends = vec![Backend::Cpu];
         if let Some(ctx) = &gpu {

@@ -12,7 +12,8 @@ use lucerna_filter::{FilterSettings, Threshold, filter, filter_symmetric};
 use lucerna_photometry::{CubeMapLayout, TexelSymmetry};
 use lucerna_pictures::chart::{Series, log_log_chart_png};
 use lucerna_scene::write_atomically;
-use lucerna_tracer::{PreparedScene, TraceSettings, luminaire_symmetry, trace_batch};
+use lucerna_simulation::Luminaire;
+use lucerna_tracer::{PreparedScene, TraceSettings, trace_batch};
 
 #[derive(Debug, clap::Args)]
 pub struct FilterBenchArgs {
@@ -146,8 +147,8 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
         let name = path
             .file_stem()
             .map_or(String::new(), |s| s.to_string_lossy().into_owned());
-        let (scene, tessellated, prepared) = super::bake::load_luminaire(path)?;
-        let found = luminaire_symmetry(&scene, &tessellated);
+        let luminaire = Luminaire::load(path)?;
+        let (prepared, found) = (&luminaire.prepared, &luminaire.symmetry);
         let symmetry = TexelSymmetry::new(layout, found.symmetry);
         let none = TexelSymmetry::none(layout);
         let start = Instant::now();

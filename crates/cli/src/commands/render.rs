@@ -6,25 +6,14 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use lucerna_photometry::{CubeMapLayout, Photometry, read_photometry};
+use lucerna_photometry::{Photometry, read_photometry};
 use lucerna_room::gpu::GpuRoomRenderer;
 use lucerna_room::model::{SourceKind, load_room};
 use lucerna_room::{RoomScene, Shading, render_cpu, tone_map, work_plane_cpu};
 use lucerna_scene::write_atomically;
-use lucerna_tracer::export::{ExportOptions, photometry_from_candela};
-use lucerna_tracer::{BackendRequest, Session, TraceSettings, choose_backend};
-
-/// Who shades the room.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum RenderBackend {
-    /// The WGSL renderer on a GPU adapter (a software one included).
-    Gpu,
-    /// The CPU implementation (rayon).
-    Cpu,
-    /// A hardware GPU if one opens, else the CPU (which renders faster
-    /// than a software adapter: `lucerna render-bench` measures both).
-    Auto,
-}
+use lucerna_simulation::{
+    BackendRequest, ExportOptions, FilterChoice, Luminaire, SimulationSettings, StoppingRule,
+};
 
 #[derive(Debug, clap::Args)]
 pub struct RenderArgs {
@@ -46,8 +35,11 @@ pub struct RenderArgs {
     /// Image size, WIDTHxHEIGHT.
     #[arg(long, default_value = "1280x720", value_parser = parse_size)]
     pub size: (u32, u32),
-    #[arg(long, value_enum, default_value_t = RenderBackend::Auto)]
-    pub backend: RenderBackend,
+    /// gpu (the WGSL renderer, a software adapter included), cpu, or auto:
+    /// a hardware GPU if one opens, else the CPU (which renders faster than
+    /// a software adapter: `lucerna render-bench` measures both).
+    #[arg(long, default_value = "auto")]
+    pub backend: BackendRequest,
     /// Shade as point lights (far-field photometry) instead of the cubature.
     #[arg(long)]
     pub point_lights: bool,
@@ -78,46 +70,24 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
 /// Traces a luminaire scene into photometry (auto backend, filtered map
 /// pooled over the luminaire's symmetry).
 fn bake_profile(path: &Path, photons: u64) -> Result<Photometry> {
-    let (scene, tessellated, prepared) = super::bake::load_luminaire(path)?;
-    let settings = TraceSettings {
-        seed: 1,
-        max_bounces: 64,
-        layout: CubeMapLayout::new(128),
+    let luminaire = std::sync::Arc::new(Luminaire::load(path)?);
+    let settings = SimulationSettings {
+        resolution: 128,
+        filter: FilterChoice::Automatic,
+        stop: StoppingRule {
+            photons: Some(photons),
+            ..Default::default()
+        },
+        ..Default::default()
     };
-    let (backend, _) = choose_backend(BackendRequest::Auto, &prepared, &settings)?;
-    let mut session = Session::with_backend(prepared, settings, backend);
-    while session.map().photons_emitted < photons {
-        let left = photons - session.map().photons_emitted;
-        session.iterate_at_most(left)?;
-    }
-    let map = session.snapshot();
-    let symmetry = super::bake::pooling_symmetry(
-        super::bake::PoolSymmetry::Auto,
-        &scene,
-        &tessellated,
-        map.layout,
-    );
-    let candela = super::bake::exported_candela(
-        &map,
-        super::bake::FilterChoice(Some(lucerna_filter::Threshold::Automatic)),
-        &symmetry,
-    );
+    let snapshot = lucerna_simulation::bake(luminaire, settings)?;
     let options = ExportOptions {
-        c_step_deg: 5.0,
-        gamma_step_deg: None,
         symmetrise: None,
         date: String::new(),
-        seed: 1,
+        seed: settings.seed,
         scene_file: path.display().to_string(),
     };
-    Ok(photometry_from_candela(
-        &map,
-        &candela,
-        &scene,
-        &tessellated,
-        &options,
-        &mut lucerna_photometry::resample::TableResampler::new(),
-    ))
+    Ok(lucerna_simulation::photometry(&snapshot, &options))
 }
 
 /// Loads the room and every luminaire's profile.
@@ -157,9 +127,9 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         Shading::Cubature
     };
     let gpu = match args.backend {
-        RenderBackend::Cpu => None,
-        RenderBackend::Gpu => Some(GpuRoomRenderer::new(lucerna_gpu::open()?)?),
-        RenderBackend::Auto => lucerna_gpu::open()
+        BackendRequest::Cpu => None,
+        BackendRequest::Gpu => Some(GpuRoomRenderer::new(lucerna_gpu::open()?)?),
+        BackendRequest::Auto => lucerna_gpu::open()
             .ok()
             .filter(|ctx| !ctx.is_software())
             .and_then(|ctx| GpuRoomRenderer::new(ctx).ok()),

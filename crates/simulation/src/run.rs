@@ -1,0 +1,265 @@
+//! One progressive run of one luminaire with one set of settings,
+//! synchronous: the worker thread drives it, and so can a bench.
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use lucerna_gpu::{BackendRequest, GpuContext};
+use lucerna_photometry::resample::{GammaGrid, TableResampler};
+use lucerna_photometry::table::uniform_c_planes;
+use lucerna_photometry::{AxialSymmetry, CubeMapLayout, TexelSymmetry, figures};
+use lucerna_tracer::gpu::GpuTracer;
+use lucerna_tracer::session::{flux_relative_error, peak_relative_error};
+use lucerna_tracer::{Backend, IterationReport, Session, TraceSettings, choose_backend};
+
+use crate::snapshot::{FilterSummary, Noise, RunState, Snapshot, StopReason};
+use crate::{LiveFilter, Luminaire, SimulationError, SimulationSettings};
+
+/// A progressive run: the tracing session and what turns its map into a
+/// snapshot (the pooling symmetry, the cached table binning, the live
+/// filter).
+#[derive(Debug)]
+pub struct Run {
+    luminaire: Arc<Luminaire>,
+    settings: SimulationSettings,
+    session: Session,
+    backend_reason: String,
+    symmetry: TexelSymmetry,
+    resampler: TableResampler,
+    filter: LiveFilter,
+    started: Instant,
+    last: Option<IterationReport>,
+}
+
+impl Run {
+    /// Opens the backend the settings ask for and starts at zero photons.
+    pub fn new(
+        luminaire: Arc<Luminaire>,
+        settings: SimulationSettings,
+    ) -> Result<Run, SimulationError> {
+        settings.validate()?;
+        let trace = trace_settings(&settings);
+        let (backend, choice) = choose_backend(settings.backend, &luminaire.prepared, &trace)?;
+        Ok(Run::with_backend(luminaire, settings, backend, choice.reason))
+    }
+
+    /// Starts on a GPU context already open (the worker keeps one across
+    /// edits, since opening an adapter costs far more than new buffers).
+    pub fn on_gpu(
+        luminaire: Arc<Luminaire>,
+        settings: SimulationSettings,
+        context: GpuContext,
+        reason: String,
+    ) -> Result<Run, SimulationError> {
+        settings.validate()?;
+        let tracer = GpuTracer::new(context, &luminaire.prepared, trace_settings(&settings))?;
+        Ok(Run::with_backend(
+            luminaire,
+            settings,
+            Backend::Gpu(Box::new(tracer)),
+            reason,
+        ))
+    }
+
+    fn with_backend(
+        luminaire: Arc<Luminaire>,
+        settings: SimulationSettings,
+        backend: Backend,
+        backend_reason: String,
+    ) -> Run {
+        let trace = trace_settings(&settings);
+        let axial = if settings.pool_symmetry {
+            luminaire.symmetry.symmetry
+        } else {
+            AxialSymmetry::None
+        };
+        let symmetry = TexelSymmetry::new(trace.layout, axial);
+        let mut session = Session::with_backend(luminaire.prepared.clone(), trace, backend);
+        session.pool_over(axial);
+        Run {
+            luminaire,
+            settings,
+            session,
+            backend_reason,
+            symmetry,
+            resampler: TableResampler::new(),
+            filter: LiveFilter::new(),
+            started: Instant::now(),
+            last: None,
+        }
+    }
+
+    pub fn settings(&self) -> &SimulationSettings {
+        &self.settings
+    }
+
+    pub(crate) fn set_backend_reason(&mut self, reason: String) {
+        self.backend_reason = reason;
+    }
+
+    pub fn luminaire(&self) -> &Arc<Luminaire> {
+        &self.luminaire
+    }
+
+    pub fn backend(&self) -> &Backend {
+        self.session.backend()
+    }
+
+    pub fn session(&self) -> &Session {
+        &self.session
+    }
+
+    /// Sets how long an iteration should take (an editor wants short ones).
+    pub fn set_iteration_time(&mut self, target: Duration) {
+        self.session.target_iteration_time = target;
+    }
+
+    /// Changes only when the run stops; the photons so far are kept.
+    pub fn set_stopping_rule(&mut self, stop: crate::StoppingRule) {
+        self.settings.stop = stop;
+    }
+
+    /// Traces one iteration (never past the photon limit).
+    pub fn step(&mut self) -> Result<IterationReport, SimulationError> {
+        let done = self.session.map().photons_emitted;
+        let left = self
+            .settings
+            .stop
+            .photons
+            .map_or(u64::MAX, |p| p.saturating_sub(done));
+        let report = self.session.iterate_at_most(left.max(1))?;
+        self.last = Some(report);
+        Ok(report)
+    }
+
+    /// Why the run should stop now, if its rule says so.
+    pub fn stop_reason(&self) -> Option<StopReason> {
+        let stop = &self.settings.stop;
+        if stop
+            .photons
+            .is_some_and(|p| self.session.map().photons_emitted >= p)
+        {
+            return Some(StopReason::Photons);
+        }
+        if stop.time.is_some_and(|t| self.started.elapsed() >= t) {
+            return Some(StopReason::Time);
+        }
+        if let (Some(target), Some(last)) = (stop.peak_relative_error, self.last)
+            && last.peak_relative_error <= target
+        {
+            return Some(StopReason::TargetError);
+        }
+        None
+    }
+
+    /// The map as it stands, pooled, filtered and tabulated. `final_export`
+    /// chooses an automatic filter rule afresh (a live snapshot may reuse
+    /// the last choice until the photons double).
+    pub fn snapshot(&mut self, generation: u64, state: RunState, final_export: bool) -> Snapshot {
+        let map = self.session.snapshot();
+        let (candela, filter) = match self.settings.filter.threshold() {
+            Some(threshold) => {
+                let automatic = threshold == lucerna_filter::Threshold::Automatic;
+                let (candela, report) =
+                    self.filter
+                        .filter(&map, threshold, &self.symmetry, !final_export);
+                let summary = FilterSummary {
+                    rule: report.settings.to_string(),
+                    automatic,
+                    replaced_texels: report.replaced.iter().filter(|&&r| r).count(),
+                    renormalisation: report.renormalisation,
+                    estimated_rmse: report
+                        .automatic
+                        .map(|a| (a.estimated_rmse, a.raw_estimated_rmse)),
+                };
+                (candela, Some(summary))
+            }
+            None => (map.symmetrised(&self.symmetry).candela(), None),
+        };
+        let grid = self.settings.table;
+        let gammas = match grid.gamma_step_deg {
+            Some(step) => GammaGrid::Step(step),
+            None => GammaGrid::Automatic {
+                flux_lm: map.escaped_flux_lm(),
+                tolerance: 0.005,
+            },
+        };
+        let table = self.resampler.table(
+            map.layout,
+            &candela,
+            &uniform_c_planes(grid.c_step_deg),
+            gammas,
+        );
+        let figures = figures(&table, Some(map.emitter_flux_lm));
+        let report = self.last;
+        let noise = Noise {
+            peak_relative: report.map_or_else(
+                || peak_relative_error(&map, &self.symmetry),
+                |r| r.peak_relative_error,
+            ),
+            flux_relative: flux_relative_error(&map),
+        };
+        Snapshot {
+            generation,
+            state,
+            luminaire: self.luminaire.clone(),
+            iteration: report.map_or(0, |r| r.iteration),
+            photons: map.photons_emitted,
+            elapsed: self.started.elapsed(),
+            photons_per_second: report.map_or(0.0, |r| r.photons_per_second),
+            rays_per_second: report.map_or(0.0, |r| r.rays_per_second),
+            mean_bounces: report.map_or(0.0, |r| r.mean_bounces),
+            backend: self.session.backend().describe(),
+            backend_reason: self.backend_reason.clone(),
+            map: Arc::new(map),
+            symmetry: self.symmetry.symmetry,
+            candela: Arc::new(candela),
+            filter,
+            table: Arc::new(table),
+            figures,
+            noise,
+        }
+    }
+}
+
+fn trace_settings(settings: &SimulationSettings) -> TraceSettings {
+    TraceSettings {
+        seed: settings.seed,
+        max_bounces: settings.max_bounces,
+        layout: CubeMapLayout::new(settings.resolution),
+    }
+}
+
+/// Opens the backend a request names once, for a worker that re-creates
+/// runs on every edit: `Auto` is resolved by measuring on the first scene
+/// and then kept.
+pub(crate) fn resolve_backend(
+    request: BackendRequest,
+    luminaire: &Luminaire,
+    settings: &SimulationSettings,
+) -> Result<(Option<GpuContext>, String), SimulationError> {
+    let trace = trace_settings(settings);
+    let (backend, choice) = choose_backend(request, &luminaire.prepared, &trace)?;
+    Ok(match backend {
+        Backend::Gpu(g) => (Some(g.context().clone()), choice.reason),
+        Backend::Cpu => (None, choice.reason),
+    })
+}
+
+/// Traces `luminaire` on the calling thread until the settings' stopping
+/// rule is met (a photon limit, say) and returns the final snapshot.
+pub fn bake(
+    luminaire: Arc<Luminaire>,
+    settings: SimulationSettings,
+) -> Result<Snapshot, SimulationError> {
+    if settings.stop == crate::StoppingRule::default() {
+        return Err(crate::SettingsError::Photons.into());
+    }
+    let mut run = Run::new(luminaire, settings)?;
+    loop {
+        run.step()?;
+        if let Some(reason) = run.stop_reason() {
+            return Ok(run.snapshot(0, RunState::Finished(reason), true));
+        }
+    }
+}

@@ -1,0 +1,87 @@
+//! What a run has found so far, immutable and shared.
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use lucerna_photometry::{AxialSymmetry, CandelaTable, Figures, IntensityMap};
+
+use crate::Luminaire;
+
+/// Where the run stands.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RunState {
+    Tracing,
+    Paused,
+    /// Stopped by its rule or by the caller; the snapshot is final.
+    Finished(StopReason),
+}
+
+/// Why tracing stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StopReason {
+    Photons,
+    Time,
+    TargetError,
+    /// The caller asked (e.g. Ctrl+C, a "stop" button).
+    Requested,
+}
+
+/// Relative standard errors (1σ) of what the snapshot shows.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Noise {
+    /// Of the brightest direction (the brightest 1/64-face block, pooled
+    /// over the symmetry when the photons are).
+    pub peak_relative: f64,
+    /// Of the escaped flux (binomial).
+    pub flux_relative: f64,
+}
+
+/// What the filter did to the exported map.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FilterSummary {
+    /// The rule applied, e.g. "Poisson test (cap 1024, z 4), σ 0.75".
+    pub rule: String,
+    /// Whether the rule was chosen by cross-validation.
+    pub automatic: bool,
+    pub replaced_texels: usize,
+    pub renormalisation: f64,
+    /// Cross-validated RMSE per texel / mean of the exported and of the
+    /// raw map, when the rule was chosen automatically.
+    pub estimated_rmse: Option<(f64, f64)>,
+}
+
+/// One moment of a run. Built on the worker thread; readers share it
+/// through an `Arc` and never copy the map.
+#[derive(Debug, Clone)]
+pub struct Snapshot {
+    /// Edits of the scene (or settings) since the simulation started: a
+    /// snapshot of an older generation shows a scene no longer edited.
+    pub generation: u64,
+    pub state: RunState,
+    pub luminaire: Arc<Luminaire>,
+    /// Iterations traced.
+    pub iteration: u32,
+    /// Photons traced (as traced, before pooling).
+    pub photons: u64,
+    /// Wall time of this run so far.
+    pub elapsed: Duration,
+    pub photons_per_second: f64,
+    pub rays_per_second: f64,
+    /// Surface interactions per photon.
+    pub mean_bounces: f64,
+    /// The backend tracing, in words, and why it was chosen.
+    pub backend: String,
+    pub backend_reason: String,
+    /// The photon counts as traced.
+    pub map: Arc<IntensityMap>,
+    /// The symmetry the exported map and table are pooled over.
+    pub symmetry: AxialSymmetry,
+    /// Candela per texel as exported: pooled, and filtered if asked.
+    pub candela: Arc<Vec<f64>>,
+    pub filter: Option<FilterSummary>,
+    /// The exported candela table (on the settings' grid).
+    pub table: Arc<CandelaTable>,
+    /// Flux, LOR, peak, beam and field angles of that table.
+    pub figures: Figures,
+    pub noise: Noise,
+}
