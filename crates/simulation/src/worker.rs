@@ -292,6 +292,10 @@ impl Worker {
 
     /// Applies a command; `false` to quit.
     fn handle(&mut self, command: Command) -> bool {
+        if matches!(command, Command::Edit(..) | Command::Settings(..)) {
+            // A new generation: the last one's failure no longer stands.
+            self.shared.lock().error = None;
+        }
         match command {
             Command::Edit(scene, dir, generation) => {
                 self.generation = generation;
