@@ -10,6 +10,7 @@ mod bench;
 mod convert;
 mod filter_bench;
 mod info;
+mod live_bench;
 mod near_field;
 mod render;
 mod validate;
@@ -53,6 +54,9 @@ enum Command {
     /// fixed and automatic thresholds over photon counts (CSV + PNG), and
     /// filter timings.
     FilterBench(filter_bench::FilterBenchArgs),
+    /// What a live preview pays per snapshot: candela table and figures
+    /// (first and cached) and the automatic filter's live path, amortised.
+    LiveBench(live_bench::LiveBenchArgs),
     /// Light a room with photometric profiles (cubature + LTC) and write a
     /// PNG view, the work-plane lux grid and Emin/Eavg/Emax/U0.
     Render(render::RenderArgs),
@@ -116,6 +120,7 @@ pub fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::Bench(args) => bench::bench(&args),
+        Command::LiveBench(args) => live_bench::live_bench(&args),
         Command::FilterBench(args) => filter_bench::filter_bench(&args),
         Command::Convert { input, output, to } => {
             println!("{}", convert::convert(&input, &output, to)?);

@@ -9,7 +9,7 @@ use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use lucerna_photometry::Symmetry;
 use lucerna_simulation::{
-    BackendRequest, ExportOptions, FilterChoice, Luminaire, RunState, Simulation,
+    BackendRequest, ExportOptions, FilterChoice, Luminaire, RunState, SettingsError, Simulation,
     SimulationSettings, Snapshot, StopReason, StoppingRule, TableGrid,
 };
 
@@ -172,9 +172,26 @@ pub fn describe_filter(snapshot: &Snapshot) {
     }
 }
 
+/// The flag a settings error is about.
+fn flag_of(e: &SettingsError) -> &'static str {
+    match e {
+        SettingsError::Resolution(_) => "--resolution",
+        SettingsError::Photons => "--photons",
+        SettingsError::RelativeError(_) => "--rel-error",
+        SettingsError::Time => "--time",
+        SettingsError::MaxBounces(_) => "--max-bounces",
+        SettingsError::Step { what: "γ", .. } => "--gamma-step",
+        SettingsError::Step { .. } => "--c-step",
+        SettingsError::FilterThreshold(_) => "--filter",
+        _ => "an argument",
+    }
+}
+
 pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
     let settings = args.settings();
-    settings.validate()?;
+    settings
+        .validate()
+        .map_err(|e| anyhow::anyhow!("{}: {e}", flag_of(&e)))?;
     let luminaire = Luminaire::load(&args.scene)?;
     if let Some(why) = &luminaire.symmetry.limited_by
         && settings.pool_symmetry

@@ -28,6 +28,15 @@ pub struct BenchArgs {
     pub cpu_only: bool,
 }
 
+/// `scenes`, or every example luminaire when none is given.
+pub fn example_scenes(scenes: &[PathBuf]) -> Result<Vec<PathBuf>> {
+    if scenes.is_empty() {
+        examples()
+    } else {
+        Ok(scenes.to_vec())
+    }
+}
+
 fn examples() -> Result<Vec<PathBuf>> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/luminaires");
     let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
@@ -68,11 +77,7 @@ fn run(
 }
 
 pub fn bench(args: &BenchArgs) -> Result<()> {
-    let scenes = if args.scenes.is_empty() {
-        examples()?
-    } else {
-        args.scenes.clone()
-    };
+    let scenes = example_scenes(&args.scenes)?;
     let settings = TraceSettings {
         seed: 1,
         max_bounces: 64,

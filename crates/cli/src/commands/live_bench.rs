@@ -1,0 +1,140 @@
+//! `lucerna live-bench`: what a live preview pays per snapshot: the
+//! candela table and figures (first table of a layout, then cached) and the
+//! automatic filter on the live path (rule re-chosen when the photons
+//! double, one pass in between) at a live run's snapshot schedule.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Instant;
+
+use anyhow::Result;
+use lucerna_filter::Threshold;
+use lucerna_photometry::resample::{GammaGrid, TableResampler};
+use lucerna_photometry::table::uniform_c_planes;
+use lucerna_photometry::{AxialSymmetry, TexelSymmetry, figures};
+use lucerna_simulation::{
+    BackendRequest, LiveFilter, Luminaire, Run, SimulationSettings, StoppingRule,
+};
+
+#[derive(Debug, clap::Args)]
+pub struct LiveBenchArgs {
+    /// Luminaire scenes (default: every example).
+    pub scenes: Vec<PathBuf>,
+    /// Texels per cube-face edge.
+    #[arg(long, default_value_t = 256)]
+    pub resolution: u32,
+    /// Snapshots of the live schedule, one every `--snapshot-photons`.
+    #[arg(long, default_value_t = 50)]
+    pub snapshots: u64,
+    /// Photons between snapshots (a live run at 2 M photons/s and five
+    /// snapshots a second).
+    #[arg(long, default_value_t = 400_000)]
+    pub snapshot_photons: u64,
+}
+
+pub fn live_bench(args: &LiveBenchArgs) -> Result<()> {
+    let scenes = super::bench::example_scenes(&args.scenes)?;
+    println!(
+        "{:<20} {:>10} {:>10} {:>9} {:>10} {:>11} {:>8} {:>9} {:>12}",
+        "scene",
+        "table 1st",
+        "table+fig",
+        "γ step",
+        "flux err",
+        "choose ms",
+        "pass ms",
+        "choices",
+        "filter/snap"
+    );
+    for path in &scenes {
+        let name = path
+            .file_stem()
+            .map_or(String::new(), |s| s.to_string_lossy().into_owned());
+        let luminaire = Arc::new(Luminaire::load(path)?);
+        let settings = SimulationSettings {
+            resolution: args.resolution,
+            backend: BackendRequest::Cpu,
+            stop: StoppingRule {
+                photons: Some(args.snapshots * args.snapshot_photons),
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        let symmetry = TexelSymmetry::new(
+            settings_layout(&settings),
+            if settings.pool_symmetry {
+                luminaire.symmetry.symmetry
+            } else {
+                AxialSymmetry::None
+            },
+        );
+        let mut run = Run::new(luminaire, settings)?;
+        let mut resampler = TableResampler::new();
+        let mut filter = LiveFilter::new();
+        let c_planes = uniform_c_planes(settings.table.c_step_deg);
+        let (mut first_table_ms, mut table_ms, mut table_count) = (0.0, 0.0, 0u32);
+        let (mut choose_ms, mut choices, mut pass_ms, mut passes) = (0.0, 0u32, 0.0, 0u32);
+        let (mut step, mut flux_error) = (0.0, 0.0);
+        let mut last_choice_photons = 0u64;
+        for k in 1..=args.snapshots {
+            let target = k * args.snapshot_photons;
+            while run.session().map().photons_emitted < target {
+                run.step()?;
+            }
+            let map = run.session().map();
+            // The live filter's cost at this snapshot.
+            let start = Instant::now();
+            let (candela, _) = filter.filter(map, Threshold::Automatic, &symmetry, true);
+            let ms = start.elapsed().as_secs_f64() * 1e3;
+            let chose = last_choice_photons == 0 || map.photons_emitted >= 2 * last_choice_photons;
+            if chose {
+                last_choice_photons = map.photons_emitted;
+                choose_ms += ms;
+                choices += 1;
+            } else {
+                pass_ms += ms;
+                passes += 1;
+            }
+            // The table and figures of the exported map.
+            let traced = map.escaped_flux_lm();
+            let start = Instant::now();
+            let table = resampler.table(
+                map.layout,
+                &candela,
+                &c_planes,
+                GammaGrid::Automatic {
+                    flux_lm: traced,
+                    tolerance: 0.005,
+                },
+            );
+            let fig = figures(&table, Some(map.emitter_flux_lm));
+            let ms = start.elapsed().as_secs_f64() * 1e3;
+            if k == 1 {
+                first_table_ms = ms;
+            } else {
+                table_ms += ms;
+                table_count += 1;
+            }
+            step = table.uniform_gamma_step().unwrap_or(f64::NAN);
+            flux_error = fig.flux_lm / traced - 1.0;
+        }
+        let per_snapshot = (choose_ms + pass_ms) / f64::from(choices + passes).max(1.0);
+        println!(
+            "{:<20} {:>8.1}ms {:>8.1}ms {:>8.4}° {:>9.3}% {:>11.0} {:>8.1} {:>9} {:>10.1}ms",
+            name,
+            first_table_ms,
+            table_ms / f64::from(table_count.max(1)),
+            step,
+            100.0 * flux_error,
+            choose_ms / f64::from(choices.max(1)),
+            pass_ms / f64::from(passes.max(1)),
+            format!("{choices}/{}", choices + passes),
+            per_snapshot
+        );
+    }
+    Ok(())
+}
+
+fn settings_layout(settings: &SimulationSettings) -> lucerna_photometry::CubeMapLayout {
+    lucerna_photometry::CubeMapLayout::new(settings.resolution)
+}
