@@ -387,9 +387,9 @@ fn bake_pools_photons_over_the_luminaires_symmetry() {
                 .unwrap()
                 .symmetry;
             let expected = if choice == "auto" {
-                lucerna_photometry::Symmetry::Quadrant
+                lucerna_photometry::CPlaneSymmetry::Quadrant
             } else {
-                lucerna_photometry::Symmetry::None
+                lucerna_photometry::CPlaneSymmetry::None
             };
             assert_eq!(declared, expected, "{choice} {file}");
         }

@@ -5,7 +5,7 @@ use crate::photometry::{
     Dimensions, Format, LampSet, Metadata, ParsePhotometryError, Photometry, expand_planes,
     format_number,
 };
-use crate::table::{CandelaTable, Symmetry};
+use crate::table::{CPlaneSymmetry, CandelaTable};
 
 const FORMAT: &str = "IES";
 /// Largest angle count accepted; real files have a few hundred at most.
@@ -330,19 +330,19 @@ pub fn parse_ies(text: &str) -> Result<Photometry, ParsePhotometryError> {
 }
 
 /// The symmetry a type C horizontal-angle set implies, if it is a valid set.
-fn horizontal_symmetry(h: &[f64]) -> Option<Symmetry> {
+fn horizontal_symmetry(h: &[f64]) -> Option<CPlaneSymmetry> {
     let (first, last) = (h[0], h[h.len() - 1]);
     if h.len() == 1 {
-        return Some(Symmetry::Rotational);
+        return Some(CPlaneSymmetry::Rotational);
     }
     if first == 0.0 && last == 90.0 {
-        Some(Symmetry::Quadrant)
+        Some(CPlaneSymmetry::Quadrant)
     } else if first == 0.0 && last == 180.0 {
-        Some(Symmetry::AboutC0C180)
+        Some(CPlaneSymmetry::AboutC0C180)
     } else if first == 90.0 && last == 270.0 {
-        Some(Symmetry::AboutC90C270)
+        Some(CPlaneSymmetry::AboutC90C270)
     } else if first == 0.0 && last > 180.0 && last <= 360.0 {
-        Some(Symmetry::None)
+        Some(CPlaneSymmetry::None)
     } else {
         None
     }
@@ -365,13 +365,13 @@ pub const FILE_GENERATION_UNDEFINED: f64 = 1.00001;
 
 /// The horizontal angles a file with `symmetry` stores, taken from the
 /// table's C-planes plus the range's end planes.
-pub fn stored_c_planes(table: &CandelaTable, symmetry: Symmetry) -> Vec<f64> {
+pub fn stored_c_planes(table: &CandelaTable, symmetry: CPlaneSymmetry) -> Vec<f64> {
     let (lo, hi) = match symmetry {
-        Symmetry::Rotational => return vec![0.0],
-        Symmetry::Quadrant => (0.0, 90.0),
-        Symmetry::AboutC0C180 => (0.0, 180.0),
-        Symmetry::AboutC90C270 => (90.0, 270.0),
-        Symmetry::None => (0.0, 360.0),
+        CPlaneSymmetry::Rotational => return vec![0.0],
+        CPlaneSymmetry::Quadrant => (0.0, 90.0),
+        CPlaneSymmetry::AboutC0C180 => (0.0, 180.0),
+        CPlaneSymmetry::AboutC90C270 => (90.0, 270.0),
+        CPlaneSymmetry::None => (0.0, 360.0),
     };
     let mut planes: Vec<f64> = table
         .c_planes_deg

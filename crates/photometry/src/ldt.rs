@@ -5,7 +5,7 @@ use crate::photometry::{
     Dimensions, Format, LampSet, Metadata, ParsePhotometryError, Photometry, expand_planes,
     format_number,
 };
-use crate::table::{CandelaTable, Symmetry};
+use crate::table::{CPlaneSymmetry, CandelaTable};
 
 const FORMAT: &str = "EULUMDAT";
 const MAX_PLANES: usize = 3600;
@@ -76,13 +76,13 @@ impl<'a> Lines<'a> {
     }
 }
 
-fn symmetry_of(isym: i64) -> Symmetry {
+fn symmetry_of(isym: i64) -> CPlaneSymmetry {
     match isym {
-        1 => Symmetry::Rotational,
-        2 => Symmetry::AboutC0C180,
-        3 => Symmetry::AboutC90C270,
-        4 => Symmetry::Quadrant,
-        _ => Symmetry::None,
+        1 => CPlaneSymmetry::Rotational,
+        2 => CPlaneSymmetry::AboutC0C180,
+        3 => CPlaneSymmetry::AboutC90C270,
+        4 => CPlaneSymmetry::Quadrant,
+        _ => CPlaneSymmetry::None,
     }
 }
 
@@ -263,12 +263,12 @@ fn listed_c_planes(table: &CandelaTable) -> Vec<f64> {
     }
 }
 
-fn isym_of(symmetry: Symmetry, mc: usize) -> i64 {
+fn isym_of(symmetry: CPlaneSymmetry, mc: usize) -> i64 {
     match symmetry {
-        Symmetry::Rotational => 1,
-        Symmetry::AboutC0C180 if mc.is_multiple_of(2) => 2,
-        Symmetry::AboutC90C270 if mc.is_multiple_of(2) => 3,
-        Symmetry::Quadrant if mc.is_multiple_of(4) => 4,
+        CPlaneSymmetry::Rotational => 1,
+        CPlaneSymmetry::AboutC0C180 if mc.is_multiple_of(2) => 2,
+        CPlaneSymmetry::AboutC90C270 if mc.is_multiple_of(2) => 3,
+        CPlaneSymmetry::Quadrant if mc.is_multiple_of(4) => 4,
         _ => 0,
     }
 }

@@ -23,6 +23,6 @@ pub use ldt::{parse_ldt, to_latin1, write_ldt};
 pub use photometry::{
     Dimensions, Format, LampSet, Metadata, ParsePhotometryError, Photometry, read_photometry, sniff,
 };
-pub use symmetry::{AxialIsometry, AxialSymmetry, TexelSymmetry};
 pub use resample::{CellBinning, table_from_cube_map};
-pub use table::{CandelaTable, Symmetry};
+pub use symmetry::{AxialIsometry, AxialSymmetry, TexelSymmetry};
+pub use table::{CPlaneSymmetry, CandelaTable};

@@ -3,7 +3,7 @@
 
 use serde::Serialize;
 
-use crate::table::{CandelaTable, Symmetry};
+use crate::table::{CPlaneSymmetry, CandelaTable};
 
 /// The file format a data set came from (or goes to).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -91,7 +91,7 @@ pub struct Metadata {
 pub struct Photometry {
     pub format: Format,
     /// The symmetry the file declared (or, for a bake, was detected).
-    pub symmetry: Symmetry,
+    pub symmetry: CPlaneSymmetry,
     pub table: CandelaTable,
     pub meta: Metadata,
 }
@@ -116,11 +116,11 @@ impl Photometry {
 /// every stored plane is copied to its images under `symmetry`; planes
 /// that coincide (C360 = C0) keep the first stored.
 pub fn expand_planes(
-    symmetry: Symmetry,
+    symmetry: CPlaneSymmetry,
     stored_c_deg: &[f64],
     rows: &[Vec<f64>],
 ) -> (Vec<f64>, Vec<Vec<f64>>) {
-    if symmetry == Symmetry::Rotational {
+    if symmetry == CPlaneSymmetry::Rotational {
         return (vec![0.0], vec![rows[0].clone()]);
     }
     let mut planes: Vec<(f64, usize)> = Vec::new();

@@ -192,8 +192,7 @@ fn for_each_share(
         // Near a pole, cut the texel until each piece is small against its
         // distance from the pole, where the affine model holds again.
         let split = if from_pole_deg < POLAR_TEXEL_WIDTHS * texel_deg {
-            ((POLAR_TEXEL_WIDTHS * texel_deg / from_pole_deg.max(0.25 * texel_deg)).ceil()
-                as usize)
+            ((POLAR_TEXEL_WIDTHS * texel_deg / from_pole_deg.max(0.25 * texel_deg)).ceil() as usize)
                 .clamp(2, 16)
         } else {
             1
@@ -441,7 +440,10 @@ impl CellFlux<'_> {
         let pole = |j: usize| gammas_deg[j] <= 0.0 || gammas_deg[j] >= 180.0;
         let cap = |j: usize| -> (f64, f64) {
             (0..nc).fold((0.0, 0.0), |(f, o), i| {
-                (f + sum(&self.flux_lm, i, j), o + sum(&self.solid_angle_sr, i, j))
+                (
+                    f + sum(&self.flux_lm, i, j),
+                    o + sum(&self.solid_angle_sr, i, j),
+                )
             })
         };
         let caps = [cap(0), cap(ng - 1)];
@@ -546,7 +548,9 @@ impl TableResampler {
                 let finest = AUTOMATIC_GAMMA_STEPS_DEG[AUTOMATIC_GAMMA_STEPS_DEG.len() - 1];
                 let bands = (360.0 / finest).round() as usize;
                 (
-                    (0..=bands).map(|k| k as f64 * 180.0 / bands as f64).collect(),
+                    (0..=bands)
+                        .map(|k| k as f64 * 180.0 / bands as f64)
+                        .collect(),
                     AUTOMATIC_GAMMA_STEPS_DEG.to_vec(),
                 )
             }

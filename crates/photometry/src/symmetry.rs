@@ -13,7 +13,7 @@
 //! reflector's 15° turns) do not map texels onto texels and are not used.
 
 use crate::cubemap::{CubeMapLayout, Dir};
-use crate::table::Symmetry;
+use crate::table::CPlaneSymmetry;
 
 /// One of the eight isometries of a square about z, acting on (x, y) of a
 /// direction in luminaire coordinates; z is kept.
@@ -166,12 +166,12 @@ impl AxialSymmetry {
     }
 
     /// The largest symmetry an IES or LDT file can declare for it.
-    pub fn file_symmetry(self) -> Symmetry {
+    pub fn file_symmetry(self) -> CPlaneSymmetry {
         match self {
-            AxialSymmetry::Square | AxialSymmetry::Quadrant => Symmetry::Quadrant,
-            AxialSymmetry::AboutC0C180 => Symmetry::AboutC0C180,
-            AxialSymmetry::AboutC90C270 => Symmetry::AboutC90C270,
-            _ => Symmetry::None,
+            AxialSymmetry::Square | AxialSymmetry::Quadrant => CPlaneSymmetry::Quadrant,
+            AxialSymmetry::AboutC0C180 => CPlaneSymmetry::AboutC0C180,
+            AxialSymmetry::AboutC90C270 => CPlaneSymmetry::AboutC90C270,
+            _ => CPlaneSymmetry::None,
         }
     }
 

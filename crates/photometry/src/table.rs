@@ -10,10 +10,12 @@ use serde::{Deserialize, Serialize};
 
 use crate::cubemap::Dir;
 
-/// Symmetry of a light distribution about the photometric axis.
+/// The C-plane symmetry a photometric file declares (what the C-planes it
+/// stores stand for), apart from the luminaire's axial symmetry
+/// (`AxialSymmetry`), which the tracer finds in the geometry.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
-pub enum Symmetry {
+pub enum CPlaneSymmetry {
     /// No symmetry: C0 to C360 stored.
     None,
     /// Mirror symmetry about the C0-C180 plane: I(C) = I(360° − C).
@@ -26,27 +28,27 @@ pub enum Symmetry {
     Rotational,
 }
 
-impl Symmetry {
+impl CPlaneSymmetry {
     /// C angles (degrees, in [0, 360)) that the symmetry maps `c` onto,
     /// including `c` itself.
     pub fn images(self, c: f64) -> Vec<f64> {
         let w = |x: f64| x.rem_euclid(360.0);
         match self {
-            Symmetry::None => vec![w(c)],
-            Symmetry::AboutC0C180 => vec![w(c), w(360.0 - c)],
-            Symmetry::AboutC90C270 => vec![w(c), w(180.0 - c)],
-            Symmetry::Quadrant => vec![w(c), w(360.0 - c), w(180.0 - c), w(180.0 + c)],
-            Symmetry::Rotational => vec![w(c)],
+            CPlaneSymmetry::None => vec![w(c)],
+            CPlaneSymmetry::AboutC0C180 => vec![w(c), w(360.0 - c)],
+            CPlaneSymmetry::AboutC90C270 => vec![w(c), w(180.0 - c)],
+            CPlaneSymmetry::Quadrant => vec![w(c), w(360.0 - c), w(180.0 - c), w(180.0 + c)],
+            CPlaneSymmetry::Rotational => vec![w(c)],
         }
     }
 
     pub fn describe(self) -> &'static str {
         match self {
-            Symmetry::None => "none (C0-C360)",
-            Symmetry::AboutC0C180 => "about the C0-C180 plane",
-            Symmetry::AboutC90C270 => "about the C90-C270 plane",
-            Symmetry::Quadrant => "quadrant (C0-C180 and C90-C270 planes)",
-            Symmetry::Rotational => "rotational",
+            CPlaneSymmetry::None => "none (C0-C360)",
+            CPlaneSymmetry::AboutC0C180 => "about the C0-C180 plane",
+            CPlaneSymmetry::AboutC90C270 => "about the C90-C270 plane",
+            CPlaneSymmetry::Quadrant => "quadrant (C0-C180 and C90-C270 planes)",
+            CPlaneSymmetry::Rotational => "rotational",
         }
     }
 }
@@ -287,14 +289,14 @@ impl CandelaTable {
 
     /// Largest relative difference between the table and its image under
     /// `symmetry`, relative to the peak intensity.
-    pub fn asymmetry(&self, symmetry: Symmetry) -> f64 {
+    pub fn asymmetry(&self, symmetry: CPlaneSymmetry) -> f64 {
         let (peak, _, _) = self.peak();
         if peak <= 0.0 {
             return 0.0;
         }
         let mut worst: f64 = 0.0;
         for &c in &self.c_planes_deg {
-            let images: Vec<f64> = if symmetry == Symmetry::Rotational {
+            let images: Vec<f64> = if symmetry == CPlaneSymmetry::Rotational {
                 self.c_planes_deg.clone()
             } else {
                 symmetry.images(c)
@@ -311,27 +313,27 @@ impl CandelaTable {
 
     /// The highest symmetry the table has within `tolerance` (fraction of the
     /// peak intensity).
-    pub fn detect_symmetry(&self, tolerance: f64) -> Symmetry {
-        if self.c_planes_deg.len() == 1 || self.asymmetry(Symmetry::Rotational) <= tolerance {
-            return Symmetry::Rotational;
+    pub fn detect_symmetry(&self, tolerance: f64) -> CPlaneSymmetry {
+        if self.c_planes_deg.len() == 1 || self.asymmetry(CPlaneSymmetry::Rotational) <= tolerance {
+            return CPlaneSymmetry::Rotational;
         }
-        let c0 = self.asymmetry(Symmetry::AboutC0C180) <= tolerance;
-        let c90 = self.asymmetry(Symmetry::AboutC90C270) <= tolerance;
+        let c0 = self.asymmetry(CPlaneSymmetry::AboutC0C180) <= tolerance;
+        let c90 = self.asymmetry(CPlaneSymmetry::AboutC90C270) <= tolerance;
         match (c0, c90) {
-            (true, true) => Symmetry::Quadrant,
-            (true, false) => Symmetry::AboutC0C180,
-            (false, true) => Symmetry::AboutC90C270,
-            (false, false) => Symmetry::None,
+            (true, true) => CPlaneSymmetry::Quadrant,
+            (true, false) => CPlaneSymmetry::AboutC0C180,
+            (false, true) => CPlaneSymmetry::AboutC90C270,
+            (false, false) => CPlaneSymmetry::None,
         }
     }
 
     /// Averages each value with its symmetric images (on this grid), e.g. to
     /// halve the noise of a traced distribution known to be symmetric.
-    pub fn symmetrised(&self, symmetry: Symmetry) -> CandelaTable {
+    pub fn symmetrised(&self, symmetry: CPlaneSymmetry) -> CandelaTable {
         let mut out = self.clone();
         let n = self.gammas_deg.len();
         for (ci, &c) in self.c_planes_deg.iter().enumerate() {
-            let images: Vec<f64> = if symmetry == Symmetry::Rotational {
+            let images: Vec<f64> = if symmetry == CPlaneSymmetry::Rotational {
                 self.c_planes_deg.clone()
             } else {
                 symmetry.images(c)

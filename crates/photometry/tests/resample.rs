@@ -104,7 +104,11 @@ fn cell_integration_matches_brute_force_subdivision() {
         let reference = reference_table(layout, &candela, &c_planes, &gammas, split);
         let fast = table_from_cube_map(layout, &candela, &c_planes, &gammas);
         let worst = worst_relative_difference(&fast, &reference);
-        eprintln!("{resolution}²: worst {worst:.5}, flux {:.6} vs {:.6}", fast.flux_lm(), reference.flux_lm());
+        eprintln!(
+            "{resolution}²: worst {worst:.5}, flux {:.6} vs {:.6}",
+            fast.flux_lm(),
+            reference.flux_lm()
+        );
         assert!(
             worst < tolerance,
             "{resolution}², C {c_step}°, γ {gamma_step}°: worst difference {worst:.4} of the peak"

@@ -96,7 +96,7 @@ fn tilt_include_is_read_and_the_table_follows_it() {
 
 #[test]
 fn declared_symmetries_are_read() {
-    use lucerna_photometry::Symmetry::*;
+    use lucerna_photometry::CPlaneSymmetry::*;
     for (name, symmetry) in [
         ("avad_srl_isym4.ldt", Quadrant),
         ("bega_50975_1995_single_h.ies", Rotational),

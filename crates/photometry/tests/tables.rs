@@ -7,15 +7,15 @@ use std::f64::consts::PI;
 use lucerna_photometry::resample::cube_map_from_table;
 use lucerna_photometry::table::{angles, uniform_c_planes, uniform_gammas};
 use lucerna_photometry::{
-    CandelaTable, CubeMapLayout, IesVersion, IntensityMap, LampSet, Metadata, Photometry, Symmetry,
-    figures, read_photometry, table_from_cube_map, write_ies, write_ldt,
+    CPlaneSymmetry, CandelaTable, CubeMapLayout, IesVersion, IntensityMap, LampSet, Metadata,
+    Photometry, figures, read_photometry, table_from_cube_map, write_ies, write_ldt,
 };
 
 struct Analytic {
     name: &'static str,
     intensity: fn(f64, f64) -> f64,
     flux_lm: f64,
-    symmetry: Symmetry,
+    symmetry: CPlaneSymmetry,
 }
 
 const I0: f64 = 1000.0;
@@ -26,13 +26,13 @@ fn cases() -> Vec<Analytic> {
             name: "isotropic",
             intensity: |_, _| I0,
             flux_lm: 4.0 * PI * I0,
-            symmetry: Symmetry::Rotational,
+            symmetry: CPlaneSymmetry::Rotational,
         },
         Analytic {
             name: "cosine",
             intensity: |_, g| I0 * if g < 90.0 { g.to_radians().cos() } else { 0.0 },
             flux_lm: PI * I0,
-            symmetry: Symmetry::Rotational,
+            symmetry: CPlaneSymmetry::Rotational,
         },
         // A narrow spot: I0 cos^60 γ, beam ≈ 17.3°; flux 2π I0 / 61.
         Analytic {
@@ -45,26 +45,26 @@ fn cases() -> Vec<Analytic> {
                 }
             },
             flux_lm: 2.0 * PI * I0 / 61.0,
-            symmetry: Symmetry::Rotational,
+            symmetry: CPlaneSymmetry::Rotational,
         },
         // Harmonics in C integrate to zero: the flux stays π I0.
         Analytic {
             name: "C0-C180",
             intensity: |c, g| I0 * cosine_of(g) * (1.0 + 0.5 * c.to_radians().cos()),
             flux_lm: PI * I0,
-            symmetry: Symmetry::AboutC0C180,
+            symmetry: CPlaneSymmetry::AboutC0C180,
         },
         Analytic {
             name: "C90-C270",
             intensity: |c, g| I0 * cosine_of(g) * (1.0 + 0.5 * c.to_radians().sin()),
             flux_lm: PI * I0,
-            symmetry: Symmetry::AboutC90C270,
+            symmetry: CPlaneSymmetry::AboutC90C270,
         },
         Analytic {
             name: "quadrant",
             intensity: |c, g| I0 * cosine_of(g) * (1.0 + 0.3 * (2.0 * c.to_radians()).cos()),
             flux_lm: PI * I0,
-            symmetry: Symmetry::Quadrant,
+            symmetry: CPlaneSymmetry::Quadrant,
         },
         Analytic {
             name: "asymmetric",
@@ -72,7 +72,7 @@ fn cases() -> Vec<Analytic> {
                 I0 * cosine_of(g) * (1.0 + 0.3 * c.to_radians().cos() + 0.2 * c.to_radians().sin())
             },
             flux_lm: PI * I0,
-            symmetry: Symmetry::None,
+            symmetry: CPlaneSymmetry::None,
         },
     ]
 }
@@ -81,7 +81,7 @@ fn cosine_of(g: f64) -> f64 {
     if g < 90.0 { g.to_radians().cos() } else { 0.0 }
 }
 
-fn photometry(table: CandelaTable, symmetry: Symmetry) -> Photometry {
+fn photometry(table: CandelaTable, symmetry: CPlaneSymmetry) -> Photometry {
     let flux = table.flux_lm();
     Photometry {
         format: lucerna_photometry::Format::Ies(2019),
@@ -160,10 +160,10 @@ fn symmetrisation_averages_noise_away() {
     let noisy = CandelaTable::from_fn(10.0, 5.0, |c, g| {
         cosine_of(g) * I0 * (1.0 + 0.01 * (7.0 * c + 3.0 * g).to_radians().sin())
     });
-    assert_eq!(noisy.detect_symmetry(1e-4), Symmetry::None);
-    assert_eq!(noisy.detect_symmetry(0.05), Symmetry::Rotational);
-    let smooth = noisy.symmetrised(Symmetry::Rotational);
-    assert!(smooth.asymmetry(Symmetry::Rotational) < 1e-12);
+    assert_eq!(noisy.detect_symmetry(1e-4), CPlaneSymmetry::None);
+    assert_eq!(noisy.detect_symmetry(0.05), CPlaneSymmetry::Rotational);
+    let smooth = noisy.symmetrised(CPlaneSymmetry::Rotational);
+    assert!(smooth.asymmetry(CPlaneSymmetry::Rotational) < 1e-12);
     assert!((smooth.flux_lm() - noisy.flux_lm()).abs() < 1e-9 * noisy.flux_lm());
 }
 

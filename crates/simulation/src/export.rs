@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use lucerna_photometry::{
-    CandelaTable, Dimensions, Format, IesVersion, LampSet, Metadata, Photometry, Symmetry,
+    CPlaneSymmetry, CandelaTable, Dimensions, Format, IesVersion, LampSet, Metadata, Photometry,
     to_latin1, write_ies, write_ldt,
 };
 use lucerna_scene::{TessellatedScene, write_atomically};
@@ -15,11 +15,11 @@ use crate::{SimulationError, Snapshot};
 /// How the files of a bake are labelled.
 #[derive(Debug, Clone)]
 pub struct ExportOptions {
-    /// Symmetry to impose on the table by averaging, even one the geometry
+    /// C-plane symmetry to impose on the table by averaging, even one the geometry
     /// lacks. `None` declares what the photons were pooled over (quadrant
     /// or one mirror plane, where the formats can say it), since a pooled
     /// table is exactly symmetric.
-    pub symmetrise: Option<Symmetry>,
+    pub symmetrise: Option<CPlaneSymmetry>,
     /// ISO date of the bake.
     pub date: String,
     pub seed: u32,
@@ -49,10 +49,10 @@ pub fn photometry(snapshot: &Snapshot, options: &ExportOptions) -> Photometry {
     let table: &CandelaTable = &snapshot.table;
     let declared = options
         .symmetrise
-        .or(Some(snapshot.symmetry.file_symmetry()).filter(|&s| s != Symmetry::None));
+        .or(Some(snapshot.symmetry.file_symmetry()).filter(|&s| s != CPlaneSymmetry::None));
     let (table, symmetry) = match declared {
         Some(s) => (table.symmetrised(s), s),
-        None => (table.clone(), Symmetry::None),
+        None => (table.clone(), CPlaneSymmetry::None),
     };
     let version = env!("CARGO_PKG_VERSION");
     Photometry {
@@ -124,9 +124,11 @@ pub fn write_bake_files(
     // the flux > 0.
     let per_klm = 1000.0 / map.emitter_flux_lm;
     let title = format!("{} - {} photons", scene.name, map.photons_emitted);
-    let picture = |what: &'static str| move |e: &dyn std::fmt::Display| SimulationError::Picture {
-        what,
-        message: e.to_string(),
+    let picture = |what: &'static str| {
+        move |e: &dyn std::fmt::Display| SimulationError::Picture {
+            what,
+            message: e.to_string(),
+        }
     };
     let exr = lucerna_pictures::intensity_map_exr(
         map,

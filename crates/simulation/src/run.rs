@@ -40,7 +40,12 @@ impl Run {
         settings.validate()?;
         let trace = trace_settings(&settings);
         let (backend, choice) = choose_backend(settings.backend, &luminaire.prepared, &trace)?;
-        Ok(Run::with_backend(luminaire, settings, backend, choice.reason))
+        Ok(Run::with_backend(
+            luminaire,
+            settings,
+            backend,
+            choice.reason,
+        ))
     }
 
     /// Starts on a GPU context already open (the worker keeps one across

@@ -7,12 +7,14 @@ use std::time::{Duration, Instant};
 
 use lucerna_scene::{Material, load_scene};
 use lucerna_simulation::{
-    BackendRequest, FilterChoice, Luminaire, RunState, SettingsError, Simulation,
-    SimulationError, SimulationSettings, Snapshot, StopReason, StoppingRule, TableGrid,
+    BackendRequest, FilterChoice, Luminaire, RunState, SettingsError, Simulation, SimulationError,
+    SimulationSettings, Snapshot, StopReason, StoppingRule, TableGrid,
 };
 
 fn example(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/luminaires").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../assets/luminaires")
+        .join(name)
 }
 
 fn small(stop: StoppingRule) -> SimulationSettings {
@@ -118,11 +120,8 @@ fn a_photon_limit_gives_the_same_counts_as_a_bake_on_this_thread() {
     assert!(done.map.is_balanced());
     // Iterations on the worker were sized by time, the bake's differently:
     // photon k is the same photon either way.
-    let bake = lucerna_simulation::bake(
-        Arc::new(Luminaire::load(&path).expect("loads")),
-        settings,
-    )
-    .expect("bakes");
+    let bake = lucerna_simulation::bake(Arc::new(Luminaire::load(&path).expect("loads")), settings)
+        .expect("bakes");
     assert_eq!(bake.map.counts, done.map.counts);
     assert_eq!(bake.table, done.table);
     // The automatic filter chose its rule afresh for the final snapshot.
@@ -155,9 +154,8 @@ fn a_broken_edit_is_an_error_value_and_the_next_edit_recovers() {
     let path = example("opal_bell.toml");
     let scene = load_scene(&path).expect("loads");
     let dir = path.parent().expect("a folder");
-    let mut sim =
-        Simulation::start(scene.clone(), dir, small(StoppingRule::default()), || {})
-            .expect("starts");
+    let mut sim = Simulation::start(scene.clone(), dir, small(StoppingRule::default()), || {})
+        .expect("starts");
     wait_for(&sim, |s| s.photons > 0);
     // A part whose OBJ file does not exist fails to tessellate.
     let mut broken = scene.clone();
@@ -228,8 +226,7 @@ fn absurd_settings_are_refused_before_anything_runs() {
             "relative error",
         ),
     ] {
-        let e = Simulation::start(scene.clone(), dir, settings, || {})
-            .expect_err("refused");
+        let e = Simulation::start(scene.clone(), dir, settings, || {}).expect_err("refused");
         assert!(
             matches!(e, SimulationError::Settings(_)) && e.to_string().contains(expected),
             "{e}"

@@ -7,13 +7,13 @@ use std::time::Duration;
 
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
-use lucerna_photometry::Symmetry;
+use lucerna_photometry::CPlaneSymmetry;
 use lucerna_simulation::{
     BackendRequest, ExportOptions, FilterChoice, Luminaire, RunState, SettingsError, Simulation,
     SimulationSettings, Snapshot, StopReason, StoppingRule, TableGrid,
 };
 
-/// Symmetry to impose on the baked table.
+/// C-plane symmetry to impose on the baked table.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum SymmetryArg {
     None,
@@ -268,10 +268,10 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
     let options = ExportOptions {
         symmetrise: match args.symmetrise {
             SymmetryArg::None => None,
-            SymmetryArg::Rotational => Some(Symmetry::Rotational),
-            SymmetryArg::Quadrant => Some(Symmetry::Quadrant),
-            SymmetryArg::C0C180 => Some(Symmetry::AboutC0C180),
-            SymmetryArg::C90C270 => Some(Symmetry::AboutC90C270),
+            SymmetryArg::Rotational => Some(CPlaneSymmetry::Rotational),
+            SymmetryArg::Quadrant => Some(CPlaneSymmetry::Quadrant),
+            SymmetryArg::C0C180 => Some(CPlaneSymmetry::AboutC0C180),
+            SymmetryArg::C90C270 => Some(CPlaneSymmetry::AboutC90C270),
         },
         date: chrono::Local::now().format("%Y-%m-%d").to_string(),
         seed: args.seed,
