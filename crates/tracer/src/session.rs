@@ -6,7 +6,7 @@ use std::time::{Duration, Instant};
 
 use lucerna_gpu::{GpuContext, GpuError};
 use lucerna_photometry::cubemap::rectangle_solid_angle;
-use lucerna_photometry::{AxialSymmetry, IntensityMap, TexelSymmetry};
+use lucerna_photometry::{AxialSymmetry, CubeFace, IntensityMap, TexelSymmetry};
 
 use crate::cpu::{Tally, TraceSettings, trace_batch};
 use crate::gpu::GpuTracer;
@@ -328,6 +328,10 @@ pub fn flux_relative_error(map: &IntensityMap) -> f64 {
 /// texel of their union once.
 pub fn peak_relative_error(map: &IntensityMap, symmetry: &TexelSymmetry) -> f64 {
     let n = map.layout.resolution as usize;
+    let layout = map.layout;
+    let texel = move |face: usize, x: usize, y: usize| {
+        layout.texel_index(CubeFace::from_index(face), x as u32, y as u32)
+    };
     let b = (n / 8).max(1);
     let blocks = n.div_ceil(b);
     let step = 2.0 / n as f64;
@@ -341,7 +345,7 @@ pub fn peak_relative_error(map: &IntensityMap, symmetry: &TexelSymmetry) -> f64 
                 let mut count = 0u64;
                 for y in by * b..y1 {
                     for x in bx * b..x1 {
-                        count += map.counts[face * n * n + y * n + x];
+                        count += map.counts[texel(face, x, y)];
                     }
                 }
                 let omega = rectangle_solid_angle(
@@ -362,7 +366,7 @@ pub fn peak_relative_error(map: &IntensityMap, symmetry: &TexelSymmetry) -> f64 
     if symmetry.order() > 1 && best_count > 0 {
         let (face, bx, by) = best_block;
         let mut union: Vec<usize> = (by * b..((by + 1) * b).min(n))
-            .flat_map(|y| (bx * b..((bx + 1) * b).min(n)).map(move |x| face * n * n + y * n + x))
+            .flat_map(|y| (bx * b..((bx + 1) * b).min(n)).map(move |x| texel(face, x, y)))
             .flat_map(|t| (0..symmetry.order()).map(move |g| (g, t)))
             .map(|(g, t)| symmetry.image(g, t))
             .collect();
