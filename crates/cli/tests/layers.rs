@@ -5,8 +5,30 @@ use std::process::Command;
 
 #[test]
 fn data_crates_depend_on_no_gpu_or_ui_crate() {
+    for krate in ["lucerna-scene", "lucerna-photometry", "lucerna-pictures"] {
+        assert_free_of(krate, &["wgpu", "egui", "eframe", "naga", "winit"]);
+    }
+}
+
+#[test]
+fn only_the_editor_knows_egui() {
+    // The engine and the simulation library run headless: GPU yes, UI no.
+    for krate in [
+        "lucerna-gpu",
+        "lucerna-tracer",
+        "lucerna-filter",
+        "lucerna-room",
+        "lucerna-simulation",
+        "lucerna-cli",
+    ] {
+        assert_free_of(krate, &["egui", "eframe", "winit"]);
+    }
+}
+
+/// Fails if `krate`'s normal dependency tree holds any of `forbidden`.
+fn assert_free_of(krate: &str, forbidden: &[&str]) {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned());
-    for krate in ["lucerna-scene", "lucerna-photometry"] {
+    {
         let out = Command::new(&cargo)
             .args([
                 "tree",
@@ -31,7 +53,7 @@ fn data_crates_depend_on_no_gpu_or_ui_crate() {
             tree.contains(krate),
             "cargo tree printed nothing useful: {tree}"
         );
-        for forbidden in ["wgpu", "egui", "eframe", "naga", "winit"] {
+        for forbidden in forbidden {
             assert!(
                 !tree.lines().any(|l| l.starts_with(forbidden)),
                 "{krate} depends on {forbidden}:\n{tree}"
