@@ -147,8 +147,11 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
         let name = path
             .file_stem()
             .map_or(String::new(), |s| s.to_string_lossy().into_owned());
-        let luminaire = Luminaire::load(path)?;
-        let (prepared, found) = (&luminaire.prepared, &luminaire.symmetry);
+        let Luminaire {
+            prepared,
+            symmetry: found,
+            ..
+        } = Luminaire::load(path)?;
         let symmetry = TexelSymmetry::new(layout, found.symmetry);
         let none = TexelSymmetry::none(layout);
         let start = Instant::now();
