@@ -2,8 +2,8 @@
 //! photometric type C.
 
 use crate::photometry::{
-    Dimensions, Format, LampSet, Metadata, ParsePhotometryError, Photometry, expand_planes,
-    format_number,
+    Dimensions, Format, LampSet, Metadata, ParsePhotometryError, Photometry, WriteOptions,
+    expand_planes, format_number,
 };
 use crate::table::{CPlaneSymmetry, CandelaTable};
 
@@ -398,7 +398,7 @@ fn keyword_lines(key: &str, value: &str, out: &mut String) {
         out.push_str("\r\n");
     };
     for word in value.split_whitespace() {
-        let limit = 78 - if first { key.len() } else { 4 };
+        let limit = 78usize.saturating_sub(if first { key.len() } else { 4 });
         if !current.is_empty() && current.len() + 1 + word.len() > limit {
             flush(out, &current, first);
             first = false;
@@ -424,11 +424,20 @@ fn number_lines(values: impl IntoIterator<Item = f64>, significant: usize, out: 
     }
 }
 
+/// Writes an IES file as every reader accepts it
+/// ([`WriteOptions::default`]).
+pub fn write_ies(p: &Photometry, version: IesVersion) -> String {
+    write_ies_with(p, version, &WriteOptions::default())
+}
+
 /// Writes an IES file (CR LF line ends, lines under 80 characters). The
 /// horizontal angles follow `p.symmetry`; relative photometry states the
 /// lamp lumens, absolute photometry −1.
-pub fn write_ies(p: &Photometry, version: IesVersion) -> String {
+pub fn write_ies_with(p: &Photometry, version: IesVersion, options: &WriteOptions) -> String {
     let m = &p.meta;
+    let keyword_lines = |key: &str, value: &str, out: &mut String| {
+        keyword_lines(key, &options.text(value), out);
+    };
     let mut out = String::new();
     out.push_str(match version {
         IesVersion::Lm63_2002 => "IESNA:LM-63-2002\r\n",
@@ -474,13 +483,17 @@ pub fn write_ies(p: &Photometry, version: IesVersion) -> String {
         &mut out,
     );
     out.push_str("TILT=NONE\r\n");
-    let horizontal = stored_c_planes(&p.table, p.symmetry);
+    let symmetry = match p.symmetry {
+        CPlaneSymmetry::AboutC90C270 if options.full_circle_for_c90_mirror => CPlaneSymmetry::None,
+        s => s,
+    };
+    let horizontal = stored_c_planes(&p.table, symmetry);
     let gammas = &p.table.gammas_deg;
+    // Lamp counts come from files: add them without overflow.
     let lamp_count = m
         .lamps
         .iter()
-        .map(|l| l.count.unsigned_abs())
-        .sum::<u32>()
+        .fold(0u32, |sum, l| sum.saturating_add(l.count.unsigned_abs()))
         .max(1);
     let lumens_per_lamp = match p.lamp_flux_lm() {
         Some(total) => total / f64::from(lamp_count),

@@ -2,8 +2,8 @@
 //! cd/klm of lamp set 1, symmetry indicators 0–4.
 
 use crate::photometry::{
-    Dimensions, Format, LampSet, Metadata, ParsePhotometryError, Photometry, expand_planes,
-    format_number,
+    Dimensions, Format, LampSet, Metadata, ParsePhotometryError, Photometry, WriteOptions,
+    expand_planes, format_number,
 };
 use crate::table::{CPlaneSymmetry, CandelaTable};
 
@@ -100,6 +100,31 @@ fn stored_range(isym: i64, mc: usize) -> (usize, usize) {
     }
 }
 
+/// EULUMDAT's length (along C90-C270, or the diameter) and width (along
+/// C0-C180; 0 for round) in mm as [`Dimensions`], whose length is along
+/// C0-C180 (EN 13032-1 and the GLDF schema: "width of the product
+/// C0/C180", "length of the product C90/C270").
+fn from_ldt_axes(length_mm: f64, width_mm: f64, height_mm: f64) -> Dimensions {
+    let mm = 0.001;
+    let circular = width_mm == 0.0;
+    Dimensions {
+        length_m: if circular { length_mm } else { width_mm } * mm,
+        width_m: if circular { 0.0 } else { length_mm * mm },
+        height_m: height_mm * mm,
+        circular,
+    }
+}
+
+/// The EULUMDAT length and width (m) of [`Dimensions`]: the inverse of
+/// [`from_ldt_axes`].
+fn ldt_axes(d: &Dimensions) -> (f64, f64) {
+    if d.circular || d.width_m == 0.0 {
+        (d.length_m, 0.0)
+    } else {
+        (d.width_m, d.length_m)
+    }
+}
+
 /// Reads EULUMDAT text.
 pub fn parse_ldt(text: &str) -> Result<Photometry, ParsePhotometryError> {
     let mut l = Lines {
@@ -133,28 +158,17 @@ pub fn parse_ldt(text: &str) -> Result<Photometry, ParsePhotometryError> {
         meta.keywords.push(("_LDT_FILE_NAME".to_owned(), file_name));
     }
     meta.issue_date = l.text("date/user")?.to_owned();
-    let mm = 0.001;
     let body_length = l.number_or_zero("luminaire length/diameter")?;
     let body_width = l.number_or_zero("luminaire width")?;
     let body_height = l.number_or_zero("luminaire height")?;
-    meta.luminaire_dimensions = Dimensions {
-        length_m: body_length * mm,
-        width_m: body_width * mm,
-        height_m: body_height * mm,
-        circular: body_width == 0.0,
-    };
+    meta.luminaire_dimensions = from_ldt_axes(body_length, body_width, body_height);
     let area_length = l.number_or_zero("luminous area length/diameter")?;
     let area_width = l.number_or_zero("luminous area width")?;
     let mut heights = [0.0; 4];
     for (i, h) in heights.iter_mut().enumerate() {
         *h = l.number_or_zero(&format!("luminous area height C{}", 90 * i))?;
     }
-    meta.luminous_area = Dimensions {
-        length_m: area_length * mm,
-        width_m: area_width * mm,
-        height_m: heights[0] * mm,
-        circular: area_width == 0.0,
-    };
+    meta.luminous_area = from_ldt_axes(area_length, area_width, heights[0]);
     l.number_or_zero("downward flux fraction DFF")?;
     l.number_or_zero("light output ratio LORL")?;
     let mut cfli = l.number_or_zero("intensity conversion factor CFLI")?;
@@ -273,10 +287,16 @@ fn isym_of(symmetry: CPlaneSymmetry, mc: usize) -> i64 {
     }
 }
 
+/// Writes EULUMDAT (CR LF) as every reader accepts it
+/// ([`WriteOptions::default`]).
+pub fn write_ldt(p: &Photometry) -> String {
+    write_ldt_with(p, &WriteOptions::default())
+}
+
 /// Writes EULUMDAT (CR LF). Intensities are cd/klm of lamp set 1; absolute
 /// photometry is written with a negative lamp count and the luminaire's
 /// own flux as the set's flux, so cd = cd/klm × flux / 1000 still holds.
-pub fn write_ldt(p: &Photometry) -> String {
+pub fn write_ldt_with(p: &Photometry, options: &WriteOptions) -> String {
     let m = &p.meta;
     let table = &p.table;
     let figures = p.figures();
@@ -314,7 +334,9 @@ pub fn write_ldt(p: &Photometry) -> String {
     let mm = |m: f64| format_number(m * 1000.0, 6);
     let area = &m.luminous_area;
     let body = &m.luminaire_dimensions;
-    let text = |s: &str| s.replace(['\r', '\n'], " ");
+    let text = |s: &str| options.text(s);
+    let (area_length, area_width) = ldt_axes(area);
+    let (body_length, body_width) = ldt_axes(body);
     let file_name = m
         .keywords
         .iter()
@@ -336,11 +358,11 @@ pub fn write_ldt(p: &Photometry) -> String {
         text(&m.catalog_number),
         text(&file_name),
         text(&m.issue_date),
-        mm(body.length_m),
-        mm(if body.circular { 0.0 } else { body.width_m }),
+        mm(body_length),
+        mm(body_width),
         mm(body.height_m),
-        mm(area.length_m),
-        mm(if area.circular { 0.0 } else { area.width_m }),
+        mm(area_length),
+        mm(area_width),
         mm(area.height_m),
         mm(area.height_m),
         mm(area.height_m),

@@ -17,11 +17,12 @@ pub mod table;
 
 pub use cubemap::{CubeFace, CubeMapLayout};
 pub use figures::{Figures, figures};
-pub use ies::{IesVersion, parse_ies, write_ies};
+pub use ies::{IesVersion, parse_ies, write_ies, write_ies_with};
 pub use intensity_map::IntensityMap;
-pub use ldt::{parse_ldt, to_latin1, write_ldt};
+pub use ldt::{parse_ldt, to_latin1, write_ldt, write_ldt_with};
 pub use photometry::{
-    Dimensions, Format, LampSet, Metadata, ParsePhotometryError, Photometry, read_photometry, sniff,
+    Dimensions, Format, LampSet, Metadata, ParsePhotometryError, Photometry, WriteOptions,
+    read_photometry, sniff,
 };
 pub use resample::{CellBinning, table_from_cube_map};
 pub use symmetry::{AxialIsometry, AxialSymmetry, TexelSymmetry};

@@ -37,15 +37,50 @@ pub struct LampSet {
     pub watts: f64,
 }
 
-/// Dimensions of a luminaire or its luminous area (m). Length is along the
-/// C0-C180 axis (x), width along C90-C270 (y); a circular shape has
-/// `width_m = 0` and its diameter in `length_m`.
+/// Dimensions of a luminaire or its luminous area (m), in IES LM-63's
+/// terms, which this type keeps whatever file it came from: length is
+/// along the C0-C180 axis (x), width along C90-C270 (y); a circular shape
+/// has `width_m = 0` and its diameter in `length_m`. EULUMDAT names them
+/// the other way round (its length lies along C90-C270): its reader and
+/// writer swap them (ARCHITECTURE.md, "photometric files").
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
 pub struct Dimensions {
     pub length_m: f64,
     pub width_m: f64,
     pub height_m: f64,
     pub circular: bool,
+}
+
+/// How a file is written. The defaults are what every reader accepts
+/// (independent readers refused legal files over these two points).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct WriteOptions {
+    /// Free text transliterated to ASCII ("25 °C" → "25 degC", "é" → "e").
+    pub ascii_text: bool,
+    /// A table mirrored about the C90-C270 plane written over the whole
+    /// circle (0°-360°) instead of LM-63's legal 90°-270° range.
+    pub full_circle_for_c90_mirror: bool,
+}
+
+impl Default for WriteOptions {
+    fn default() -> Self {
+        WriteOptions {
+            ascii_text: true,
+            full_circle_for_c90_mirror: true,
+        }
+    }
+}
+
+impl WriteOptions {
+    /// A free-text field on one line, in ASCII where asked.
+    pub fn text(&self, s: &str) -> String {
+        let one_line = s.replace(['\r', '\n'], " ");
+        if self.ascii_text && !one_line.is_ascii() {
+            deunicode::deunicode_with_tofu(&one_line, "?")
+        } else {
+            one_line
+        }
+    }
 }
 
 /// Everything but the intensities.
