@@ -39,5 +39,9 @@ fn the_corridor_renders_the_same_from_the_ies_and_the_ldt() {
     for (x, y) in a.luminance.iter().zip(&b.luminance) {
         worst = worst.max((x - y).abs() / x.abs().max(1e-3));
     }
-    assert!(worst <= 0.005, "worst pixel differs by {:.3} %", 100.0 * worst);
+    assert!(
+        worst <= 0.005,
+        "worst pixel differs by {:.3} %",
+        100.0 * worst
+    );
 }

@@ -36,6 +36,36 @@ pub struct Scene {
     /// `[[part]]` tables.
     #[serde(default, rename = "part")]
     pub parts: Vec<Part>,
+    /// The luminous opening exported files declare and the preview room's
+    /// polygonal light uses; unset, the luminaire's footprint seen from
+    /// below.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub opening: Option<LuminousOpening>,
+}
+
+/// The luminous opening (m), in the luminaire's frame: IES width, length
+/// and height with their shape, EULUMDAT's luminous area. It matters in
+/// the near field, where a room is lit by the opening's polygon.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "shape", rename_all = "snake_case", deny_unknown_fields)]
+pub enum LuminousOpening {
+    /// `length_m` along x (C0-C180), `width_m` along y (C90-C270).
+    Rectangle {
+        length_m: f64,
+        width_m: f64,
+        #[serde(default)]
+        height_m: f64,
+    },
+    Disk {
+        diameter_m: f64,
+        #[serde(default)]
+        height_m: f64,
+    },
+    /// A point source: the files declare no opening.
+    None,
+    /// The footprint seen from below of one part, e.g. a reflector's exit
+    /// aperture: a disk when the part is round about the axis.
+    PartAperture { part: String },
 }
 
 /// Surface or volume optical behaviour. Reflectances and transmittances are

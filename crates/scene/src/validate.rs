@@ -8,7 +8,7 @@
 use std::collections::BTreeMap;
 use std::fmt;
 
-use crate::model::{Emitter, EmitterShape, FORMAT_VERSION, Material, Part, Scene};
+use crate::model::{Emitter, EmitterShape, FORMAT_VERSION, LuminousOpening, Material, Part, Scene};
 
 /// Where a value sits in the scene file, e.g. `part[2].shape.focal_length`
 /// (the TOML key path, used to find its line).
@@ -381,6 +381,49 @@ pub fn validate(scene: &Scene) -> Vec<Invalid> {
     }
     for (i, p) in scene.parts.iter().enumerate() {
         c.part(&root.key("part").index(i), p);
+    }
+    if let Some(opening) = &scene.opening {
+        let at = root.key("opening");
+        let size = |c: &mut Checker, key: &str, v: f64| {
+            if !(v.is_finite() && v > 0.0 && v <= 50.0) {
+                c.fail(at.key(key), format!("must be from 0 to 50 m, got {v}"));
+            }
+        };
+        let height = |c: &mut Checker, v: f64| {
+            if !(v.is_finite() && (0.0..=50.0).contains(&v)) {
+                c.fail(
+                    at.key("height_m"),
+                    format!("must be from 0 to 50 m, got {v}"),
+                );
+            }
+        };
+        match opening {
+            LuminousOpening::Rectangle {
+                length_m,
+                width_m,
+                height_m,
+            } => {
+                size(&mut c, "length_m", *length_m);
+                size(&mut c, "width_m", *width_m);
+                height(&mut c, *height_m);
+            }
+            LuminousOpening::Disk {
+                diameter_m,
+                height_m,
+            } => {
+                size(&mut c, "diameter_m", *diameter_m);
+                height(&mut c, *height_m);
+            }
+            LuminousOpening::None => {}
+            LuminousOpening::PartAperture { part } => {
+                if !scene.parts.iter().any(|p| &p.name == part && p.enabled) {
+                    c.fail(
+                        at.key("part"),
+                        format!("names no enabled [[part]] ('{part}')"),
+                    );
+                }
+            }
+        }
     }
     c.problems
 }

@@ -92,6 +92,7 @@ fn examples() -> Vec<Shape> {
 
 fn scene_of(shapes: Vec<Shape>) -> Scene {
     Scene {
+        opening: None,
         format_version: 1,
         name: "shapes".into(),
         description: String::new(),

@@ -8,7 +8,7 @@ use lucerna_photometry::{
     CPlaneSymmetry, CandelaTable, Dimensions, Format, IesVersion, LampSet, Metadata, Photometry,
     to_latin1, write_ies, write_ldt,
 };
-use lucerna_scene::{TessellatedScene, write_atomically};
+use lucerna_scene::{LuminousOpening, Scene, SurfaceKind, TessellatedScene, write_atomically};
 
 use crate::{SimulationError, Snapshot};
 
@@ -27,16 +27,89 @@ pub struct ExportOptions {
     pub scene_file: String,
 }
 
-/// The luminous opening: the luminaire's footprint seen from below (x and
-/// y extent of every surface), height 0. A first approximation until
-/// parts carry an explicit aperture.
-pub fn luminous_opening(tessellated: &TessellatedScene) -> Dimensions {
-    let (lo, hi) = tessellated.mesh.bounds().unwrap_or_default();
+/// The x and y extent (m) of triangles `range` (all when `None`) seen
+/// from below.
+fn footprint(tessellated: &TessellatedScene, range: Option<std::ops::Range<usize>>) -> (f64, f64) {
+    let mesh = &tessellated.mesh;
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for t in &mesh.triangles[range.unwrap_or(0..mesh.triangles.len())] {
+        for &v in t {
+            let p = mesh.positions[v as usize];
+            for (k, x) in [f64::from(p.x), f64::from(p.y)].into_iter().enumerate() {
+                lo[k] = lo[k].min(x);
+                hi[k] = hi[k].max(x);
+            }
+        }
+    }
+    if lo[0] > hi[0] {
+        (0.0, 0.0)
+    } else {
+        (hi[0] - lo[0], hi[1] - lo[1])
+    }
+}
+
+/// The luminaire's dimensions the files declare: its footprint seen from
+/// below, height 0.
+pub fn luminaire_dimensions(tessellated: &TessellatedScene) -> Dimensions {
+    let (length_m, width_m) = footprint(tessellated, None);
     Dimensions {
-        length_m: f64::from(hi.x - lo.x),
-        width_m: f64::from(hi.y - lo.y),
+        length_m,
+        width_m,
         height_m: 0.0,
         circular: false,
+    }
+}
+
+/// The luminous opening the files declare: the scene's, or by default the
+/// luminaire's footprint.
+pub fn luminous_opening(scene: &Scene, tessellated: &TessellatedScene) -> Dimensions {
+    let rectangle = |length_m, width_m, height_m| Dimensions {
+        length_m,
+        width_m,
+        height_m,
+        circular: false,
+    };
+    let disk = |diameter_m, height_m| Dimensions {
+        length_m: diameter_m,
+        width_m: 0.0,
+        height_m,
+        circular: true,
+    };
+    match &scene.opening {
+        None => luminaire_dimensions(tessellated),
+        Some(LuminousOpening::Rectangle {
+            length_m,
+            width_m,
+            height_m,
+        }) => rectangle(*length_m, *width_m, *height_m),
+        Some(LuminousOpening::Disk {
+            diameter_m,
+            height_m,
+        }) => disk(*diameter_m, *height_m),
+        Some(LuminousOpening::None) => Dimensions::default(),
+        Some(LuminousOpening::PartAperture { part }) => {
+            let index = scene.parts.iter().position(|p| &p.name == part);
+            let range = tessellated
+                .surfaces
+                .iter()
+                .filter(|s| s.kind == SurfaceKind::Part && Some(s.index) == index)
+                .map(|s| s.triangles.clone())
+                .reduce(|a, b| a.start.min(b.start)..a.end.max(b.end));
+            let (length_m, width_m) = footprint(tessellated, Some(range.unwrap_or(0..0)));
+            // A surface of revolution about the axis has a round exit.
+            let revolved = index.is_some_and(|i| {
+                matches!(
+                    scene.parts[i].shape.kind(),
+                    "paraboloid" | "ellipsoid" | "revolved" | "dome" | "disk" | "cylinder"
+                )
+            });
+            if revolved && (length_m - width_m).abs() <= 0.02 * length_m.max(width_m) {
+                disk(length_m.max(width_m), 0.0)
+            } else {
+                rectangle(length_m, width_m, 0.0)
+            }
+        }
     }
 }
 
@@ -99,8 +172,8 @@ pub fn photometry(snapshot: &Snapshot, options: &ExportOptions) -> Photometry {
             absolute: false,
             ballast_factor: 1.0,
             input_watts: 0.0,
-            luminous_area: luminous_opening(tessellated),
-            luminaire_dimensions: luminous_opening(tessellated),
+            luminous_area: luminous_opening(scene, tessellated),
+            luminaire_dimensions: luminaire_dimensions(tessellated),
             ldt_type: None,
             tilt: None,
             warnings: Vec::new(),

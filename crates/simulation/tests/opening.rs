@@ -1,0 +1,100 @@
+//! A scene's stated luminous opening reaches the IES file (width, length,
+//! height; negative for round), the EULUMDAT file (luminous area) and the
+//! preview room's polygonal light.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use lucerna_photometry::{
+    Dimensions, IesVersion, read_photometry, to_latin1, write_ies, write_ldt,
+};
+use lucerna_room::light::Opening;
+use lucerna_room::scene::opening_from_dimensions;
+use lucerna_scene::{LuminousOpening, load_scene};
+use lucerna_simulation::{
+    BackendRequest, ExportOptions, Luminaire, SimulationSettings, StoppingRule, bake, photometry,
+};
+
+fn baked_with(name: &str, opening: Option<LuminousOpening>) -> (Dimensions, Dimensions) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../assets/luminaires")
+        .join(name);
+    let mut scene = load_scene(&path).expect("loads");
+    scene.opening = opening;
+    assert!(lucerna_scene::validate(&scene).is_empty());
+    let luminaire =
+        Arc::new(Luminaire::new(scene, path.parent().expect("a folder")).expect("prepares"));
+    let settings = SimulationSettings {
+        resolution: 32,
+        backend: BackendRequest::Cpu,
+        stop: StoppingRule {
+            photons: Some(20_000),
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let snapshot = bake(luminaire, settings).expect("bakes");
+    let p = photometry(
+        &snapshot,
+        &ExportOptions {
+            symmetrise: None,
+            date: String::new(),
+            seed: 1,
+            scene_file: name.to_owned(),
+        },
+    );
+    let ies = read_photometry(write_ies(&p, IesVersion::Lm63_2019).as_bytes()).expect("IES");
+    let ldt = read_photometry(&to_latin1(&write_ldt(&p))).expect("LDT");
+    (ies.meta.luminous_area, ldt.meta.luminous_area)
+}
+
+#[test]
+fn a_stated_rectangle_reaches_both_files_and_the_room() {
+    let stated = LuminousOpening::Rectangle {
+        length_m: 0.05,
+        width_m: 0.6,
+        height_m: 0.01,
+    };
+    let (ies, ldt) = baked_with("linear_louvre.toml", Some(stated));
+    let expected = Dimensions {
+        length_m: 0.05,
+        width_m: 0.6,
+        height_m: 0.01,
+        circular: false,
+    };
+    assert_eq!(ies, expected);
+    assert_eq!(ldt, expected);
+    assert_eq!(
+        opening_from_dimensions(ldt),
+        Opening::Rectangle {
+            length_m: 0.05,
+            width_m: 0.6
+        }
+    );
+}
+
+#[test]
+fn a_reflector_s_exit_aperture_is_a_disk_of_its_rim() {
+    // The spot's paraboloid has a 100 mm rim.
+    let (ies, ldt) = baked_with(
+        "parabolic_spot.toml",
+        Some(LuminousOpening::PartAperture {
+            part: "reflector".to_owned(),
+        }),
+    );
+    for d in [ies, ldt] {
+        assert!(d.circular, "{d:?}");
+        assert!((d.length_m - 0.1).abs() < 1e-3, "{d:?}");
+    }
+    assert!(
+        matches!(opening_from_dimensions(ies), Opening::Disk { diameter_m } if (diameter_m - 0.1).abs() < 1e-3)
+    );
+}
+
+#[test]
+fn no_opening_declares_a_point_source() {
+    let (ies, ldt) = baked_with("opal_bell.toml", Some(LuminousOpening::None));
+    assert_eq!(ies, Dimensions::default());
+    assert_eq!(ldt.length_m, 0.0);
+    assert_eq!(opening_from_dimensions(ies), Opening::Point);
+}
