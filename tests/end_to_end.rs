@@ -436,3 +436,50 @@ fn bake_pools_photons_over_the_luminaires_symmetry() {
     let flux = |t: &lucerna_photometry::CandelaTable| t.flux_lm();
     assert!((flux(&tables[0]) / flux(&tables[1]) - 1.0).abs() < 0.01);
 }
+
+#[test]
+fn convert_warns_of_unequal_c_steps_in_an_ldt_and_resamples_on_request() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("unequal.ies");
+    let mut lines = vec![
+        "IESNA:LM-63-2002",
+        "[TEST] unequal C steps",
+        "TILT=NONE",
+        "1 1000 1 3 5 1 2 0.1 0.1 0",
+        "1 1 0",
+        "0 45 90",
+        "0 10 30 90 360",
+    ];
+    lines.extend(std::iter::repeat_n("100 80 10", 5));
+    std::fs::write(&input, lines.join("\r\n") + "\r\n").unwrap();
+    let plain = dir.path().join("plain.ldt");
+    let out = lucerna(&["convert", input.to_str().unwrap(), plain.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stderr).contains("unequal C-plane steps"),
+        "{}",
+        text(&out.stderr)
+    );
+    let even = dir.path().join("even.ldt");
+    let out = lucerna(&[
+        "convert",
+        input.to_str().unwrap(),
+        even.to_str().unwrap(),
+        "--resample-c",
+        "15",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(!text(&out.stderr).contains("unequal"));
+    let back = lucerna_photometry::read_photometry(&std::fs::read(&even).unwrap()).unwrap();
+    assert_eq!(back.table.uniform_c_step(), Some(15.0));
+    let original = lucerna_photometry::read_photometry(&std::fs::read(&input).unwrap()).unwrap();
+    // Linear interpolation in C keeps the peak; the flux moves little.
+    let (a, b) = (back.figures(), original.figures());
+    assert!((a.peak_cd - b.peak_cd).abs() < 1e-6 * b.peak_cd);
+    assert!(
+        (a.flux_lm / b.flux_lm - 1.0).abs() < 0.01,
+        "{} vs {}",
+        a.flux_lm,
+        b.flux_lm
+    );
+}

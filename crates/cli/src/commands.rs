@@ -75,6 +75,10 @@ enum Command {
         /// Output format; by default from OUTPUT's extension (.ies → 2019).
         #[arg(long, value_enum)]
         to: Option<convert::OutFormat>,
+        /// Resample onto equal C-plane steps of this many degrees (linear
+        /// interpolation), e.g. 5 or 15.
+        #[arg(long)]
+        resample_c: Option<f64>,
     },
 }
 
@@ -122,8 +126,13 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Bench(args) => bench::bench(&args),
         Command::LiveBench(args) => live_bench::live_bench(&args),
         Command::FilterBench(args) => filter_bench::filter_bench(&args),
-        Command::Convert { input, output, to } => {
-            println!("{}", convert::convert(&input, &output, to)?);
+        Command::Convert {
+            input,
+            output,
+            to,
+            resample_c,
+        } => {
+            println!("{}", convert::convert(&input, &output, to, resample_c)?);
             Ok(())
         }
     }

@@ -35,9 +35,31 @@ pub fn out_format(path: &Path, flag: Option<OutFormat>) -> Result<OutFormat> {
 }
 
 /// Converts and writes atomically; returns a one-line summary.
-pub fn convert(input: &Path, output: &Path, to: Option<OutFormat>) -> Result<String> {
-    let p = info::read(input)?;
+/// `resample_c_deg` puts the table on equal C-plane steps first (some
+/// readers misread EULUMDAT files with unequal steps).
+pub fn convert(
+    input: &Path,
+    output: &Path,
+    to: Option<OutFormat>,
+    resample_c_deg: Option<f64>,
+) -> Result<String> {
+    let mut p = info::read(input)?;
     let format = out_format(output, to)?;
+    if let Some(step) = resample_c_deg {
+        if !(step >= 0.1 && step <= 90.0 && ((360.0 / step) - (360.0 / step).round()).abs() < 1e-9)
+        {
+            bail!("--resample-c must divide 360° evenly and be at least 0.1°, got {step}");
+        }
+        let gammas = p.table.gammas_deg.clone();
+        p.table = p
+            .table
+            .resampled(lucerna_photometry::table::uniform_c_planes(step), gammas);
+    } else if format == OutFormat::Ldt && p.table.uniform_c_step().is_none() {
+        eprintln!(
+            "warning: {} has unequal C-plane steps; some readers misread such EULUMDAT files: --resample-c 5 (or 15) writes an equidistant grid",
+            input.display()
+        );
+    }
     let bytes = match format {
         OutFormat::Ies2002 => write_ies(&p, IesVersion::Lm63_2002).into_bytes(),
         OutFormat::Ies2019 => write_ies(&p, IesVersion::Lm63_2019).into_bytes(),
