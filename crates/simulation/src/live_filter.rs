@@ -1,18 +1,35 @@
 //! The automatic filter at the pace of a live preview.
 
+use std::sync::mpsc::{Receiver, TryRecvError, channel};
+
 use lucerna_filter::{AutomaticReport, FilterSettings, Filtered, Threshold, filter_map};
 use lucerna_photometry::{IntensityMap, TexelSymmetry};
 
-/// Cross-validating the automatic rule costs about 13 candidates × 5
-/// folds of filter passes; its choice changes slowly with the photon
-/// count. So the rule is chosen again only once the photons have grown by
-/// [`LiveFilter::RECHOOSE_GROWTH`] since the last choice, and reused (one
-/// pass) in between. Fixed thresholds pass straight through.
-#[derive(Debug, Clone, Default)]
-pub struct LiveFilter {
-    /// The rule last chosen and the photons it was chosen at.
-    chosen: Option<(FilterSettings, u64, Option<AutomaticReport>)>,
+/// A rule chosen by cross-validation, and the photons it was chosen at.
+#[derive(Debug, Clone, Copy)]
+struct Choice {
+    settings: FilterSettings,
+    photons: u64,
+    estimate: Option<AutomaticReport>,
 }
+
+/// Cross-validating the automatic rule costs 13 candidates × 5 folds of
+/// filter passes (about a second at 6 × 256² on two cores), and its
+/// choice changes slowly with the photon count. On the live path the rule
+/// is therefore chosen again only once the photons have grown by
+/// [`LiveFilter::RECHOOSE_GROWTH`], on a thread of its own from a copy of
+/// the counts; until its answer arrives each snapshot is one filter pass
+/// with the last rule (before the first answer, the paper's fixed
+/// threshold of 100 photons). A final export chooses afresh, in line.
+/// Fixed thresholds pass straight through.
+#[derive(Debug, Default)]
+pub struct LiveFilter {
+    chosen: Option<Choice>,
+    pending: Option<Receiver<Choice>>,
+}
+
+/// Until cross-validation has answered: the paper's threshold.
+const FIRST_RULE: Threshold = Threshold::Fixed(100.0);
 
 impl LiveFilter {
     pub const RECHOOSE_GROWTH: u64 = 2;
@@ -21,45 +38,98 @@ impl LiveFilter {
         Self::default()
     }
 
-    /// Forgets the choice (a new scene or layout).
-    pub fn reset(&mut self) {
-        self.chosen = None;
+    /// Whether a cross-validation is running in the background.
+    pub fn is_choosing(&self) -> bool {
+        self.pending.is_some()
     }
 
-    /// Candela per texel of `map` filtered by `threshold`, and the report;
-    /// `reuse` lets an automatic rule be reused while the photons have not
-    /// doubled (a final export passes `false` and chooses afresh).
+    /// Candela per texel of `map` filtered by `threshold`, and the report.
+    /// With `live`, an automatic rule comes from the background choice
+    /// (see the type's doc); without, it is chosen now.
     pub fn filter(
         &mut self,
         map: &IntensityMap,
         threshold: Threshold,
         symmetry: &TexelSymmetry,
-        reuse: bool,
+        live: bool,
     ) -> (Vec<f64>, Filtered) {
-        let photons = map.photons_emitted;
-        if threshold != Threshold::Automatic {
-            let settings = FilterSettings {
-                threshold,
-                ..Default::default()
-            };
-            return filter_map(map, &settings, symmetry);
-        }
-        if reuse
-            && let Some((settings, at, estimate)) = &self.chosen
-            && photons < at.saturating_mul(Self::RECHOOSE_GROWTH)
-            && photons >= *at
-        {
-            // The cross-validated error estimate is that of the choice.
-            let (candela, mut report) = filter_map(map, settings, symmetry);
-            report.automatic = *estimate;
-            return (candela, report);
-        }
-        let settings = FilterSettings {
-            threshold: Threshold::Automatic,
+        let with = |threshold| FilterSettings {
+            threshold,
             ..Default::default()
         };
-        let (candela, report) = filter_map(map, &settings, symmetry);
-        self.chosen = Some((report.settings, photons, report.automatic));
-        (candela, report)
+        if threshold != Threshold::Automatic {
+            return filter_map(map, &with(threshold), symmetry);
+        }
+        if !live {
+            let (candela, report) = filter_map(map, &with(Threshold::Automatic), symmetry);
+            self.chosen = Some(Choice {
+                settings: report.settings,
+                photons: map.photons_emitted,
+                estimate: report.automatic,
+            });
+            return (candela, report);
+        }
+        self.collect();
+        let photons = map.photons_emitted;
+        let stale = self.chosen.is_none_or(|c| {
+            photons >= c.photons.saturating_mul(Self::RECHOOSE_GROWTH) || photons < c.photons
+        });
+        if stale && self.pending.is_none() && photons > 0 {
+            self.choose_in_background(map.clone(), symmetry.clone());
+        }
+        match self.chosen {
+            Some(c) => {
+                let (candela, mut report) = filter_map(map, &c.settings, symmetry);
+                // The cross-validated error estimate is that of the choice.
+                report.automatic = c.estimate;
+                (candela, report)
+            }
+            None => filter_map(map, &with(FIRST_RULE), symmetry),
+        }
+    }
+
+    /// Blocks until a background choice (if any) has answered: tests and
+    /// benches that want the rule settled.
+    pub fn wait_for_choice(&mut self) {
+        if let Some(rx) = self.pending.take()
+            && let Ok(choice) = rx.recv()
+        {
+            self.chosen = Some(choice);
+        }
+    }
+
+    /// Takes a finished background choice.
+    fn collect(&mut self) {
+        let Some(rx) = &self.pending else { return };
+        match rx.try_recv() {
+            Ok(choice) => {
+                self.chosen = Some(choice);
+                self.pending = None;
+            }
+            Err(TryRecvError::Empty) => {}
+            Err(TryRecvError::Disconnected) => self.pending = None,
+        }
+    }
+
+    fn choose_in_background(&mut self, map: IntensityMap, symmetry: TexelSymmetry) {
+        let (tx, rx) = channel();
+        let spawned = std::thread::Builder::new()
+            .name("lucerna-filter-choice".to_owned())
+            .spawn(move || {
+                let settings = FilterSettings {
+                    threshold: Threshold::Automatic,
+                    ..Default::default()
+                };
+                let (_, report) = filter_map(&map, &settings, &symmetry);
+                let _ = tx.send(Choice {
+                    settings: report.settings,
+                    photons: map.photons_emitted,
+                    estimate: report.automatic,
+                });
+            });
+        // Without a thread the last rule simply stays.
+        if spawned.is_ok() {
+            self.pending = Some(rx);
+        }
     }
 }

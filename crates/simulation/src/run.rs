@@ -164,13 +164,12 @@ impl Run {
         let map = self.session.snapshot();
         let (candela, filter) = match self.settings.filter.threshold() {
             Some(threshold) => {
-                let automatic = threshold == lucerna_filter::Threshold::Automatic;
                 let (candela, report) =
                     self.filter
                         .filter(&map, threshold, &self.symmetry, !final_export);
                 let summary = FilterSummary {
                     rule: report.settings.to_string(),
-                    automatic,
+                    automatic: report.automatic.is_some(),
                     replaced_texels: report.replaced.iter().filter(|&&r| r).count(),
                     renormalisation: report.renormalisation,
                     estimated_rmse: report

@@ -1,7 +1,8 @@
-//! `lucerna live-bench`: what a live preview pays per snapshot: the
-//! candela table and figures (first table of a layout, then cached) and the
-//! automatic filter on the live path (rule re-chosen when the photons
-//! double, one pass in between) at a live run's snapshot schedule.
+//! `lucerna live-bench`: what a live preview pays per snapshot at a live
+//! run's schedule: the candela table and figures (first table of a layout,
+//! then cached) and the automatic filter on the live path (one pass per
+//! snapshot; the rule re-chosen by cross-validation on a background thread
+//! whenever the photons have doubled), beside one in-line choice.
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -35,16 +36,16 @@ pub struct LiveBenchArgs {
 pub fn live_bench(args: &LiveBenchArgs) -> Result<()> {
     let scenes = super::bench::example_scenes(&args.scenes)?;
     println!(
-        "{:<20} {:>10} {:>10} {:>9} {:>10} {:>11} {:>8} {:>9} {:>12}",
+        "{:<20} {:>10} {:>10} {:>9} {:>9} {:>12} {:>12} {:>10} {:>12}",
         "scene",
         "table 1st",
         "table+fig",
         "γ step",
         "flux err",
-        "choose ms",
-        "pass ms",
+        "filter/snap",
+        "max/snap",
         "choices",
-        "filter/snap"
+        "in-line CV"
     );
     for path in &scenes {
         let name = path
@@ -73,28 +74,25 @@ pub fn live_bench(args: &LiveBenchArgs) -> Result<()> {
         let mut filter = LiveFilter::new();
         let c_planes = uniform_c_planes(settings.table.c_step_deg);
         let (mut first_table_ms, mut table_ms, mut table_count) = (0.0, 0.0, 0u32);
-        let (mut choose_ms, mut choices, mut pass_ms, mut passes) = (0.0, 0u32, 0.0, 0u32);
+        let (mut filter_ms, mut filter_max_ms, mut choices) = (0.0, 0.0f64, 0u32);
         let (mut step, mut flux_error) = (0.0, 0.0);
-        let mut last_choice_photons = 0u64;
         for k in 1..=args.snapshots {
             let target = k * args.snapshot_photons;
             while run.session().map().photons_emitted < target {
                 run.step()?;
             }
             let map = run.session().map();
-            // The live filter's cost at this snapshot.
+            // The live filter's cost at this snapshot (a background choice
+            // may be running beside it, and beside the tracing).
+            let was_choosing = filter.is_choosing();
             let start = Instant::now();
             let (candela, _) = filter.filter(map, Threshold::Automatic, &symmetry, true);
             let ms = start.elapsed().as_secs_f64() * 1e3;
-            let chose = last_choice_photons == 0 || map.photons_emitted >= 2 * last_choice_photons;
-            if chose {
-                last_choice_photons = map.photons_emitted;
-                choose_ms += ms;
+            if filter.is_choosing() && !was_choosing {
                 choices += 1;
-            } else {
-                pass_ms += ms;
-                passes += 1;
             }
+            filter_ms += ms;
+            filter_max_ms = filter_max_ms.max(ms);
             // The table and figures of the exported map.
             let traced = map.escaped_flux_lm();
             let start = Instant::now();
@@ -118,18 +116,22 @@ pub fn live_bench(args: &LiveBenchArgs) -> Result<()> {
             step = table.uniform_gamma_step().unwrap_or(f64::NAN);
             flux_error = fig.flux_lm / traced - 1.0;
         }
-        let per_snapshot = (choose_ms + pass_ms) / f64::from(choices + passes).max(1.0);
+        // One choice in line at the last snapshot, for comparison.
+        filter.wait_for_choice();
+        let start = Instant::now();
+        filter.filter(run.session().map(), Threshold::Automatic, &symmetry, false);
+        let in_line_ms = start.elapsed().as_secs_f64() * 1e3;
         println!(
-            "{:<20} {:>8.1}ms {:>8.1}ms {:>8.4}° {:>9.3}% {:>11.0} {:>8.1} {:>9} {:>10.1}ms",
+            "{:<20} {:>8.1}ms {:>8.1}ms {:>8.4}° {:>8.3}% {:>10.1}ms {:>10.1}ms {:>10} {:>10.0}ms",
             name,
             first_table_ms,
             table_ms / f64::from(table_count.max(1)),
             step,
             100.0 * flux_error,
-            choose_ms / f64::from(choices.max(1)),
-            pass_ms / f64::from(passes.max(1)),
-            format!("{choices}/{}", choices + passes),
-            per_snapshot
+            filter_ms / args.snapshots as f64,
+            filter_max_ms,
+            format!("{choices}/{}", args.snapshots),
+            in_line_ms
         );
     }
     Ok(())
