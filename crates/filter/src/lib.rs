@@ -35,11 +35,13 @@
 //! Modules, one job each: `settings` (the rules and σ), `thinning` (the
 //! photons split into independent parts), `cross_validation` (the
 //! automatic mode), `pyramid` (one pull-push pass), `driver` (pooling,
-//! the choice and the final pass, shared by CPU and GPU), [`gpu`] (the
-//! WGSL driver).
+//! the choice and the final pass, shared by CPU and GPU), [`evaluation`]
+//! (the error measures of `lucerna filter-bench`), [`gpu`] (the WGSL
+//! driver).
 
 mod cross_validation;
 mod driver;
+pub mod evaluation;
 pub mod gpu;
 mod pyramid;
 mod settings;
