@@ -1,7 +1,7 @@
 // Pull-push bilateral upsampling filter (Litemaker 2017, section 5), the
-// WGSL twin of crates/filter/src/lib.rs. The pyramid lives in flat buffers
-// with one offset per level; each dispatch works on one level. Composed
-// after cubemap.wgsl.
+// WGSL twin of crates/filter/src/pyramid.rs. The pyramid lives in flat
+// buffers with one offset per level; each dispatch works on one level.
+// Composed after cubemap.wgsl, whose texel order every level follows.
 
 struct LevelParams {
     // Offsets (in texels) and resolutions of this level and the coarser one.
@@ -12,14 +12,15 @@ struct LevelParams {
     // Counts below this may be replaced; the border test's threshold.
     threshold: f32,
     border_threshold: f32,
-    // 1 for the automatic (Poisson-test) mode.
-    automatic: u32,
+    // 1 where the rule is the Poisson test.
+    poisson_test: u32,
     // 1 where Algorithm 2's shadow-border test applies.
     border_test: u32,
     sigma_closeness: f32,
     sigma_range: f32,
-    auto_z: f32,
-    auto_min_keep: f32,
+    // The Poisson test's z, and the fewest photons it keeps as structure.
+    poisson_z: f32,
+    poisson_min_keep: f32,
 }
 
 @group(0) @binding(0) var<uniform> level: LevelParams;
@@ -27,10 +28,6 @@ struct LevelParams {
 @group(0) @binding(2) var<storage, read> omega: array<f32>;
 @group(0) @binding(3) var<storage, read_write> intensity: array<f32>;
 @group(0) @binding(4) var<storage, read_write> replaced: array<u32>;
-
-fn texel_count(resolution: u32) -> u32 {
-    return 6u * resolution * resolution;
-}
 
 // Flat invocation index of a 2D dispatch (rows of at most 65535 groups).
 fn flat_index(gid: vec3<u32>, groups: vec3<u32>) -> u32 {
@@ -42,21 +39,18 @@ fn flat_index(gid: vec3<u32>, groups: vec3<u32>) -> u32 {
 fn pull(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let t = flat_index(gid, groups);
     let n = level.coarse_resolution;
-    if t >= texel_count(n) {
+    if t >= cube_texel_count(n) {
         return;
     }
-    let face = t / (n * n);
-    let rest = t % (n * n);
-    let ci = rest % n;
-    let cj = rest / n;
+    let coarse = cube_texel_coordinates(t, n);
     let fine = level.resolution;
     var sum = 0.0;
     for (var dj = 0u; dj < 2u; dj++) {
         for (var di = 0u; di < 2u; di++) {
-            let i = 2u * ci + di;
-            let j = 2u * cj + dj;
+            let i = 2u * coarse.y + di;
+            let j = 2u * coarse.z + dj;
             if i < fine && j < fine {
-                sum += counts[level.offset + face * fine * fine + j * fine + i];
+                sum += counts[level.offset + cube_texel_index(coarse.x, i, j, fine)];
             }
         }
     }
@@ -74,7 +68,7 @@ fn safe_intensity(c: f32, w: f32) -> f32 {
 @compute @workgroup_size(64)
 fn top(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let t = flat_index(gid, groups);
-    if t >= texel_count(level.resolution) {
+    if t >= cube_texel_count(level.resolution) {
         return;
     }
     let k = level.offset + t;
@@ -86,12 +80,11 @@ fn top(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) g
 fn texel_at(resolution: u32, face: u32, cx: i32, cy: i32) -> u32 {
     let n = i32(resolution);
     if cx >= 0 && cx < n && cy >= 0 && cy < n {
-        return face * resolution * resolution + u32(cy) * resolution + u32(cx);
+        return cube_texel_index(face, u32(cx), u32(cy), resolution);
     }
     // Past a cube corner: the face's own corner texel (as in Rust).
     if (cx < 0 || cx >= n) && (cy < 0 || cy >= n) {
-        return face * resolution * resolution + u32(clamp(cy, 0, n - 1)) * resolution
-            + u32(clamp(cx, 0, n - 1));
+        return cube_texel_index(face, u32(clamp(cx, 0, n - 1)), u32(clamp(cy, 0, n - 1)), resolution);
     }
     let step = 2.0 / f32(n);
     let a = -1.0 + (f32(cx) + 0.5) * step;
@@ -165,7 +158,7 @@ fn on_shadow_border(face: u32, i: u32, j: u32, own: f32) -> bool {
 fn push(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let t = flat_index(gid, groups);
     let n = level.resolution;
-    if t >= texel_count(n) {
+    if t >= cube_texel_count(n) {
         return;
     }
     let k = level.offset + t;
@@ -174,17 +167,17 @@ fn push(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) 
     var value = own;
     var was_replaced = 0u;
     if c < level.threshold {
-        let face = t / (n * n);
-        let rest = t % (n * n);
-        let i = rest % n;
-        let j = rest / n;
+        let texel = cube_texel_coordinates(t, n);
+        let face = texel.x;
+        let i = texel.y;
+        let j = texel.z;
         if level.border_test == 0u || !on_shadow_border(face, i, j, c) {
             let estimate = upsample(face, i, j);
             var keep = false;
-            if level.automatic == 1u {
+            if level.poisson_test == 1u {
                 let expected = estimate * omega[k];
-                let darker = c < expected && expected - c > level.auto_z * sqrt(expected);
-                let brighter = c >= level.auto_min_keep && c - expected > level.auto_z * sqrt(expected + 1.0);
+                let darker = c < expected && expected - c > level.poisson_z * sqrt(expected);
+                let brighter = c >= level.poisson_min_keep && c - expected > level.poisson_z * sqrt(expected + 1.0);
                 keep = darker || brighter;
             }
             if !keep {

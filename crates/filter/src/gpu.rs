@@ -8,27 +8,31 @@ use lucerna_gpu::{GpuContext, GpuError};
 use lucerna_photometry::{AxialSymmetry, CubeMapLayout, TexelSymmetry};
 use wgpu::util::DeviceExt;
 
-use crate::{
-    AUTO_MIN_KEEP, FilterSettings, Filtered, Threshold, filter_pooled, pyramid_resolutions,
-    pyramid_solid_angles, renormalise, thresholds,
-};
+use crate::driver::{Filtered, filter_pooled};
+use crate::pyramid::{pyramid_resolutions, pyramid_solid_angles, renormalise};
+use crate::settings::{FilterSettings, POISSON_MIN_KEEP_PHOTONS, Threshold};
 
 /// Per-level parameters (48 bytes), WGSL twin `LevelParams`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 struct LevelParams {
+    /// Offsets (in texels) and resolutions of this level and the coarser one.
     offset: u32,
     resolution: u32,
     coarse_offset: u32,
     coarse_resolution: u32,
+    /// Counts below this may be replaced; the border test's threshold.
     threshold: f32,
     border_threshold: f32,
-    automatic: u32,
+    /// 1 where the rule is the Poisson test.
+    poisson_test: u32,
+    /// 1 where Algorithm 2's shadow-border test applies.
     border_test: u32,
     sigma_closeness: f32,
     sigma_range: f32,
-    auto_z: f32,
-    auto_min_keep: f32,
+    /// The Poisson test's z, and the fewest photons it keeps as structure.
+    poisson_z: f32,
+    poisson_min_keep: f32,
 }
 const _: () = assert!(std::mem::size_of::<LevelParams>() == 48);
 
@@ -55,10 +59,13 @@ pub struct GpuFilter {
 impl GpuFilter {
     pub fn new(ctx: GpuContext, layout: CubeMapLayout) -> Result<GpuFilter, GpuError> {
         let device = &ctx.device;
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("filter.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(lucerna_gpu::shaders::filter().into()),
-        });
+        let module = lucerna_gpu::create_shader_module(
+            device,
+            wgpu::ShaderModuleDescriptor {
+                label: Some("filter.wgsl"),
+                source: wgpu::ShaderSource::Wgsl(lucerna_gpu::shaders::filter().into()),
+            },
+        )?;
         let entry = |binding: u32, ty: wgpu::BindingType| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
@@ -100,21 +107,24 @@ impl GpuFilter {
             immediate_size: 0,
         });
         let pipeline = |entry: &str| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: Some(&pipeline_layout),
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
+            lucerna_gpu::create_compute_pipeline(
+                device,
+                &wgpu::ComputePipelineDescriptor {
+                    label: Some(entry),
+                    layout: Some(&pipeline_layout),
+                    module: &module,
+                    entry_point: Some(entry),
+                    compilation_options: Default::default(),
+                    cache: None,
+                },
+            )
         };
         let resolutions = pyramid_resolutions(layout.resolution);
         let mut offsets = Vec::with_capacity(resolutions.len());
         let mut total = 0u32;
         for &n in &resolutions {
             offsets.push(total);
-            total += 6 * n * n;
+            total += CubeMapLayout::new(n).texel_count() as u32;
         }
         let omega_levels = pyramid_solid_angles(layout);
         let omega: Vec<f32> = omega_levels.iter().flatten().map(|&w| w as f32).collect();
@@ -151,9 +161,9 @@ impl GpuFilter {
                 mapped_at_creation: false,
             })
         };
-        let pull = pipeline("pull");
-        let top = pipeline("top");
-        let push = pipeline("push");
+        let pull = pipeline("pull")?;
+        let top = pipeline("top")?;
+        let push = pipeline("push")?;
         let params: Vec<wgpu::Buffer> = resolutions
             .iter()
             .map(|_| {
@@ -248,12 +258,8 @@ impl GpuFilter {
     fn filter_with(&self, counts: &[u64], settings: &FilterSettings) -> Result<Filtered, GpuError> {
         // `filter` resolves `Automatic` first (`choose_automatic`).
         debug_assert!(settings.threshold != Threshold::Automatic);
-        let rule = settings.threshold;
-        let (threshold, border_threshold) = thresholds(rule);
-        let (poisson_test, z) = match rule {
-            Threshold::Poisson { z, .. } => (true, z),
-            _ => (false, 0.0),
-        };
+        let thresholds = settings.threshold.photon_thresholds();
+        let poisson_z = settings.threshold.poisson_z();
         let levels = self.resolutions.len();
         let level0: Vec<f32> = counts.iter().map(|&c| c as f32).collect();
         let queue = &self.ctx.queue;
@@ -265,18 +271,18 @@ impl GpuFilter {
                 resolution: self.resolutions[k],
                 coarse_offset: self.offsets[coarse],
                 coarse_resolution: self.resolutions[coarse],
-                threshold: threshold as f32,
-                border_threshold: border_threshold as f32,
-                automatic: u32::from(poisson_test),
+                threshold: thresholds.stable as f32,
+                border_threshold: thresholds.border as f32,
+                poisson_test: u32::from(poisson_z.is_some()),
                 border_test: u32::from(k >= settings.first_border_level),
                 sigma_closeness: settings.sigma_closeness as f32,
                 sigma_range: settings.sigma_range as f32,
-                auto_z: z as f32,
-                auto_min_keep: AUTO_MIN_KEEP as f32,
+                poisson_z: poisson_z.unwrap_or(0.0) as f32,
+                poisson_min_keep: POISSON_MIN_KEEP_PHOTONS as f32,
             };
             queue.write_buffer(&self.params[k], 0, bytemuck::bytes_of(&p));
         }
-        let groups = |n: u32| (6 * n * n).div_ceil(64);
+        let groups = |n: u32| (CubeMapLayout::new(n).texel_count() as u32).div_ceil(64);
         let mut encoder = self
             .ctx
             .device
@@ -334,7 +340,7 @@ impl GpuFilter {
         Ok(Filtered {
             photons_per_sr: intensity,
             replaced,
-            threshold,
+            threshold: thresholds.stable,
             settings: *settings,
             automatic: None,
             renormalisation,

@@ -191,9 +191,10 @@ fn the_automatic_choice_is_nearly_the_best_candidate_against_truth() {
                 "  estimated RMSE {:.4} (true {true_rmse:.4}), raw {:.4} (true {raw_true_rmse:.4})",
                 report.estimated_rmse, report.raw_estimated_rmse
             );
-            // Measured: filtered 0.88–1.58 × the truth (the held-out noise
-            // is subtracted, so a filtered error far below it is estimated
-            // coarsely), raw 1.14–1.18 × (√(5/4) = 1.118 expected).
+            // Wide bounds for the filtered map: the held-out noise is
+            // subtracted, so a filtered error far below it is estimated
+            // coarsely; the raw map's expected ratio is √(5/4) = 1.118
+            // (measured ratios: BENCHMARKS.md, "Filter").
             let ratio = report.estimated_rmse / true_rmse;
             assert!(
                 (0.5..=2.0).contains(&ratio),

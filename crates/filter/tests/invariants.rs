@@ -258,9 +258,8 @@ fn shadow_borders_stay_sharp() {
         .collect();
     // The Poisson rule keeps a count far below its estimate as a shadow,
     // and the automatic mode (which chooses the rule with the least squared
-    // error, here z = 3 with a cap of 1024: 1.57 / 2.64 / 1.63 texels)
-    // keeps the edge too: every row within 2 texels of the reference's
-    // (0.80).
+    // error) keeps the edge too: every row within 2 texels of the
+    // reference's (measured widths: BENCHMARKS.md, "Filter").
     let poisson = filter(
         layout,
         &counts,

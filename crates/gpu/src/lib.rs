@@ -1,7 +1,13 @@
-//! GPU access for Lucerna's kernels: adapter and device selection, and the
-//! WGSL shaders composed from `shaders/`.
+//! GPU access for Lucerna's kernels: adapter and device selection, the
+//! WGSL shaders composed from `shaders/`, and shader-module and pipeline
+//! creation that returns the device's errors instead of panicking.
 
+mod checked;
 pub mod shaders;
+
+pub use checked::{
+    CreatePipelineError, CreateShaderModuleError, create_compute_pipeline, create_shader_module,
+};
 
 /// Which processor a job asks for: the one backend request of the
 /// workspace, for the photon tracer, the filter and the room renderer.
@@ -68,6 +74,10 @@ pub enum GpuError {
         got: u32,
         needed: u32,
     },
+    #[error(transparent)]
+    CreateShaderModule(#[from] CreateShaderModuleError),
+    #[error(transparent)]
+    CreatePipeline(#[from] CreatePipelineError),
     #[error("GPU work failed: {0}")]
     Failed(String),
 }

@@ -121,6 +121,8 @@ impl CubeMapLayout {
         )
     }
 
+    /// Texel index of (face, column, row): the one Rust home of the texel
+    /// order, twin of `cube_texel_index` in `shaders/cubemap.wgsl`.
     #[inline]
     pub fn texel_index(&self, face: CubeFace, column: u32, row: u32) -> usize {
         let n = self.resolution as usize;

@@ -80,10 +80,13 @@ pub struct GpuRoomRenderer {
 impl GpuRoomRenderer {
     pub fn new(ctx: GpuContext) -> Result<GpuRoomRenderer, GpuError> {
         let device = &ctx.device;
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("room.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(lucerna_gpu::shaders::room().into()),
-        });
+        let module = lucerna_gpu::create_shader_module(
+            device,
+            wgpu::ShaderModuleDescriptor {
+                label: Some("room.wgsl"),
+                source: wgpu::ShaderSource::Wgsl(lucerna_gpu::shaders::room().into()),
+            },
+        )?;
         let entry = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
@@ -115,17 +118,20 @@ impl GpuRoomRenderer {
             immediate_size: 0,
         });
         let pipeline = |name: &str| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(name),
-                layout: Some(&pipeline_layout),
-                module: &module,
-                entry_point: Some(name),
-                compilation_options: Default::default(),
-                cache: None,
-            })
+            lucerna_gpu::create_compute_pipeline(
+                device,
+                &wgpu::ComputePipelineDescriptor {
+                    label: Some(name),
+                    layout: Some(&pipeline_layout),
+                    module: &module,
+                    entry_point: Some(name),
+                    compilation_options: Default::default(),
+                    cache: None,
+                },
+            )
         };
-        let render = pipeline("render");
-        let points = pipeline("shade_points");
+        let render = pipeline("render")?;
+        let points = pipeline("shade_points")?;
         let table: Vec<f32> = ggx_table().entries.iter().flatten().copied().collect();
         let ltc = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("ltc"),

@@ -132,18 +132,24 @@ impl GpuTracer {
     ) -> Result<GpuTracer, GpuError> {
         let device = &ctx.device;
         let source = lucerna_gpu::shaders::tracer();
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("tracer.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("photon tracing"),
-            layout: None,
-            module: &module,
-            entry_point: Some("trace"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let module = lucerna_gpu::create_shader_module(
+            device,
+            wgpu::ShaderModuleDescriptor {
+                label: Some("tracer.wgsl"),
+                source: wgpu::ShaderSource::Wgsl(source.into()),
+            },
+        )?;
+        let pipeline = lucerna_gpu::create_compute_pipeline(
+            device,
+            &wgpu::ComputePipelineDescriptor {
+                label: Some("photon tracing"),
+                layout: None,
+                module: &module,
+                entry_point: Some("trace"),
+                compilation_options: Default::default(),
+                cache: None,
+            },
+        )?;
         let storage = |label: &str, bytes: &[u8]| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(label),

@@ -8,6 +8,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, Result};
+use lucerna_filter::evaluation::{
+    mean_scaled_rmse, raw_photons_per_sr, reference_noise_mse, rmse_without_reference_noise,
+};
 use lucerna_filter::{FilterSettings, Threshold, filter, filter_symmetric};
 use lucerna_photometry::{CubeMapLayout, TexelSymmetry};
 use lucerna_pictures::chart::{Series, log_log_chart_png};
@@ -54,58 +57,6 @@ fn trace_to(
         }
         *done += u64::from(n);
     }
-}
-
-/// Intensity per steradian of raw counts.
-fn raw_intensity(layout: CubeMapLayout, counts: &[u64]) -> Vec<f64> {
-    counts
-        .iter()
-        .enumerate()
-        .map(|(t, &c)| c as f64 / layout.texel_solid_angle(t))
-        .collect()
-}
-
-/// RMSE of two images each scaled by its own mean (the paper's measure).
-pub fn rmse_mean_scaled(a: &[f64], b: &[f64]) -> f64 {
-    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
-    let (ma, mb) = (mean(a), mean(b));
-    if ma <= 0.0 || mb <= 0.0 {
-        return f64::INFINITY;
-    }
-    (a.iter()
-        .zip(b)
-        .map(|(x, y)| (x / ma - y / mb).powi(2))
-        .sum::<f64>()
-        / a.len() as f64)
-        .sqrt()
-}
-
-/// The part of a mean-scaled MSE against the reference that is the
-/// reference's own Poisson noise: mean over texels of var(r_t) / mean(r)²
-/// with var(r_t) = m_t · c_t / Ω_t² (an estimate independent of the
-/// reference sees it added to its true error); `counts` may be pooled over
-/// a symmetry, m_t is then the texel's multiplicity (1 without).
-pub fn reference_noise_mse(layout: CubeMapLayout, counts: &[u64], symmetry: &TexelSymmetry) -> f64 {
-    let intensity = raw_intensity(layout, counts);
-    let mean = intensity.iter().sum::<f64>() / intensity.len() as f64;
-    if mean <= 0.0 {
-        return 0.0;
-    }
-    counts
-        .iter()
-        .enumerate()
-        .map(|(t, &c)| {
-            symmetry.multiplicity(t) as f64 * c as f64 / layout.texel_solid_angle(t).powi(2)
-        })
-        .sum::<f64>()
-        / counts.len() as f64
-        / (mean * mean)
-}
-
-/// The RMSE with the reference's noise taken out (0 when the measured
-/// error is all reference noise).
-fn corrected(rmse: f64, reference_noise_mse: f64) -> f64 {
-    (rmse * rmse - reference_noise_mse).max(0.0).sqrt()
 }
 
 /// One way of turning counts into an intensity map.
@@ -173,7 +124,7 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
         // noise drops by √order, every comparison gets sharper.
         let reference = symmetry.pool(&reference);
         let noise = reference_noise_mse(layout, &reference, &symmetry);
-        let reference = raw_intensity(layout, &reference);
+        let reference = raw_photons_per_sr(layout, &reference);
         eprintln!(
             "{name}: symmetry {}; reference of {} photons in {:.0} s",
             found.symmetry,
@@ -227,7 +178,7 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
                     None => {
                         let pooled = sym.pool(&counts);
                         let order = sym.order() as f64;
-                        let mut v = raw_intensity(layout, &pooled);
+                        let mut v = raw_photons_per_sr(layout, &pooled);
                         v.iter_mut().for_each(|x| *x /= order);
                         (v, String::new(), None)
                     }
@@ -245,9 +196,11 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
                     }
                 };
                 let ms = t0.elapsed().as_secs_f64() * 1e3;
-                let e = rmse_mean_scaled(&intensity, &reference);
+                let e = mean_scaled_rmse(&intensity, &reference);
                 errors[k].measured.push(e);
-                errors[k].corrected.push(corrected(e, noise));
+                errors[k]
+                    .corrected
+                    .push(rmse_without_reference_noise(e, noise));
                 if let Some(estimate) = estimate {
                     chosen[k].push(format!("{rule}; estimated {estimate:.4}"));
                 }
@@ -266,7 +219,7 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
                     } else {
                         1
                     },
-                    corrected(e, noise),
+                    rmse_without_reference_noise(e, noise),
                     if method.threshold.is_some() {
                         format!("{ms:.1}")
                     } else {

@@ -7,6 +7,10 @@ use lucerna_photometry::cubemap::rectangle_solid_angle;
 /// xorshift64*: test randomness without a dependency.
 pub struct Rng(u64);
 impl Rng {
+    /// A generator from a non-zero seed.
+    pub fn new(seed: u64) -> Rng {
+        Rng(seed)
+    }
     pub fn next(&mut self) -> f64 {
         self.0 ^= self.0 >> 12;
         self.0 ^= self.0 << 25;
