@@ -45,8 +45,8 @@ pub fn filter_symmetric(
     symmetry: &TexelSymmetry,
 ) -> Filtered {
     let layout = symmetry.layout;
-    // The texel solid angles, computed once for every candidate's passes.
-    let omega = layout.solid_angles();
+    // The texel solid angles, shared by every call on this layout.
+    let omega = layout.shared_solid_angles();
     let filtered = filter_pooled(&omega, counts, settings, symmetry, |c, concrete| {
         Ok::<_, std::convert::Infallible>(pull_push(layout, c, concrete, &omega))
     });

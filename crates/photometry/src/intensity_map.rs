@@ -64,10 +64,11 @@ impl IntensityMap {
     /// Luminous intensity of every texel (cd).
     pub fn candela(&self) -> Vec<f64> {
         let phi = self.flux_per_photon_lm();
+        let omega = self.layout.shared_solid_angles();
         self.counts
             .iter()
-            .enumerate()
-            .map(|(t, &c)| c as f64 * phi / self.layout.texel_solid_angle(t))
+            .zip(omega.iter())
+            .map(|(&c, &w)| c as f64 * phi / w)
             .collect()
     }
 

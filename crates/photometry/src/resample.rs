@@ -19,6 +19,7 @@
 
 use std::f64::consts::PI;
 use std::ops::Range;
+use std::sync::{Arc, Mutex, PoisonError};
 
 use rayon::prelude::*;
 
@@ -364,6 +365,38 @@ impl CellBinning {
         })
     }
 
+    /// The binning of a layout and grid, built once per process and shared
+    /// (the last two kept): every run of an editing session, restarted on
+    /// each edit, tabulates with the binning the first one built.
+    pub fn shared(
+        layout: CubeMapLayout,
+        c_planes_deg: &[f64],
+        band_edges_deg: &[f64],
+    ) -> Result<Arc<CellBinning>, CellBinningError> {
+        static CACHE: Mutex<Vec<Arc<CellBinning>>> = Mutex::new(Vec::new());
+        let matches = |b: &CellBinning| {
+            b.layout == layout
+                && b.c_planes_deg == c_planes_deg
+                && b.band_edges_deg == band_edges_deg
+        };
+        if let Some(b) = CACHE
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .iter()
+            .find(|b| matches(b))
+        {
+            return Ok(b.clone());
+        }
+        // Built outside the lock: another thread may build the same one.
+        let built = Arc::new(CellBinning::new(layout, c_planes_deg, band_edges_deg)?);
+        let mut cache = CACHE.lock().unwrap_or_else(PoisonError::into_inner);
+        if cache.len() >= 2 {
+            cache.remove(0);
+        }
+        cache.push(built.clone());
+        Ok(built)
+    }
+
     pub fn layout(&self) -> CubeMapLayout {
         self.layout
     }
@@ -518,12 +551,12 @@ pub enum GammaGrid {
 /// The automatic grid's steps, coarsest first.
 pub const AUTOMATIC_GAMMA_STEPS_DEG: [f64; 6] = [2.5, 1.25, 0.625, 0.3125, 0.15625, 0.078125];
 
-/// Tables from cube maps, keeping the [`CellBinning`] of the last layout
-/// and grid: the first table of a layout pays for the binning (tens of
-/// ms at 6 × 256²), later ones only for a sparse sum.
+/// Tables from cube maps through the shared [`CellBinning`] of the layout
+/// and grid: the first table of a layout in a process pays for the
+/// binning (about 80 ms at 6 × 256²), later ones only for a sparse sum.
 #[derive(Debug, Default)]
 pub struct TableResampler {
-    binning: Option<CellBinning>,
+    binning: Option<Arc<CellBinning>>,
 }
 
 impl TableResampler {
@@ -583,7 +616,7 @@ impl TableResampler {
             b.layout() != layout || b.c_planes_deg() != c_planes_deg || b.band_edges_deg() != edges
         });
         if stale {
-            self.binning = CellBinning::new(layout, c_planes_deg, &edges).ok();
+            self.binning = CellBinning::shared(layout, c_planes_deg, &edges).ok();
         }
         let Some(binning) = &self.binning else {
             return table_from_cube_map(

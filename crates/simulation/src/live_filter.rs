@@ -120,7 +120,14 @@ impl LiveFilter {
                     threshold: Threshold::Automatic,
                     ..Default::default()
                 };
-                let (_, report) = filter_map(&map, &settings, &symmetry);
+                // On a one-thread pool of its own: the tracer and the
+                // snapshots keep the shared pool's threads, and the choice
+                // takes what is left of the machine.
+                let choose = || filter_map(&map, &settings, &symmetry).1;
+                let report = match rayon::ThreadPoolBuilder::new().num_threads(1).build() {
+                    Ok(pool) => pool.install(choose),
+                    Err(_) => choose(),
+                };
                 let _ = tx.send(Choice {
                     settings: report.settings,
                     photons: map.photons_emitted,
