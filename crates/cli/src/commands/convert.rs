@@ -46,7 +46,7 @@ pub fn convert(
     let mut p = info::read(input)?;
     let format = out_format(output, to)?;
     if let Some(step) = resample_c_deg {
-        if !(step >= 0.1 && step <= 90.0 && ((360.0 / step) - (360.0 / step).round()).abs() < 1e-9)
+        if !((0.1..=90.0).contains(&step) && ((360.0 / step) - (360.0 / step).round()).abs() < 1e-9)
         {
             bail!("--resample-c must divide 360° evenly and be at least 0.1°, got {step}");
         }
