@@ -58,6 +58,8 @@ pub struct GpuFilter {
 
 impl GpuFilter {
     pub fn new(ctx: GpuContext, layout: CubeMapLayout) -> Result<GpuFilter, GpuError> {
+        // shaders/filter.wgsl binds four storage buffers.
+        ctx.require_storage_buffers(4, "filter")?;
         let device = &ctx.device;
         let module = lucerna_gpu::create_shader_module(
             device,

@@ -67,10 +67,11 @@ pub enum GpuError {
         source: wgpu::RequestDeviceError,
     },
     #[error(
-        "the adapter '{adapter}' has {got} storage buffers per shader stage; the tracer needs {needed}"
+        "the adapter '{adapter}' has {got} storage buffers per shader stage; the {kernel} needs {needed}"
     )]
     Limits {
         adapter: String,
+        kernel: &'static str,
         got: u32,
         needed: u32,
     },
@@ -88,6 +89,25 @@ impl GpuContext {
         self.info.device_type == wgpu::DeviceType::Cpu
     }
 
+    /// Fails unless a kernel's `needed` storage buffers per shader stage
+    /// fit the adapter (each driver knows its own kernel's count).
+    pub fn require_storage_buffers(
+        &self,
+        needed: u32,
+        kernel: &'static str,
+    ) -> Result<(), GpuError> {
+        let got = self.limits.max_storage_buffers_per_shader_stage;
+        if got < needed {
+            return Err(GpuError::Limits {
+                adapter: self.info.name.clone(),
+                kernel,
+                got,
+                needed,
+            });
+        }
+        Ok(())
+    }
+
     /// One line naming the adapter and backend.
     pub fn describe(&self) -> String {
         format!(
@@ -96,9 +116,6 @@ impl GpuContext {
         )
     }
 }
-
-/// Storage buffers the photon-tracing kernel binds.
-pub const TRACER_STORAGE_BUFFERS: u32 = 9;
 
 /// Opens the preferred adapter (`WGPU_BACKEND=vulkan|gl|...` honoured) and
 /// requests a device with the adapter's own limits: the defaults give a GL
@@ -113,13 +130,6 @@ pub fn open() -> Result<GpuContext, GpuError> {
     .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
     let info = adapter.get_info();
     let limits = adapter.limits();
-    if limits.max_storage_buffers_per_shader_stage < TRACER_STORAGE_BUFFERS {
-        return Err(GpuError::Limits {
-            adapter: info.name.clone(),
-            got: limits.max_storage_buffers_per_shader_stage,
-            needed: TRACER_STORAGE_BUFFERS,
-        });
-    }
     let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
         label: Some("lucerna compute"),
         required_features: wgpu::Features::empty(),
@@ -145,6 +155,7 @@ pub fn open() -> Result<GpuContext, GpuError> {
 ///
 /// # Panics
 /// When no adapter opens and `LUCERNA_SKIP_GPU_TESTS` is not set.
+#[cfg(feature = "test-support")]
 #[allow(clippy::panic)] // reason: a test-support helper whose failure is the point
 pub fn open_for_tests() -> Option<GpuContext> {
     match open() {

@@ -79,6 +79,8 @@ pub struct GpuRoomRenderer {
 
 impl GpuRoomRenderer {
     pub fn new(ctx: GpuContext) -> Result<GpuRoomRenderer, GpuError> {
+        // shaders/room.wgsl binds seven storage buffers.
+        ctx.require_storage_buffers(7, "room renderer")?;
         let device = &ctx.device;
         let module = lucerna_gpu::create_shader_module(
             device,

@@ -130,6 +130,8 @@ impl GpuTracer {
         scene: &PreparedScene,
         settings: TraceSettings,
     ) -> Result<GpuTracer, GpuError> {
+        // The kernel binds nine storage buffers (shaders/tracer.wgsl).
+        ctx.require_storage_buffers(9, "photon tracer")?;
         let device = &ctx.device;
         let source = lucerna_gpu::shaders::tracer();
         let module = lucerna_gpu::create_shader_module(

@@ -105,17 +105,29 @@ pub fn choose_backend(
                     ));
                 }
             };
-            if !ctx.is_software() {
-                let name = ctx.describe();
+            let name = ctx.describe();
+            let hardware = !ctx.is_software();
+            // An adapter that cannot run the kernel is no adapter to Auto.
+            let opened = match gpu(ctx) {
+                Ok(backend) => backend,
+                Err(e) => {
+                    return Ok((
+                        Backend::Cpu,
+                        BackendChoice {
+                            reason: format!("the adapter {name} cannot run the tracer ({e})"),
+                        },
+                    ));
+                }
+            };
+            if hardware {
                 return Ok((
-                    gpu(ctx)?,
+                    opened,
                     BackendChoice {
                         reason: format!("hardware adapter {name}"),
                     },
                 ));
             }
-            let name = ctx.describe();
-            let software = gpu(ctx)?;
+            let software = opened;
             let probe = 20_000;
             let gpu_rate = measure(&software, scene, settings, probe)?;
             let cpu_rate = measure(&Backend::Cpu, scene, settings, probe)?;
