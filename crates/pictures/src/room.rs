@@ -159,6 +159,15 @@ pub fn work_plane_png(
             i64::from(margin) + ((room.1 - y) * px_per_m).round() as i64,
         )
     };
+    // Luminaire crosses (±7 px with their halo) in pixels: a value they
+    // would cross out is left off rather than drawn unreadable.
+    let markers: Vec<(f32, f32)> = luminaires
+        .iter()
+        .map(|&(x, y)| {
+            let (px, py) = to_px(x, y);
+            (px as f32, py as f32)
+        })
+        .collect();
     for (j, _) in ys.iter().enumerate() {
         for (i, _) in xs.iter().enumerate() {
             let v = lux[j * xs.len() + i];
@@ -171,17 +180,18 @@ pub fn work_plane_png(
             // The value at the largest size the cell holds, if any.
             let text = format!("{v:.0}");
             let (cw, ch) = ((px1 - px0) as f32, (py1 - py0) as f32);
-            if let Some(size) = [SMALL_PX, MIN_TEXT_PX]
+            let (tx, ty) = ((px0 + px1) as f32 / 2.0, (py0 + py1) as f32 / 2.0);
+            let size = [SMALL_PX, MIN_TEXT_PX]
                 .into_iter()
-                .find(|&s| Canvas::text_width(&text, s) + 4.0 < cw && s + 2.0 < ch)
-            {
-                c.text_centred(
-                    (px0 + px1) as f32 / 2.0,
-                    (py0 + py1) as f32 / 2.0,
-                    &text,
-                    size,
-                    contrasting(colour),
-                );
+                .find(|&s| Canvas::text_width(&text, s) + 4.0 < cw && s + 2.0 < ch);
+            let crossed_out = |s: f32| {
+                let half_w = 0.5 * Canvas::text_width(&text, s) + 7.0;
+                markers
+                    .iter()
+                    .any(|&(mx, my)| (mx - tx).abs() < half_w && (my - ty).abs() < 0.5 * s + 7.0)
+            };
+            if let Some(size) = size.filter(|&s| !crossed_out(s)) {
+                c.text_centred(tx, ty, &text, size, contrasting(colour));
             }
         }
     }
@@ -196,9 +206,7 @@ pub fn work_plane_png(
     ] {
         c.line(a.0 as f32, a.1 as f32, b.0 as f32, b.1 as f32, 1.5, BLACK);
     }
-    for &(x, y) in luminaires {
-        let (px, py) = to_px(x, y);
-        let (px, py) = (px as f32, py as f32);
+    for &(px, py) in &markers {
         c.line(px - 6.0, py - 6.0, px + 6.0, py + 6.0, 2.0, WHITE);
         c.line(px - 6.0, py + 6.0, px + 6.0, py - 6.0, 2.0, WHITE);
         c.line(px - 5.0, py - 5.0, px + 5.0, py + 5.0, 1.0, BLACK);

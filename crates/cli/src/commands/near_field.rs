@@ -104,7 +104,7 @@ pub fn near_field_eval(args: &NearFieldArgs) -> Result<()> {
                     args.pixels,
                     96,
                     &format!(
-                        "{name}: ground illuminance, 1 x 1 opening at h = {h}, tilt pi/2 .. pi (log scale, 3 decades)"
+                        "{name}: ground illuminance, 1 x 1 opening at h = {h}, tilt π/2 … π (log scale, 3 decades)"
                     ),
                 )?;
                 let file = args.out.join(format!("{name}_h{h}.png"));
