@@ -292,6 +292,37 @@ fn near_field_eval_writes_its_table_and_pictures() {
 }
 
 #[test]
+fn near_field_csv_quotes_a_profile_name_with_a_comma() {
+    let dir = tempfile::tempdir().unwrap();
+    let profile = dir.path().join("rab, \"indoor\".ies");
+    std::fs::copy(
+        assets().join("profiles/samples/rab_indoor3_2002_full360.ies"),
+        &profile,
+    )
+    .unwrap();
+    let out = lucerna(&[
+        "near-field-eval",
+        profile.to_str().unwrap(),
+        "--pixels",
+        "4",
+        "--samples",
+        "16",
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let csv = std::fs::read(dir.path().join("near_field_nrms.csv")).unwrap();
+    let mut reader = csv::Reader::from_reader(csv.as_slice());
+    assert_eq!(reader.headers().unwrap().len(), 6);
+    let rows: Vec<csv::StringRecord> = reader.records().map(|r| r.unwrap()).collect();
+    assert_eq!(rows.len(), 3);
+    for row in &rows {
+        assert_eq!(row.len(), 6, "{row:?}");
+        assert_eq!(&row[0], "rab, \"indoor\"");
+    }
+}
+
+#[test]
 fn an_image_too_large_for_the_adapter_is_refused_clearly() {
     // 8192 × 8192 × 16 bytes = 1.07 GB: beyond lavapipe's 128 MiB per
     // storage buffer (a large hardware GPU might render it; then nothing

@@ -1,13 +1,67 @@
 //! A small RGB canvas: anti-aliased thick lines, filled rectangles and
-//! 8×8 bitmap text (font8x8), enough for diagrams with labels.
+//! anti-aliased TrueType text (DejaVu Sans through ab_glyph), enough for
+//! diagrams with labels.
 
-use font8x8::UnicodeFonts;
+use std::sync::LazyLock;
+
+use ab_glyph::{Font, FontRef, GlyphId, InvalidFont, PxScale, PxScaleFont, ScaleFont, point};
 use image::{Rgb, RgbImage};
 
 pub type Colour = [u8; 3];
 pub const WHITE: Colour = [255, 255, 255];
 pub const BLACK: Colour = [0, 0, 0];
 pub const GREY: Colour = [190, 190, 190];
+
+/// Text sizes (line height, ascent to descent, in pixels) chosen so that
+/// labels read at a glance on the pictures' usual sizes (a 640 px polar
+/// diagram, 200 px cube faces): DejaVu Sans' capitals are 0.63 of it.
+pub const TITLE_PX: f32 = 21.0;
+pub const LABEL_PX: f32 = 15.0;
+pub const SMALL_PX: f32 = 14.0;
+/// The smallest size `Canvas::fit_text` shrinks to before cutting text
+/// short: below it digits blur into each other.
+pub const MIN_TEXT_PX: f32 = 10.0;
+
+/// DejaVu Sans, cut down to Latin, Greek and the symbols labels use
+/// (`fonts/SOURCES.md` says how and from what).
+const FONT_TTF: &[u8] = include_bytes!("../fonts/DejaVuSans-subset.ttf");
+
+/// Parsed once; a test checks that the bundled file parses, so text is
+/// never silently missing.
+static FONT: LazyLock<Result<FontRef<'static>, InvalidFont>> =
+    LazyLock::new(|| FontRef::try_from_slice(FONT_TTF));
+
+/// Walks `text`'s glyphs left to right, calling `glyph(id, caret_px)` with
+/// each glyph's pen position (advances plus kerning); returns the width.
+fn layout(
+    font: &PxScaleFont<&FontRef<'static>>,
+    text: &str,
+    mut glyph: impl FnMut(GlyphId, f32),
+) -> f32 {
+    let mut caret = 0.0;
+    let mut previous: Option<GlyphId> = None;
+    for ch in text.chars() {
+        let id = font.glyph_id(ch);
+        if let Some(p) = previous {
+            caret += font.kern(p, id);
+        }
+        glyph(id, caret);
+        caret += font.h_advance(id);
+        previous = Some(id);
+    }
+    caret
+}
+
+/// Black or white, whichever reads better on `background` (by its
+/// luma, Rec. 601 weights).
+pub fn contrasting(background: Colour) -> Colour {
+    let [r, g, b] = background.map(f32::from);
+    if 0.299 * r + 0.587 * g + 0.114 * b > 140.0 {
+        BLACK
+    } else {
+        WHITE
+    }
+}
 
 #[derive(Debug)]
 pub struct Canvas {
@@ -74,37 +128,87 @@ impl Canvas {
         }
     }
 
-    /// Text with its top-left corner at (x, y), each font pixel `scale`
-    /// pixels; returns the width drawn.
-    pub fn text(&mut self, x: i64, y: i64, text: &str, scale: i64, colour: Colour) -> i64 {
-        let mut cx = x;
-        for ch in text.chars() {
-            let glyph = font8x8::BASIC_FONTS
-                .get(ch)
-                .or_else(|| font8x8::LATIN_FONTS.get(ch))
-                .or_else(|| font8x8::GREEK_FONTS.get(ch))
-                .unwrap_or([0; 8]);
-            for (row, bits) in glyph.iter().enumerate() {
-                for col in 0..8 {
-                    if bits & (1 << col) != 0 {
-                        self.fill_rect(
-                            cx + col * scale,
-                            y + row as i64 * scale,
-                            scale,
-                            scale,
-                            colour,
-                        );
-                    }
-                }
+    /// Blends `colour` over a rectangle with opacity `alpha` (0–1): a
+    /// backing that keeps labels readable over curves and false colour.
+    pub fn shade_rect(&mut self, x0: i64, y0: i64, w: i64, h: i64, colour: Colour, alpha: f32) {
+        for y in y0..y0 + h {
+            for x in x0..x0 + w {
+                self.blend(x, y, colour, alpha);
             }
-            cx += 8 * scale;
         }
-        cx - x
     }
 
-    /// Width in pixels of `text` at `scale`.
-    pub fn text_width(text: &str, scale: i64) -> i64 {
-        text.chars().count() as i64 * 8 * scale
+    /// Text whose line box (ascent to descent, `size_px` tall) has its
+    /// top-left corner at (x, y), anti-aliased; returns the width drawn
+    /// in pixels. Characters the font lacks draw as its empty box.
+    pub fn text(&mut self, x: f32, y: f32, text: &str, size_px: f32, colour: Colour) -> f32 {
+        let Ok(font) = &*FONT else {
+            return 0.0;
+        };
+        let font = font.as_scaled(PxScale::from(size_px));
+        // A whole-pixel baseline keeps the bottoms of the letters sharp.
+        let baseline_px = (y + font.ascent()).round();
+        layout(&font, text, |id, caret| {
+            let glyph = id.with_scale_and_position(font.scale(), point(x + caret, baseline_px));
+            if let Some(outline) = font.outline_glyph(glyph) {
+                let bounds = outline.px_bounds();
+                let (x0, y0) = (bounds.min.x as i64, bounds.min.y as i64);
+                outline.draw(|gx, gy, coverage| {
+                    self.blend(
+                        x0 + i64::from(gx),
+                        y0 + i64::from(gy),
+                        colour,
+                        coverage.min(1.0),
+                    );
+                });
+            }
+        })
+    }
+
+    /// Text whose line box is centred on (x, y); returns the width drawn.
+    pub fn text_centred(
+        &mut self,
+        x: f32,
+        y: f32,
+        text: &str,
+        size_px: f32,
+        colour: Colour,
+    ) -> f32 {
+        let w = Canvas::text_width(text, size_px);
+        self.text(x - 0.5 * w, y - 0.5 * size_px, text, size_px, colour)
+    }
+
+    /// Width in pixels of `text` at `size_px` (advances and kerning).
+    pub fn text_width(text: &str, size_px: f32) -> f32 {
+        let Ok(font) = &*FONT else {
+            return 0.0;
+        };
+        layout(&font.as_scaled(PxScale::from(size_px)), text, |_, _| {})
+    }
+
+    /// `text` at the largest size up to `size_px`, but not under
+    /// `MIN_TEXT_PX`, that fits in `max_width_px`; cut short with an
+    /// ellipsis where even that is too wide, so nothing is clipped at the
+    /// picture's edge.
+    pub fn fit_text(text: &str, max_width_px: f32, size_px: f32) -> (String, f32) {
+        let w = Canvas::text_width(text, size_px);
+        if w <= max_width_px {
+            return (text.to_owned(), size_px);
+        }
+        // Widths scale with the size; 0.999 absorbs rounding.
+        let size = (0.999 * size_px * max_width_px / w).max(MIN_TEXT_PX.min(size_px));
+        if Canvas::text_width(text, size) <= max_width_px {
+            return (text.to_owned(), size);
+        }
+        let mut cut: String = text.to_owned();
+        while !cut.is_empty() {
+            cut.pop();
+            let shown = format!("{}…", cut.trim_end());
+            if Canvas::text_width(&shown, size) <= max_width_px {
+                return (shown, size);
+            }
+        }
+        (String::new(), size)
     }
 
     /// PNG bytes.
@@ -169,4 +273,67 @@ pub fn nice_step(v: f64) -> f64 {
 /// A number for a label: no trailing zeros, thousands as is.
 pub fn label(v: f64) -> String {
     lucerna_photometry::photometry::format_number(v, 4)
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)] // reason: tests may panic
+    use super::*;
+
+    #[test]
+    fn the_bundled_font_parses_and_has_the_labels_characters() {
+        let font = FONT.as_ref().unwrap();
+        for ch in "0123456789 abcxyzABCXYZ-+.,:;()/°γΦθπ±×−≤≥≈∞²³⁰¹⁴⁵⁶⁷⁸⁹⁻–—äöüßéèçñłŁ…Ωµ".chars()
+        {
+            assert_ne!(font.glyph_id(ch), GlyphId(0), "{ch:?} missing");
+        }
+    }
+
+    #[test]
+    fn text_is_drawn_as_wide_as_measured_with_grey_edges() {
+        let mut c = Canvas::new(200, 40, WHITE);
+        let w = c.text(10.0, 10.0, "C0-C180 90°", LABEL_PX, BLACK);
+        assert!((w - Canvas::text_width("C0-C180 90°", LABEL_PX)).abs() < 1e-3);
+        assert!(w > 60.0 && w < 110.0, "{w}");
+        let inked: Vec<(u32, u32)> = c
+            .image
+            .enumerate_pixels()
+            .filter(|(_, _, p)| p.0[0] < 250)
+            .map(|(x, y, _)| (x, y))
+            .collect();
+        let (x0, x1) = (
+            inked.iter().map(|p| p.0).min().unwrap(),
+            inked.iter().map(|p| p.0).max().unwrap(),
+        );
+        let (y0, y1) = (
+            inked.iter().map(|p| p.1).min().unwrap(),
+            inked.iter().map(|p| p.1).max().unwrap(),
+        );
+        assert!(x0 >= 10 && f64::from(x1) <= 10.0 + f64::from(w) + 1.0);
+        assert!(y0 >= 10 && f64::from(y1) <= 10.0 + f64::from(LABEL_PX));
+        // Anti-aliased: some pixels are neither ink nor paper.
+        let grey = c
+            .image
+            .pixels()
+            .filter(|p| p.0[0] > 40 && p.0[0] < 215)
+            .count();
+        assert!(grey > 20, "{grey} grey pixels");
+    }
+
+    #[test]
+    fn fitted_text_shrinks_then_is_cut_short() {
+        let title = "a rather long luminaire name - 20000000 photons";
+        let full = Canvas::text_width(title, TITLE_PX);
+        let (same, size) = Canvas::fit_text(title, full + 1.0, TITLE_PX);
+        assert_eq!((same.as_str(), size), (title, TITLE_PX));
+        let (shrunk, size) = Canvas::fit_text(title, 0.8 * full, TITLE_PX);
+        assert_eq!(shrunk, title);
+        assert!(size < TITLE_PX && Canvas::text_width(title, size) <= 0.8 * full);
+        let (cut, size) = Canvas::fit_text(title, 100.0, TITLE_PX);
+        assert_eq!(size, MIN_TEXT_PX);
+        assert!(
+            cut.ends_with('…') && Canvas::text_width(&cut, size) <= 100.0,
+            "{cut}"
+        );
+    }
 }

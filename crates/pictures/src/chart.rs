@@ -1,6 +1,6 @@
 //! A log-log line chart (RMSE against photons, say) as PNG.
 
-use crate::canvas::{BLACK, Canvas, GREY, WHITE, label};
+use crate::canvas::{BLACK, Canvas, GREY, LABEL_PX, TITLE_PX, WHITE, label};
 
 const PALETTE: [[u8; 3]; 8] = [
     [0, 0, 0],
@@ -30,7 +30,6 @@ pub fn log_log_chart_png(
     height: u32,
 ) -> Result<Vec<u8>, image::ImageError> {
     let mut c = Canvas::new(width, height, WHITE);
-    let (left, right, top, bottom) = (70.0f32, 190.0f32, 40.0f32, 50.0f32);
     let pts = series
         .iter()
         .flat_map(|s| s.points.iter())
@@ -47,40 +46,62 @@ pub fn log_log_chart_png(
     }
     let (x0, x1) = (x0.floor(), x1.ceil().max(x0.floor() + 1.0));
     let (y0, y1) = (y0.floor(), y1.ceil().max(y0.floor() + 1.0));
-    let w = width as f32 - left - right;
-    let h = height as f32 - top - bottom;
+    let y_ticks: Vec<(i32, String)> = (y0 as i32..=y1 as i32)
+        .map(|e| (e, label(10f64.powi(e))))
+        .collect();
+    // Margins from what they hold: the widest y tick, the title and the
+    // y-axis name above the plot, the x ticks and name below it, the
+    // longest series name in the legend on the right.
+    let swatch = 22.0;
+    let legend_w = series
+        .iter()
+        .map(|s| Canvas::text_width(&s.name, LABEL_PX))
+        .fold(0.0, f32::max);
+    let right = (16.0 + swatch + 8.0 + legend_w + 8.0).min(0.4 * width as f32);
+    let left = 8.0
+        + y_ticks
+            .iter()
+            .map(|(_, t)| Canvas::text_width(t, LABEL_PX))
+            .fold(0.0, f32::max)
+        + 8.0;
+    let top = 8.0 + TITLE_PX + 6.0 + LABEL_PX + 12.0;
+    let bottom = 6.0 + LABEL_PX + 6.0 + LABEL_PX + 8.0;
+    let w = (width as f32 - left - right).max(1.0);
+    let h = (height as f32 - top - bottom).max(1.0);
     let px = |x: f64| left + ((x.log10() - x0) / (x1 - x0)) as f32 * w;
     let py = |y: f64| top + h - ((y.log10() - y0) / (y1 - y0)) as f32 * h;
     for e in x0 as i32..=x1 as i32 {
         let x = px(10f64.powi(e));
         c.line(x, top, x, top + h, 1.0, GREY);
-        c.text(
-            x as i64 - 12,
-            (top + h + 8.0) as i64,
-            &format!("1e{e}"),
-            1,
+        c.text_centred(
+            x,
+            top + h + 6.0 + 0.5 * LABEL_PX,
+            &power_of_ten(e),
+            LABEL_PX,
             BLACK,
         );
     }
-    for e in y0 as i32..=y1 as i32 {
-        let y = py(10f64.powi(e));
+    for (e, text) in &y_ticks {
+        let y = py(10f64.powi(*e));
         c.line(left, y, left + w, y, 1.0, GREY);
-        c.text(8, y as i64 - 4, &label(10f64.powi(e)), 1, BLACK);
+        let tw = Canvas::text_width(text, LABEL_PX);
+        c.text(left - 8.0 - tw, y - 0.5 * LABEL_PX, text, LABEL_PX, BLACK);
     }
-    let scale = if Canvas::text_width(title, 2) + left as i64 > i64::from(width) {
-        1
-    } else {
-        2
-    };
-    c.text(left as i64, 8, title, scale, BLACK);
-    c.text(
-        (left + w / 2.0) as i64 - 40,
-        (top + h + 26.0) as i64,
+    let (title, title_px) = Canvas::fit_text(title, width as f32 - 16.0, TITLE_PX);
+    c.text(8.0, 8.0, &title, title_px, BLACK);
+    c.text_centred(
+        left + 0.5 * w,
+        top + h + 6.0 + LABEL_PX + 6.0 + 0.5 * LABEL_PX,
         x_label,
-        1,
+        LABEL_PX,
         BLACK,
     );
-    c.text(8, (top - 14.0) as i64, y_label, 1, BLACK);
+    c.text(8.0, top - 8.0 - LABEL_PX, y_label, LABEL_PX, BLACK);
+    let legend_x = left + w + 16.0;
+    let (legend_names, legend_px): (Vec<String>, Vec<f32>) = series
+        .iter()
+        .map(|s| Canvas::fit_text(&s.name, width as f32 - legend_x - swatch - 14.0, LABEL_PX))
+        .unzip();
     for (k, s) in series.iter().enumerate() {
         let colour = PALETTE[k % PALETTE.len()];
         let points: Vec<(f32, f32)> = s
@@ -93,9 +114,44 @@ pub fn log_log_chart_png(
         for &(x, y) in &points {
             c.fill_rect(x as i64 - 2, y as i64 - 2, 5, 5, colour);
         }
-        let ly = (top + 10.0 + 16.0 * k as f32) as i64;
-        c.fill_rect((left + w + 14.0) as i64, ly + 2, 18, 4, colour);
-        c.text((left + w + 38.0) as i64, ly, &s.name, 1, BLACK);
+        let ly = top + 4.0 + 1.4 * LABEL_PX * k as f32;
+        c.fill_rect(
+            legend_x as i64,
+            (ly + 0.5 * LABEL_PX) as i64 - 2,
+            swatch as i64,
+            4,
+            colour,
+        );
+        c.text(
+            legend_x + swatch + 8.0,
+            ly,
+            &legend_names[k],
+            legend_px[k],
+            BLACK,
+        );
     }
     c.png()
+}
+
+/// "10⁵", "10⁻³": a decade as people write it under a log axis.
+fn power_of_ten(exponent: i32) -> String {
+    const DIGITS: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
+    let mut s = String::from("10");
+    if exponent < 0 {
+        s.push('⁻');
+    }
+    for d in exponent.unsigned_abs().to_string().bytes() {
+        s.push(DIGITS[usize::from(d - b'0')]);
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn decades_are_written_with_superscripts() {
+        assert_eq!(super::power_of_ten(5), "10⁵");
+        assert_eq!(super::power_of_ten(-12), "10⁻¹²");
+        assert_eq!(super::power_of_ten(0), "10⁰");
+    }
 }

@@ -2,17 +2,17 @@
 
 use lucerna_photometry::{CubeFace, CubeMapLayout};
 
-use crate::canvas::{BLACK, Canvas, WHITE, false_colour, label};
+use crate::canvas::{BLACK, Canvas, LABEL_PX, SMALL_PX, TITLE_PX, WHITE, false_colour, label};
 
 /// Face positions in the cross (column, row), each face drawn with its own
 /// (u, v) axes (u right, v down), as the cube texture stores it.
 const CROSS: [(CubeFace, u32, u32, &str); 6] = [
     (CubeFace::PosY, 1, 0, "+Y"),
-    (CubeFace::NegX, 0, 1, "-X"),
+    (CubeFace::NegX, 0, 1, "−X"),
     (CubeFace::PosZ, 1, 1, "+Z up"),
     (CubeFace::PosX, 2, 1, "+X"),
-    (CubeFace::NegZ, 3, 1, "-Z nadir"),
-    (CubeFace::NegY, 1, 2, "-Y"),
+    (CubeFace::NegZ, 3, 1, "−Z nadir"),
+    (CubeFace::NegY, 1, 2, "−Y"),
 ];
 
 /// Decades shown below the peak: stray light a thousand times dimmer than
@@ -44,14 +44,11 @@ pub fn cube_map_png(
     let width = 4 * face_px + 2 * margin + legend_w;
     let height = 3 * face_px + 2 * margin + 24;
     let mut c = Canvas::new(width, height, WHITE);
-    let scale = if Canvas::text_width(title, 2) + i64::from(margin) > i64::from(width) {
-        1
-    } else {
-        2
-    };
-    c.text(i64::from(margin), 6, title, scale, BLACK);
+    let (title, title_px) = Canvas::fit_text(title, (width - 2 * margin) as f32, TITLE_PX);
+    c.text(margin as f32, 8.0, &title, title_px, BLACK);
     let n = layout.resolution;
     let top = i64::from(margin) + 16;
+    let mut labels = Vec::new();
     for (face, col, row, name) in CROSS {
         let x0 = i64::from(margin + col * face_px);
         let y0 = top + i64::from(row * face_px);
@@ -63,7 +60,13 @@ pub fn cube_map_png(
                 c.blend(x0 + i64::from(px), y0 + i64::from(py), colour, 1.0);
             }
         }
-        c.text(x0 + 4, y0 + 4, name, 1, WHITE);
+        labels.push((x0, y0, name));
+    }
+    // Face names on a dark backing: the faces can be any colour.
+    for (x0, y0, name) in labels {
+        let w = Canvas::text_width(name, SMALL_PX);
+        c.shade_rect(x0, y0, w as i64 + 8, SMALL_PX as i64 + 4, BLACK, 0.55);
+        c.text(x0 as f32 + 4.0, y0 as f32 + 2.0, name, SMALL_PX, WHITE);
     }
     // Legend: a vertical colour bar with nice values.
     let bar_x = i64::from(margin + 4 * face_px + 20);
@@ -72,13 +75,25 @@ pub fn cube_map_png(
         let t = 1.0 - y as f32 / bar_h as f32;
         c.fill_rect(bar_x, top + y, 24, 1, false_colour(t));
     }
-    c.text(bar_x, top + bar_h + 6, "cd", 2, BLACK);
+    c.text(
+        bar_x as f32,
+        (top + bar_h + 6) as f32,
+        "cd",
+        LABEL_PX,
+        BLACK,
+    );
     if peak > 0.0 {
         for k in 0..=DECADES as i32 {
             let v = peak / 10f64.powi(k);
             let y = top + bar_h - (f64::from(log_scale(v, peak)) * bar_h as f64) as i64;
             c.fill_rect(bar_x + 24, y, 6, 1, BLACK);
-            c.text(bar_x + 34, y - 4, &label(v), 1, BLACK);
+            c.text(
+                (bar_x + 34) as f32,
+                y as f32 - 0.5 * SMALL_PX,
+                &label(v),
+                SMALL_PX,
+                BLACK,
+            );
         }
     }
     c.png()

@@ -5,7 +5,7 @@ use std::f64::consts::PI;
 
 use lucerna_photometry::CandelaTable;
 
-use crate::canvas::{BLACK, Canvas, GREY, WHITE, label, nice_step};
+use crate::canvas::{BLACK, Canvas, GREY, LABEL_PX, SMALL_PX, TITLE_PX, WHITE, label, nice_step};
 
 const C0_C180: [u8; 3] = [200, 30, 40];
 const C90_C270: [u8; 3] = [30, 70, 200];
@@ -18,10 +18,20 @@ pub fn polar_png(
     size: u32,
     title: &str,
 ) -> Result<Vec<u8>, image::ImageError> {
-    let mut c = Canvas::new(size, size + 40, WHITE);
+    let height = size + 40;
+    let mut c = Canvas::new(size, height, WHITE);
+    // Room for the title and the 180° label above the circle, the 0°
+    // label and the legend below it, the 90° labels beside it.
+    let gap = 6.0;
+    let above = 8.0 + TITLE_PX + 4.0 + LABEL_PX + gap;
+    let below = LABEL_PX + gap + 8.0 + LABEL_PX + 6.0;
+    let beside = Canvas::text_width("90°", LABEL_PX) + gap + 4.0;
+    let radius = (size as f32 * 0.42)
+        .min(0.5 * (height as f32 - above - below))
+        .min(0.5 * size as f32 - beside)
+        .max(1.0);
     let cx = size as f32 / 2.0;
-    let cy = size as f32 / 2.0 + 20.0;
-    let radius = size as f32 * 0.42;
+    let cy = above + 0.5 * (height as f32 - above - below);
     // Radial profile of a full plane: θ from −180° (C+180) to 180° (C).
     let profile = |c_deg: f64, theta: f64| {
         if theta >= 0.0 {
@@ -36,7 +46,8 @@ pub fn polar_png(
         * per_klm;
     let step = nice_step(max / 4.0);
     let outer = (max / step).ceil().max(1.0) * step;
-    // Grid: circles with values, radial lines every 30°.
+    // Grid: circles every `step`, radial lines every 30°.
+    let mut rings = Vec::new();
     let mut ring = step;
     while ring <= outer * 1.0001 {
         let r = (ring / outer) as f32 * radius;
@@ -47,13 +58,7 @@ pub fn polar_png(
             })
             .collect();
         c.polyline(&pts, 1.0, GREY);
-        c.text(
-            (cx + 4.0) as i64,
-            (cy - r - 10.0) as i64,
-            &label(ring),
-            1,
-            BLACK,
-        );
+        rings.push((r, ring));
         ring += step;
     }
     for k in 0..12 {
@@ -67,19 +72,21 @@ pub fn polar_png(
             GREY,
         );
     }
-    for (deg, text) in [
-        (0.0f64, "0°"),
-        (90.0, "90°"),
-        (-90.0, "90°"),
-        (165.0, "180°"),
-    ] {
-        let a = deg.to_radians();
-        let (x, y) = (
-            cx + (radius + 14.0) * a.sin() as f32,
-            cy + (radius + 14.0) * a.cos() as f32,
+    // Angles outside the circle, each label's box kept `gap` clear of it:
+    // γ from nadir, 0° at the bottom, 180° at the top, both halves.
+    for k in -5..=6 {
+        let deg = 30.0 * f64::from(k);
+        let text = format!("{}°", deg.abs());
+        let (sin, cos) = deg.to_radians().sin_cos();
+        let (w, h) = (Canvas::text_width(&text, LABEL_PX), LABEL_PX);
+        let d = radius + gap + 0.5 * (w * sin.abs() as f32 + h * cos.abs() as f32);
+        c.text_centred(
+            cx + d * sin as f32,
+            cy + d * cos as f32,
+            &text,
+            LABEL_PX,
+            BLACK,
         );
-        let w = Canvas::text_width(text, 1) as f32;
-        c.text((x - w / 2.0) as i64, (y - 4.0) as i64, text, 1, BLACK);
     }
     // Curves: θ measured from nadir (down), C0 to the right.
     for (c_deg, colour) in [(0.0, C0_C180), (90.0, C90_C270)] {
@@ -93,17 +100,40 @@ pub fn polar_png(
             .collect();
         c.polyline(&pts, 2.0, colour);
     }
-    let scale = if Canvas::text_width(title, 2) + 16 > i64::from(size) {
-        1
-    } else {
-        2
-    };
-    c.text(8, 6, title, scale, BLACK);
-    let y = (size + 20) as i64;
-    c.fill_rect(8, y + 3, 20, 3, C0_C180);
-    c.text(32, y, "C0-C180", 1, BLACK);
-    c.fill_rect(110, y + 3, 20, 3, C90_C270);
-    c.text(134, y, "C90-C270", 1, BLACK);
-    c.text(i64::from(size) - 70, y, "cd/klm", 1, BLACK);
+    // Ring values up the 180° axis, just inside each ring, on a light
+    // backing so a curve through them does not hide them; drawn after the
+    // curves for that reason.
+    for (r, value) in rings {
+        let text = label(value);
+        let w = Canvas::text_width(&text, SMALL_PX);
+        let (x, y) = (cx + 4.0, cy - r + 2.0);
+        c.shade_rect(
+            x as i64 - 1,
+            y as i64,
+            w as i64 + 3,
+            SMALL_PX as i64 + 1,
+            WHITE,
+            0.75,
+        );
+        c.text(x, y, &text, SMALL_PX, BLACK);
+    }
+    let (title, title_px) = Canvas::fit_text(title, size as f32 - 16.0, TITLE_PX);
+    c.text(8.0, 8.0, &title, title_px, BLACK);
+    // Legend along the bottom: the planes' colours, the unit on the right.
+    let y = height as f32 - LABEL_PX - 6.0;
+    let mut x = 8.0;
+    for (name, colour) in [("C0-C180", C0_C180), ("C90-C270", C90_C270)] {
+        c.fill_rect(x as i64, (y + 0.5 * LABEL_PX) as i64 - 1, 22, 3, colour);
+        x += 28.0;
+        x += c.text(x, y, name, LABEL_PX, BLACK) + 20.0;
+    }
+    let unit = "cd/klm";
+    c.text(
+        size as f32 - 8.0 - Canvas::text_width(unit, LABEL_PX),
+        y,
+        unit,
+        LABEL_PX,
+        BLACK,
+    );
     c.png()
 }

@@ -1,7 +1,10 @@
 //! Pictures of the preview room: the tone-mapped view with a caption, and
 //! the false-colour illuminance view with a legend in lux.
 
-use crate::canvas::{BLACK, Canvas, WHITE, false_colour, label, nice_step};
+use crate::canvas::{
+    BLACK, Canvas, LABEL_PX, MIN_TEXT_PX, SMALL_PX, WHITE, contrasting, false_colour, label,
+    nice_step,
+};
 
 const CAPTION_H: u32 = 22;
 const LEGEND_W: u32 = 110;
@@ -11,20 +14,44 @@ fn put(c: &mut Canvas, x: u32, y: u32, rgb: [u8; 3]) {
 }
 
 /// A vertical colour bar from 0 to `top` lx at x = `bx`, `height` pixels
-/// tall below its "lux" title, ticked every `step` lx.
+/// tall below its "lux" title, ticked every `step` lx, or every few steps
+/// where the bar is too short for a label at every one.
 fn lux_legend(c: &mut Canvas, bx: i64, height: i64, top: f64, step: f64) {
-    let (by, bh) = (20i64, height.max(1));
-    c.text(bx, 4, "lux", 1, BLACK);
+    let (by, bh) = (22i64, height.max(1));
+    c.text(bx as f32, 4.0, "lux", LABEL_PX, BLACK);
     for k in 0..bh {
         c.fill_rect(bx, by + k, 18, 1, false_colour(1.0 - k as f32 / bh as f32));
     }
-    let mut v = 0.0;
-    while v <= top + 1e-9 {
+    let step_px = step / top * bh as f64;
+    let every = (f64::from(1.3 * SMALL_PX) / step_px).ceil().max(1.0);
+    let mut k = 0.0;
+    while k * step <= top + 1e-9 {
+        let v = k * step;
         let y = by + bh - ((v / top) * bh as f64).round() as i64;
         c.fill_rect(bx + 18, y, 5, 1, BLACK);
-        c.text(bx + 26, y - 3, &label(v), 1, BLACK);
-        v += step;
+        c.text(
+            (bx + 26) as f32,
+            y as f32 - 0.5 * SMALL_PX,
+            &label(v),
+            SMALL_PX,
+            BLACK,
+        );
+        k += every;
     }
+}
+
+/// The caption in the strip of `CAPTION_H` pixels whose top is `y`,
+/// shrunk or cut short to the picture's width.
+fn caption_strip(c: &mut Canvas, y: u32, caption: &str) {
+    let width = c.image.width() as f32;
+    let (text, size) = Canvas::fit_text(caption, width - 12.0, LABEL_PX);
+    c.text(
+        6.0,
+        y as f32 + 0.5 * (CAPTION_H as f32 - size),
+        &text,
+        size,
+        BLACK,
+    );
 }
 
 /// The tone-mapped view (`rgb`: 8-bit, row-major) under a caption strip.
@@ -41,7 +68,7 @@ pub fn room_view_png(
             put(&mut c, x, y, [rgb[i], rgb[i + 1], rgb[i + 2]]);
         }
     }
-    c.text(6, i64::from(height) + 7, caption, 1, BLACK);
+    caption_strip(&mut c, height, caption);
     c.png()
 }
 
@@ -85,7 +112,7 @@ pub fn illuminance_png(
         top,
         step,
     );
-    c.text(6, i64::from(height) + 7, caption, 1, BLACK);
+    caption_strip(&mut c, height, caption);
     c.png()
 }
 
@@ -109,7 +136,8 @@ pub fn work_plane_png(
         (room.1 * px_per_m).ceil() as u32,
     );
     let margin = 16u32;
-    let width = (w + 2 * margin + LEGEND_W).max(Canvas::text_width(caption, 1) as u32 + 12);
+    let width =
+        (w + 2 * margin + LEGEND_W).max(Canvas::text_width(caption, LABEL_PX).ceil() as u32 + 12);
     let height = h + 2 * margin + CAPTION_H;
     let mut c = Canvas::new(width, height, WHITE);
     let max = lux.iter().copied().fold(0.0, f64::max);
@@ -131,6 +159,15 @@ pub fn work_plane_png(
             i64::from(margin) + ((room.1 - y) * px_per_m).round() as i64,
         )
     };
+    // Luminaire crosses (±7 px with their halo) in pixels: a value they
+    // would cross out is left off rather than drawn unreadable.
+    let markers: Vec<(f32, f32)> = luminaires
+        .iter()
+        .map(|&(x, y)| {
+            let (px, py) = to_px(x, y);
+            (px as f32, py as f32)
+        })
+        .collect();
     for (j, _) in ys.iter().enumerate() {
         for (i, _) in xs.iter().enumerate() {
             let v = lux[j * xs.len() + i];
@@ -138,17 +175,23 @@ pub fn work_plane_png(
             let (y0, y1) = cell(ys, j);
             let (px0, py1) = to_px(x0, y0);
             let (px1, py0) = to_px(x1, y1);
-            c.fill_rect(
-                px0,
-                py0,
-                px1 - px0,
-                py1 - py0,
-                false_colour((v / top) as f32),
-            );
+            let colour = false_colour((v / top) as f32);
+            c.fill_rect(px0, py0, px1 - px0, py1 - py0, colour);
+            // The value at the largest size the cell holds, if any.
             let text = format!("{v:.0}");
-            if px1 - px0 > Canvas::text_width(&text, 1) + 4 && py1 - py0 > 12 {
-                let tx = (px0 + px1) / 2 - Canvas::text_width(&text, 1) / 2;
-                c.text(tx, (py0 + py1) / 2 - 4, &text, 1, BLACK);
+            let (cw, ch) = ((px1 - px0) as f32, (py1 - py0) as f32);
+            let (tx, ty) = ((px0 + px1) as f32 / 2.0, (py0 + py1) as f32 / 2.0);
+            let size = [SMALL_PX, MIN_TEXT_PX]
+                .into_iter()
+                .find(|&s| Canvas::text_width(&text, s) + 4.0 < cw && s + 2.0 < ch);
+            let crossed_out = |s: f32| {
+                let half_w = 0.5 * Canvas::text_width(&text, s) + 7.0;
+                markers
+                    .iter()
+                    .any(|&(mx, my)| (mx - tx).abs() < half_w && (my - ty).abs() < 0.5 * s + 7.0)
+            };
+            if let Some(size) = size.filter(|&s| !crossed_out(s)) {
+                c.text_centred(tx, ty, &text, size, contrasting(colour));
             }
         }
     }
@@ -163,9 +206,7 @@ pub fn work_plane_png(
     ] {
         c.line(a.0 as f32, a.1 as f32, b.0 as f32, b.1 as f32, 1.5, BLACK);
     }
-    for &(x, y) in luminaires {
-        let (px, py) = to_px(x, y);
-        let (px, py) = (px as f32, py as f32);
+    for &(px, py) in &markers {
         c.line(px - 6.0, py - 6.0, px + 6.0, py + 6.0, 2.0, WHITE);
         c.line(px - 6.0, py + 6.0, px + 6.0, py - 6.0, 2.0, WHITE);
         c.line(px - 5.0, py - 5.0, px + 5.0, py + 5.0, 1.0, BLACK);
@@ -178,7 +219,7 @@ pub fn work_plane_png(
         top,
         step,
     );
-    c.text(6, i64::from(h + 2 * margin) + 7, caption, 1, BLACK);
+    caption_strip(&mut c, h + 2 * margin, caption);
     c.png()
 }
 
@@ -194,7 +235,8 @@ pub fn image_rows_png(
     caption: &str,
 ) -> Result<Vec<u8>, image::ImageError> {
     let label_w = 110u32;
-    let width = (label_w + cols as u32 * (px + 4)).max(Canvas::text_width(caption, 1) as u32 + 12);
+    let width = (label_w + cols as u32 * (px + 4))
+        .max(Canvas::text_width(caption, LABEL_PX).ceil() as u32 + 12);
     let height = rows.len() as u32 * (px + 4) + CAPTION_H + 4;
     let mut c = Canvas::new(width, height, WHITE);
     let max = rows
@@ -210,7 +252,8 @@ pub fn image_rows_png(
     };
     for (r, (name, values)) in rows.iter().enumerate() {
         let y0 = 2 + r as u32 * (px + 4);
-        c.text(4, i64::from(y0 + px / 2) - 4, name, 1, BLACK);
+        let (name, size) = Canvas::fit_text(name, label_w as f32 - 8.0, LABEL_PX);
+        c.text(4.0, (y0 + px / 2) as f32 - 0.5 * size, &name, size, BLACK);
         for k in 0..cols {
             let x0 = label_w + k as u32 * (px + 4);
             for py in 0..px {
@@ -227,6 +270,6 @@ pub fn image_rows_png(
             }
         }
     }
-    c.text(6, i64::from(height - CAPTION_H) + 7, caption, 1, BLACK);
+    caption_strip(&mut c, height - CAPTION_H, caption);
     c.png()
 }

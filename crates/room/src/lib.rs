@@ -21,4 +21,4 @@ pub use model::{RoomFile, RoomFileError, load_room, parse_room};
 pub use profile::ProfileGrid;
 pub use render::{Frame, Shading, render_cpu, tone_map};
 pub use scene::RoomScene;
-pub use work_plane::{IlluminanceFigures, WorkPlaneGrid, work_plane_cpu};
+pub use work_plane::{IlluminanceFigures, WorkPlaneGrid, WriteGridCsvError, work_plane_cpu};

@@ -118,17 +118,25 @@ impl WorkPlaneGrid {
         }
     }
 
-    /// `x_m,y_m,lux` rows after a header, for spreadsheets.
-    pub fn csv(&self) -> String {
-        let mut s = String::from("x_m,y_m,illuminance_lx\n");
+    /// `x_m,y_m,illuminance_lx` rows (mm and mlx resolution) after a
+    /// header, for spreadsheets; written by the csv crate so the format
+    /// stays standard if a column ever holds text.
+    pub fn csv(&self) -> Result<Vec<u8>, WriteGridCsvError> {
+        let mut out = csv::Writer::from_writer(Vec::new());
+        out.write_record(["x_m", "y_m", "illuminance_lx"])?;
         for (j, y) in self.ys.iter().enumerate() {
             for (i, x) in self.xs.iter().enumerate() {
-                s.push_str(&format!(
-                    "{x:.3},{y:.3},{:.3}\n",
-                    self.lux[j * self.xs.len() + i]
-                ));
+                let lux = self.lux[j * self.xs.len() + i];
+                out.write_record([format!("{x:.3}"), format!("{y:.3}"), format!("{lux:.3}")])?;
             }
         }
-        s
+        out.into_inner()
+            .map_err(|e| csv::Error::from(e.into_error()).into())
     }
 }
+
+/// Writing the work-plane grid as CSV failed (into memory, so only on a
+/// bug or exhausted memory).
+#[derive(Debug, thiserror::Error)]
+#[error("cannot write the work-plane grid as CSV")]
+pub struct WriteGridCsvError(#[from] csv::Error);

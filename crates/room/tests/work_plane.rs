@@ -71,3 +71,23 @@ fn gpu_figures_match_the_cpu_within_one_percent() {
         }
     }
 }
+
+#[test]
+fn the_grid_csv_reads_back_one_row_per_point_x_fastest() {
+    let grid = lucerna_room::WorkPlaneGrid {
+        xs: vec![0.25, 0.75, 1.25],
+        ys: vec![0.5, 1.5],
+        height_m: 0.8,
+        lux: vec![100.0, 200.0, 300.0, 400.0, 500.0, 612.3456],
+    };
+    let bytes = grid.csv().unwrap();
+    let mut reader = csv::Reader::from_reader(bytes.as_slice());
+    assert_eq!(
+        reader.headers().unwrap(),
+        vec!["x_m", "y_m", "illuminance_lx"]
+    );
+    let rows: Vec<(f64, f64, f64)> = reader.deserialize().map(|r| r.unwrap()).collect();
+    assert_eq!(rows.len(), 6);
+    assert_eq!(rows[1], (0.75, 0.5, 200.0));
+    assert_eq!(rows[5], (1.25, 1.5, 612.346), "three decimals");
+}

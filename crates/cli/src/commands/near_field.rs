@@ -59,9 +59,16 @@ pub fn near_field_eval(args: &NearFieldArgs) -> Result<()> {
         pixels: args.pixels,
         reference_samples: args.samples,
     };
-    let mut csv = String::from(
-        "profile,height,nrms_prefiltered,nrms_exact_cosine,nrms_paper_eq10,nrms_point\n",
-    );
+    // The csv crate quotes a profile name with a comma or a quote in it.
+    let mut csv = csv::Writer::from_writer(Vec::new());
+    csv.write_record([
+        "profile",
+        "height",
+        "nrms_prefiltered",
+        "nrms_exact_cosine",
+        "nrms_paper_eq10",
+        "nrms_point",
+    ])?;
     println!(
         "NRMS against Monte Carlo ({} samples per point), {}² ground samples × 5 orientations per height",
         args.samples, args.pixels
@@ -88,10 +95,9 @@ pub fn near_field_eval(args: &NearFieldArgs) -> Result<()> {
                 "{name:44} {h:>6.1} {:>11.4} {:>11.4} {:>11.4} {:>11.4}",
                 values[0], values[1], values[2], values[3]
             );
-            csv.push_str(&format!(
-                "{name},{h},{:.6},{:.6},{:.6},{:.6}\n",
-                values[0], values[1], values[2], values[3]
-            ));
+            let mut record = vec![name.clone(), h.to_string()];
+            record.extend(values.iter().map(|v| format!("{v:.6}")));
+            csv.write_record(&record)?;
             if h == HEIGHTS[0] {
                 let png = lucerna_pictures::image_rows_png(
                     &[
@@ -104,7 +110,7 @@ pub fn near_field_eval(args: &NearFieldArgs) -> Result<()> {
                     args.pixels,
                     96,
                     &format!(
-                        "{name}: ground illuminance, 1 x 1 opening at h = {h}, tilt pi/2 .. pi (log scale, 3 decades)"
+                        "{name}: ground illuminance, 1 x 1 opening at h = {h}, tilt π/2 … π (log scale, 3 decades)"
                     ),
                 )?;
                 let file = args.out.join(format!("{name}_h{h}.png"));
@@ -114,8 +120,10 @@ pub fn near_field_eval(args: &NearFieldArgs) -> Result<()> {
         }
     }
     let file = args.out.join("near_field_nrms.csv");
-    write_atomically(&file, csv.as_bytes())
-        .with_context(|| format!("cannot write {}", file.display()))?;
+    let csv = csv
+        .into_inner()
+        .context("cannot write the NRMS table as CSV")?;
+    write_atomically(&file, &csv).with_context(|| format!("cannot write {}", file.display()))?;
     eprintln!("wrote {} and a picture per profile", file.display());
     Ok(())
 }

@@ -218,7 +218,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         eprintln!("wrote {}", path.display());
     }
     if let Some(csv) = &args.lux_grid {
-        write_atomically(csv, grid.csv().as_bytes())
+        write_atomically(csv, &grid.csv()?)
             .with_context(|| format!("cannot write {}", csv.display()))?;
         eprintln!("wrote {}", csv.display());
     }
