@@ -113,7 +113,7 @@ pub fn run(cli: Cli) -> Result<()> {
                 println!("interrupted: writing what was traced");
             }
             println!(
-                "{} photons in {:.1} s ({:.2} M photons/s)",
+                "{} photons traced in {:.1} s ({:.2} M photons/s)",
                 summary.photons,
                 summary.seconds,
                 summary.photons as f64 / summary.seconds.max(1e-9) / 1e6

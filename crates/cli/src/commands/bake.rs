@@ -288,7 +288,8 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
     Ok(BakeSummary {
         files,
         photons: snapshot.photons,
-        seconds: snapshot.elapsed.as_secs_f64(),
+        // Tracing alone (the final filter and export come after).
+        seconds: snapshot.photons as f64 / snapshot.photons_per_second.max(1e-9),
         interrupted: snapshot.state == RunState::Finished(StopReason::Requested),
     })
 }
