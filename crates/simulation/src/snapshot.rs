@@ -22,8 +22,11 @@ pub enum StopReason {
     Photons,
     Time,
     TargetError,
-    /// The caller asked (e.g. Ctrl+C, a "stop" button).
+    /// The caller asked (e.g. Ctrl+C, a "stop" button); the snapshot is
+    /// the final export.
     Requested,
+    /// The caller cancelled: tracing stopped, no final export was made.
+    Cancelled,
 }
 
 /// Relative standard errors (1σ) of what the snapshot shows.

@@ -19,6 +19,7 @@ enum Command {
     Pause,
     Resume,
     Finish,
+    Cancel,
     Quit,
 }
 
@@ -152,6 +153,12 @@ impl Simulation {
     /// rule chosen afresh), as when the stopping rule is met.
     pub fn finish(&self) {
         self.send(Command::Finish);
+    }
+
+    /// Stops tracing without a final export: the last snapshot stays, marked
+    /// cancelled. An edit or new settings start again.
+    pub fn cancel(&self) {
+        self.send(Command::Cancel);
     }
 
     /// The newest snapshot: an `Arc` clone under a short lock.
@@ -337,6 +344,20 @@ impl Worker {
                 if self.run.is_some() && !self.finished {
                     self.finished = true;
                     self.publish(RunState::Finished(StopReason::Requested), true);
+                }
+            }
+            Command::Cancel => {
+                if self.run.take().is_some() {
+                    let mut published = self.shared.lock();
+                    if let Some(last) = &published.snapshot {
+                        published.snapshot = Some(Arc::new(Snapshot {
+                            state: RunState::Finished(StopReason::Cancelled),
+                            ..(**last).clone()
+                        }));
+                    }
+                    drop(published);
+                    self.shared.changed.notify_all();
+                    (self.notify)();
                 }
             }
             Command::Quit => return false,

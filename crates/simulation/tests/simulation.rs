@@ -150,6 +150,26 @@ fn finish_stops_a_run_without_a_limit() {
 }
 
 #[test]
+fn cancel_stops_tracing_without_a_final_export_and_an_edit_starts_again() {
+    let path = example("opal_bell.toml");
+    let scene = load_scene(&path).expect("loads");
+    let dir = path.parent().expect("a folder");
+    let mut sim = Simulation::start(scene.clone(), dir, small(StoppingRule::default()), || {})
+        .expect("starts");
+    wait_for(&sim, |s| s.photons > 0);
+    sim.cancel();
+    let cancelled = wait_for(&sim, |s| {
+        s.state == RunState::Finished(StopReason::Cancelled)
+    });
+    std::thread::sleep(Duration::from_millis(300));
+    assert_eq!(sim.latest().expect("a snapshot").photons, cancelled.photons);
+    let generation = sim.edit(scene, dir);
+    wait_for(&sim, |s| {
+        s.generation == generation && s.state == RunState::Tracing
+    });
+}
+
+#[test]
 fn a_broken_edit_is_an_error_value_and_the_next_edit_recovers() {
     let path = example("opal_bell.toml");
     let scene = load_scene(&path).expect("loads");
