@@ -3,7 +3,8 @@
 
 use crate::photometry::{
     Dimensions, Format, LampSet, Metadata, ParsePhotometryError, Photometry, WriteOptions,
-    expand_planes, format_number,
+    WritePhotometryError, check_printed_angles, check_written, expand_planes, format_number,
+    normalise_line_ends, plausible, plausible_magnitude,
 };
 use crate::table::{CPlaneSymmetry, CandelaTable};
 
@@ -102,6 +103,7 @@ fn check_ascending(v: &[f64], what: &str, line: usize) -> Result<(), ParsePhotom
 
 /// Reads IES LM-63 text (any version from 1986 to 2019).
 pub fn parse_ies(text: &str) -> Result<Photometry, ParsePhotometryError> {
+    let text = normalise_line_ends(text);
     let lines: Vec<(usize, &str)> = text.lines().enumerate().map(|(i, l)| (i + 1, l)).collect();
     if lines.is_empty() {
         return Err(ParsePhotometryError::new(FORMAT, None, "the file is empty"));
@@ -191,7 +193,21 @@ pub fn parse_ies(text: &str) -> Result<Photometry, ParsePhotometryError> {
         )),
     }
     let lamp_count = tokens.number("number of lamps")?;
+    plausible_magnitude(
+        FORMAT,
+        tokens.line(),
+        "number of lamps",
+        lamp_count,
+        plausible::MAX_LAMPS,
+    )?;
     let lumens_per_lamp = tokens.number("lumens per lamp")?;
+    plausible_magnitude(
+        FORMAT,
+        tokens.line(),
+        "lumens per lamp",
+        lumens_per_lamp,
+        plausible::MAX_FLUX_LM,
+    )?;
     let multiplier = tokens.number("candela multiplier")?;
     if multiplier <= 0.0 {
         return Err(error(
@@ -233,9 +249,20 @@ pub fn parse_ies(text: &str) -> Result<Photometry, ParsePhotometryError> {
             ));
         }
     };
-    let width = tokens.number("luminous opening width")?;
-    let length = tokens.number("luminous opening length")?;
-    let height = tokens.number("luminous opening height")?;
+    let mut size = |what: &str| -> Result<f64, ParsePhotometryError> {
+        let v = tokens.number(what)?;
+        plausible_magnitude(
+            FORMAT,
+            tokens.line(),
+            what,
+            v * to_m,
+            plausible::MAX_DIMENSION_M,
+        )?;
+        Ok(v)
+    };
+    let width = size("luminous opening width")?;
+    let length = size("luminous opening length")?;
+    let height = size("luminous opening height")?;
     meta.luminous_area = if width < 0.0 || length < 0.0 {
         Dimensions {
             length_m: width.abs().max(length.abs()) * to_m,
@@ -259,6 +286,13 @@ pub fn parse_ies(text: &str) -> Result<Photometry, ParsePhotometryError> {
         meta.file_generation_type = Some(second);
     }
     meta.input_watts = tokens.number("input watts")?;
+    plausible_magnitude(
+        FORMAT,
+        tokens.line(),
+        "input watts",
+        meta.input_watts,
+        plausible::MAX_WATTS,
+    )?;
     let vertical_line = tokens.line();
     let gammas = tokens.numbers(n_vertical, "vertical angle")?;
     check_ascending(&gammas, "vertical angles", vertical_line)?;
@@ -426,14 +460,18 @@ fn number_lines(values: impl IntoIterator<Item = f64>, significant: usize, out: 
 
 /// Writes an IES file as every reader accepts it
 /// ([`WriteOptions::default`]).
-pub fn write_ies(p: &Photometry, version: IesVersion) -> String {
+pub fn write_ies(p: &Photometry, version: IesVersion) -> Result<String, WritePhotometryError> {
     write_ies_with(p, version, &WriteOptions::default())
 }
 
 /// Writes an IES file (CR LF line ends, lines under 80 characters). The
 /// horizontal angles follow `p.symmetry`; relative photometry states the
 /// lamp lumens, absolute photometry −1.
-pub fn write_ies_with(p: &Photometry, version: IesVersion, options: &WriteOptions) -> String {
+pub fn write_ies_with(
+    p: &Photometry,
+    version: IesVersion,
+    options: &WriteOptions,
+) -> Result<String, WritePhotometryError> {
     let m = &p.meta;
     let keyword_lines = |key: &str, value: &str, out: &mut String| {
         keyword_lines(key, &options.text(value), out);
@@ -489,6 +527,22 @@ pub fn write_ies_with(p: &Photometry, version: IesVersion, options: &WriteOption
     };
     let horizontal = stored_c_planes(&p.table, symmetry);
     let gammas = &p.table.gammas_deg;
+    // Refuse what the reader would refuse (its limits are the file's).
+    for (what, got) in [
+        ("vertical angles", gammas.len()),
+        ("horizontal angles", horizontal.len()),
+    ] {
+        if got > MAX_ANGLES {
+            return Err(WritePhotometryError::TooMany {
+                format: FORMAT,
+                what,
+                max: MAX_ANGLES,
+                got,
+            });
+        }
+    }
+    check_printed_angles("vertical angles", gammas, 8)?;
+    check_printed_angles("horizontal angles", &horizontal, 8)?;
     // Lamp counts come from files: add them without overflow.
     let lamp_count = m
         .lamps
@@ -499,7 +553,21 @@ pub fn write_ies_with(p: &Photometry, version: IesVersion, options: &WriteOption
         Some(total) => total / f64::from(lamp_count),
         None => -1.0,
     };
+    check_written(
+        FORMAT,
+        "lumens per lamp",
+        lumens_per_lamp,
+        plausible::MAX_FLUX_LM,
+    )?;
+    check_written(FORMAT, "input watts", m.input_watts, plausible::MAX_WATTS)?;
     let a = &m.luminous_area;
+    for (what, v) in [
+        ("luminous opening length", a.length_m),
+        ("luminous opening width", a.width_m),
+        ("luminous opening height", a.height_m),
+    ] {
+        check_written(FORMAT, what, v, plausible::MAX_DIMENSION_M)?;
+    }
     let (width, length) = if a.circular {
         (-a.length_m, -a.length_m)
     } else {
@@ -539,7 +607,15 @@ pub fn write_ies_with(p: &Photometry, version: IesVersion, options: &WriteOption
     number_lines(gammas.iter().copied(), 8, &mut out);
     number_lines(horizontal.iter().copied(), 8, &mut out);
     for &c in &horizontal {
-        number_lines(gammas.iter().map(|&g| p.table.intensity(c, g)), 6, &mut out);
+        let row: Vec<f64> = gammas.iter().map(|&g| p.table.intensity(c, g)).collect();
+        if let Some(&v) = row.iter().find(|v| !(v.is_finite() && **v >= 0.0)) {
+            return Err(WritePhotometryError::Value {
+                format: FORMAT,
+                what: format!("the intensity in C{c}°"),
+                value: v,
+            });
+        }
+        number_lines(row, 6, &mut out);
     }
-    out
+    Ok(out)
 }

@@ -3,7 +3,8 @@
 
 use crate::photometry::{
     Dimensions, Format, LampSet, Metadata, ParsePhotometryError, Photometry, WriteOptions,
-    expand_planes, format_number,
+    WritePhotometryError, check_printed_angles, check_written, expand_planes, format_number,
+    normalise_line_ends, plausible, plausible_magnitude,
 };
 use crate::table::{CPlaneSymmetry, CandelaTable};
 
@@ -127,6 +128,7 @@ fn ldt_axes(d: &Dimensions) -> (f64, f64) {
 
 /// Reads EULUMDAT text.
 pub fn parse_ldt(text: &str) -> Result<Photometry, ParsePhotometryError> {
+    let text = normalise_line_ends(text);
     let mut l = Lines {
         lines: text.lines().collect(),
         next: 0,
@@ -158,15 +160,26 @@ pub fn parse_ldt(text: &str) -> Result<Photometry, ParsePhotometryError> {
         meta.keywords.push(("_LDT_FILE_NAME".to_owned(), file_name));
     }
     meta.issue_date = l.text("date/user")?.to_owned();
-    let body_length = l.number_or_zero("luminaire length/diameter")?;
-    let body_width = l.number_or_zero("luminaire width")?;
-    let body_height = l.number_or_zero("luminaire height")?;
+    let mut size = |what: &str| -> Result<f64, ParsePhotometryError> {
+        let v = l.number_or_zero(what)?;
+        plausible_magnitude(
+            FORMAT,
+            l.line(),
+            what,
+            v * 0.001,
+            plausible::MAX_DIMENSION_M,
+        )?;
+        Ok(v)
+    };
+    let body_length = size("luminaire length/diameter")?;
+    let body_width = size("luminaire width")?;
+    let body_height = size("luminaire height")?;
     meta.luminaire_dimensions = from_ldt_axes(body_length, body_width, body_height);
-    let area_length = l.number_or_zero("luminous area length/diameter")?;
-    let area_width = l.number_or_zero("luminous area width")?;
+    let area_length = size("luminous area length/diameter")?;
+    let area_width = size("luminous area width")?;
     let mut heights = [0.0; 4];
     for (i, h) in heights.iter_mut().enumerate() {
-        *h = l.number_or_zero(&format!("luminous area height C{}", 90 * i))?;
+        *h = size(&format!("luminous area height C{}", 90 * i))?;
     }
     meta.luminous_area = from_ldt_axes(area_length, area_width, heights[0]);
     l.number_or_zero("downward flux fraction DFF")?;
@@ -180,14 +193,35 @@ pub fn parse_ldt(text: &str) -> Result<Photometry, ParsePhotometryError> {
     let mut flux_line = 0;
     for set in 0..sets {
         let count = l.number("number of lamps")?;
+        plausible_magnitude(
+            FORMAT,
+            l.line(),
+            "number of lamps",
+            count,
+            plausible::MAX_LAMPS,
+        )?;
         let kind = l.text("lamp type")?.to_owned();
         let flux_lm = l.number("lamp set luminous flux")?;
+        plausible_magnitude(
+            FORMAT,
+            l.line(),
+            "lamp set luminous flux",
+            flux_lm,
+            plausible::MAX_FLUX_LM,
+        )?;
         if set == 0 {
             flux_line = l.line();
         }
         let colour_temperature = l.text("colour temperature")?.to_owned();
         let colour_rendering = l.text("colour rendering")?.to_owned();
         let watts = l.number_or_zero("lamp set wattage")?;
+        plausible_magnitude(
+            FORMAT,
+            l.line(),
+            "lamp set wattage",
+            watts,
+            plausible::MAX_WATTS,
+        )?;
         meta.lamps.push(LampSet {
             count: count as i32,
             kind,
@@ -289,14 +323,17 @@ fn isym_of(symmetry: CPlaneSymmetry, mc: usize) -> i64 {
 
 /// Writes EULUMDAT (CR LF) as every reader accepts it
 /// ([`WriteOptions::default`]).
-pub fn write_ldt(p: &Photometry) -> String {
+pub fn write_ldt(p: &Photometry) -> Result<String, WritePhotometryError> {
     write_ldt_with(p, &WriteOptions::default())
 }
 
 /// Writes EULUMDAT (CR LF). Intensities are cd/klm of lamp set 1; absolute
 /// photometry is written with a negative lamp count and the luminaire's
 /// own flux as the set's flux, so cd = cd/klm × flux / 1000 still holds.
-pub fn write_ldt_with(p: &Photometry, options: &WriteOptions) -> String {
+pub fn write_ldt_with(
+    p: &Photometry,
+    options: &WriteOptions,
+) -> Result<String, WritePhotometryError> {
     let m = &p.meta;
     let table = &p.table;
     let figures = p.figures();
@@ -309,6 +346,18 @@ pub fn write_ldt_with(p: &Photometry, options: &WriteOptions) -> String {
         .enumerate()
         .all(|(i, &c)| (c - i as f64 * step).abs() < 1e-6);
     let g = &table.gammas_deg;
+    for (what, got) in [("C-planes", mc), ("γ angles", g.len())] {
+        if got > MAX_PLANES {
+            return Err(WritePhotometryError::TooMany {
+                format: FORMAT,
+                what,
+                max: MAX_PLANES,
+                got,
+            });
+        }
+    }
+    check_printed_angles("C-plane angles", &c_list, 8)?;
+    check_printed_angles("γ angles", g, 8)?;
     // EULUMDAT's Dg means angles 0, Dg, 2·Dg, …: equal steps from 0.
     let g_step = table.uniform_gamma_step().filter(|_| g[0] == 0.0);
     let mut lamps = m.lamps.clone();
@@ -328,6 +377,37 @@ pub fn write_ldt_with(p: &Photometry, options: &WriteOptions) -> String {
                 .unwrap_or_default(),
             watts: m.input_watts,
         }];
+    }
+    if !(lamps[0].flux_lm > 0.0) {
+        return Err(WritePhotometryError::Value {
+            format: FORMAT,
+            what: "the flux that cd/klm refers to (an all-dark table)".to_owned(),
+            value: lamps[0].flux_lm,
+        });
+    }
+    for s in &lamps {
+        check_written(
+            FORMAT,
+            "a lamp set's flux",
+            s.flux_lm,
+            plausible::MAX_FLUX_LM,
+        )?;
+        check_written(
+            FORMAT,
+            "a lamp set's wattage",
+            s.watts,
+            plausible::MAX_WATTS,
+        )?;
+    }
+    for (what, v) in [
+        ("the luminaire's length", m.luminaire_dimensions.length_m),
+        ("the luminaire's width", m.luminaire_dimensions.width_m),
+        ("the luminaire's height", m.luminaire_dimensions.height_m),
+        ("the luminous area's length", m.luminous_area.length_m),
+        ("the luminous area's width", m.luminous_area.width_m),
+        ("the luminous area's height", m.luminous_area.height_m),
+    ] {
+        check_written(FORMAT, what, v, plausible::MAX_DIMENSION_M)?;
     }
     let per_klm = 1000.0 / lamps[0].flux_lm;
     let lor_percent = figures.flux_lm / lamps.iter().map(|l| l.flux_lm).sum::<f64>() * 100.0;
@@ -390,12 +470,20 @@ pub fn write_ldt_with(p: &Photometry, options: &WriteOptions) -> String {
     for k in mc1..=mc2 {
         let c = c_list[(k - 1) % mc];
         for &gamma in g {
-            lines.push(format_number(table.intensity(c, gamma) * per_klm, 6));
+            let v = table.intensity(c, gamma) * per_klm;
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(WritePhotometryError::Value {
+                    format: FORMAT,
+                    what: format!("the intensity at C{c}° γ{gamma}° (cd/klm)"),
+                    value: v,
+                });
+            }
+            lines.push(format_number(v, 6));
         }
     }
     let mut out = lines.join("\r\n");
     out.push_str("\r\n");
-    out
+    Ok(out)
 }
 
 /// EULUMDAT text as Latin-1 bytes (what older tools expect); characters

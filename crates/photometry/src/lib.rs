@@ -22,7 +22,7 @@ pub use intensity_map::IntensityMap;
 pub use ldt::{parse_ldt, to_latin1, write_ldt, write_ldt_with};
 pub use photometry::{
     Dimensions, Format, LampSet, Metadata, ParsePhotometryError, Photometry, WriteOptions,
-    read_photometry, sniff,
+    WritePhotometryError, plausible, read_photometry, sniff,
 };
 pub use resample::{CellBinning, table_from_cube_map};
 pub use symmetry::{AxialIsometry, AxialSymmetry, TexelSymmetry};

@@ -51,6 +51,117 @@ pub struct Dimensions {
     pub circular: bool,
 }
 
+/// What a photometric file may hold before it is taken for corrupt (the
+/// readers refuse beyond, naming the field; the writers never get there).
+pub mod plausible {
+    /// Lengths of luminaires and openings (m).
+    pub const MAX_DIMENSION_M: f64 = 1000.0;
+    /// Lamps in a luminaire or a lamp set.
+    pub const MAX_LAMPS: f64 = 1e6;
+    /// Flux of a lamp set or a lamp (lm).
+    pub const MAX_FLUX_LM: f64 = 1e10;
+    /// Input power (W).
+    pub const MAX_WATTS: f64 = 1e9;
+    /// Closest γ or C angles (degrees): printed with 8 significant digits,
+    /// angles this far apart stay apart, and in radians they differ.
+    pub const MIN_ANGLE_STEP_DEG: f64 = 1e-4;
+}
+
+/// A value read from a file, refused unless its magnitude is at most
+/// `max`: `what` names the field.
+pub(crate) fn plausible_magnitude(
+    format: &'static str,
+    line: usize,
+    what: &str,
+    value: f64,
+    max: f64,
+) -> Result<f64, ParsePhotometryError> {
+    if value.is_finite() && value.abs() <= max {
+        Ok(value)
+    } else {
+        Err(ParsePhotometryError::new(
+            format,
+            Some(line),
+            format!("{what} {value} is beyond any real luminaire (at most {max:e})"),
+        ))
+    }
+}
+
+/// Line ends as `\n`: files from old Macs end lines with a lone CR, which
+/// `str::lines` would not split.
+pub(crate) fn normalise_line_ends(text: &str) -> std::borrow::Cow<'_, str> {
+    if text.contains('\r') {
+        std::borrow::Cow::Owned(text.replace("\r\n", "\n").replace('\r', "\n"))
+    } else {
+        std::borrow::Cow::Borrowed(text)
+    }
+}
+
+/// Why a file was not written: it would hold what its own reader refuses.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum WritePhotometryError {
+    #[error("{format} holds at most {max} {what}; this table has {got}")]
+    TooMany {
+        format: &'static str,
+        what: &'static str,
+        max: usize,
+        got: usize,
+    },
+    #[error("{what} is {value}, which a {format} file cannot hold")]
+    Value {
+        format: &'static str,
+        what: String,
+        value: f64,
+    },
+    #[error(
+        "{what} {a}° and {b}° are too close to be told apart in a file (at least 0.0001° apart)"
+    )]
+    Angles { what: &'static str, a: f64, b: f64 },
+}
+
+/// Checks the angles a writer is about to print with `significant`
+/// digits: they must read back distinct and ascending, at least
+/// [`plausible::MIN_ANGLE_STEP_DEG`] apart.
+pub(crate) fn check_printed_angles(
+    what: &'static str,
+    angles: &[f64],
+    significant: usize,
+) -> Result<(), WritePhotometryError> {
+    let printed: Vec<f64> = angles
+        .iter()
+        .map(|&a| format_number(a, significant).parse().unwrap_or(f64::NAN))
+        .collect();
+    for (i, w) in printed.windows(2).enumerate() {
+        if !(w[1] - w[0] >= plausible::MIN_ANGLE_STEP_DEG) {
+            return Err(WritePhotometryError::Angles {
+                what,
+                a: angles[i],
+                b: angles[i + 1],
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a non-finite or implausibly large value a writer would print.
+pub(crate) fn check_written(
+    format: &'static str,
+    what: &str,
+    value: f64,
+    max: f64,
+) -> Result<(), WritePhotometryError> {
+    if value.is_finite() && value.abs() <= max {
+        Ok(())
+    } else {
+        Err(WritePhotometryError::Value {
+            format,
+            what: what.to_owned(),
+            value,
+        })
+    }
+}
+
 /// How a file is written. The defaults are what every reader accepts
 /// (independent readers refused legal files over these two points).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -158,6 +269,9 @@ pub fn expand_planes(
     if symmetry == CPlaneSymmetry::Rotational {
         return (vec![0.0], vec![rows[0].clone()]);
     }
+    // Every image of every stored plane, sorted, the first of equal angles
+    // kept (a stored plane before a mirrored one): n log n for files of
+    // thousands of planes.
     let mut planes: Vec<(f64, usize)> = Vec::new();
     for (i, &c) in stored_c_deg.iter().enumerate() {
         for image in symmetry.images(c) {
@@ -166,12 +280,11 @@ pub fn expand_planes(
             } else {
                 image
             };
-            if !planes.iter().any(|(x, _)| (x - image).abs() < 1e-9) {
-                planes.push((image, i));
-            }
+            planes.push((image, i));
         }
     }
-    planes.sort_by(|a, b| a.0.total_cmp(&b.0));
+    planes.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    planes.dedup_by(|later, kept| (later.0 - kept.0).abs() < 1e-9);
     (
         planes.iter().map(|p| p.0).collect(),
         planes.iter().map(|p| rows[p.1].clone()).collect(),
@@ -217,16 +330,11 @@ pub fn decode_text(bytes: &[u8]) -> String {
 /// EULUMDAT is recognised first, since its free-text lines may contain
 /// anything, `TILT=` included.
 pub fn sniff(text: &str) -> Option<Format> {
-    let first = text
-        .lines()
-        .next()
-        .unwrap_or("")
-        .trim()
-        .to_ascii_uppercase();
-    if first.starts_with("IESNA") || first.starts_with("IES:") {
-        return Some(Format::Ies(0));
-    }
+    let text = normalise_line_ends(text);
     let lines: Vec<&str> = text.lines().take(64).collect();
+    // EULUMDAT first: numbers on lines 2-7 (an IES file has keywords or
+    // its TILT line there), whatever its company line says: "IESNA
+    // Lighting" is a fine company name.
     let numeric = lines
         .iter()
         .skip(1)
@@ -240,6 +348,10 @@ pub fn sniff(text: &str) -> Option<Format> {
         .count();
     if numeric == 6 && text.lines().count() >= 42 {
         return Some(Format::Eulumdat);
+    }
+    let first = lines.first().unwrap_or(&"").trim().to_ascii_uppercase();
+    if first.starts_with("IESNA") || first.starts_with("IES:") {
+        return Some(Format::Ies(0));
     }
     let is_tilt = |l: &str| {
         let l = l.trim_start().to_ascii_uppercase();
@@ -284,9 +396,22 @@ pub fn read_photometry(bytes: &[u8]) -> Result<Photometry, ParsePhotometryError>
 /// trailing zeros (files stay short and are read back exactly as printed).
 pub fn format_number(v: f64, significant: usize) -> String {
     if v == 0.0 || !v.is_finite() {
+        // Writers refuse non-finite values before they get here.
         return "0".to_owned();
     }
     let magnitude = v.abs().log10().floor() as i32;
+    if !(-6..12).contains(&magnitude) {
+        // Far from 1, positional notation would print zero or hundreds of
+        // digits: scientific notation, which every reader's strtod takes.
+        let s = format!("{v:.*e}", significant.saturating_sub(1));
+        let (mantissa, exponent) = s.split_once('e').unwrap_or((&s, "0"));
+        let mantissa = if mantissa.contains('.') {
+            mantissa.trim_end_matches('0').trim_end_matches('.')
+        } else {
+            mantissa
+        };
+        return format!("{mantissa}e{exponent}");
+    }
     let decimals = (significant as i32 - 1 - magnitude).clamp(0, 12) as usize;
     let s = format!("{v:.decimals$}");
     let s = if s.contains('.') {

@@ -96,7 +96,10 @@ pub struct CandelaTable {
 pub enum TableError {
     #[error("a table needs at least one C-plane and two γ angles")]
     TooSmall,
-    #[error("{what} must be strictly ascending within {range}; got {values:?}")]
+    #[error(
+        "{what} must be ascending within {range}, at least 0.0001° apart; got {}",
+        shown(values)
+    )]
     Angles {
         what: &'static str,
         range: &'static str,
@@ -108,10 +111,21 @@ pub enum TableError {
     Value { value: f64, c: f64, gamma: f64 },
 }
 
+/// At most 12 values of a list, for a message that stays readable.
+fn shown(values: &[f64]) -> String {
+    let head: Vec<String> = values.iter().take(12).map(|v| v.to_string()).collect();
+    if values.len() > 12 {
+        format!("{} … ({} in all)", head.join(", "), values.len())
+    } else {
+        head.join(", ")
+    }
+}
+
 fn strictly_ascending_within(v: &[f64], lo: f64, hi: f64, hi_inclusive: bool) -> bool {
     v.iter()
         .all(|x| x.is_finite() && *x >= lo && (*x < hi || (hi_inclusive && *x <= hi)))
-        && v.windows(2).all(|w| w[0] < w[1])
+        && v.windows(2)
+            .all(|w| w[1] - w[0] >= crate::photometry::plausible::MIN_ANGLE_STEP_DEG)
 }
 
 impl CandelaTable {

@@ -29,7 +29,7 @@ fn a_linear_luminaire_keeps_its_long_axis_through_both_formats() {
     // The example's opening is 1.18 m along C90-C270 (y), 0.09 m along x.
     let area = ies.meta.luminous_area;
     assert!((area.width_m - 1.18).abs() < 1e-9 && (area.length_m - 0.09).abs() < 1e-9);
-    let ldt_bytes = to_latin1(&write_ldt(&ies));
+    let ldt_bytes = to_latin1(&write_ldt(&ies).expect("writes"));
     let lines = ldt_lines(&ldt_bytes);
     // EULUMDAT lines 16/17: luminous area length (along C90-C270) and
     // width (along C0-C180), in mm.
@@ -38,7 +38,12 @@ fn a_linear_luminaire_keeps_its_long_axis_through_both_formats() {
     let ldt = read_photometry(&ldt_bytes).expect("reads");
     assert_eq!(ldt.meta.luminous_area, area);
     // IES -> LDT -> IES keeps length and width.
-    let back = read_photometry(write_ies(&ldt, IesVersion::Lm63_2019).as_bytes()).expect("reads");
+    let back = read_photometry(
+        write_ies(&ldt, IesVersion::Lm63_2019)
+            .expect("writes")
+            .as_bytes(),
+    )
+    .expect("reads");
     assert_eq!(back.meta.luminous_area, area);
     assert_eq!(
         back.meta.luminaire_dimensions,
@@ -55,9 +60,14 @@ fn round_openings_are_a_diameter_in_both_formats() {
         height_m: 0.0,
         circular: true,
     };
-    let ldt = read_photometry(&to_latin1(&write_ldt(&p))).expect("reads");
+    let ldt = read_photometry(&to_latin1(&write_ldt(&p).expect("writes"))).expect("reads");
     assert_eq!(ldt.meta.luminous_area, p.meta.luminous_area);
-    let ies = read_photometry(write_ies(&p, IesVersion::Lm63_2019).as_bytes()).expect("reads");
+    let ies = read_photometry(
+        write_ies(&p, IesVersion::Lm63_2019)
+            .expect("writes")
+            .as_bytes(),
+    )
+    .expect("reads");
     assert_eq!(ies.meta.luminous_area, p.meta.luminous_area);
 }
 
@@ -66,8 +76,8 @@ fn free_text_is_written_as_ascii_by_default() {
     let mut p = linear_louvre();
     p.meta.manufacturer = "Lumière Größe 25 °C ±5 %".to_owned();
     p.meta.luminaire = "Leuchte “Ω”".to_owned();
-    let ies = write_ies(&p, IesVersion::Lm63_2002);
-    let ldt = to_latin1(&write_ldt(&p));
+    let ies = write_ies(&p, IesVersion::Lm63_2002).expect("writes");
+    let ldt = to_latin1(&write_ldt(&p).expect("writes"));
     assert!(ies.is_ascii());
     assert!(ldt.is_ascii());
     for bytes in [ies.as_bytes(), &ldt[..]] {
@@ -79,13 +89,16 @@ fn free_text_is_written_as_ascii_by_default() {
         );
     }
     // Asked for, Latin-1 text stays (a reader that wants it).
-    let latin1 = to_latin1(&write_ldt_with(
-        &p,
-        &WriteOptions {
-            ascii_text: false,
-            ..Default::default()
-        },
-    ));
+    let latin1 = to_latin1(
+        &write_ldt_with(
+            &p,
+            &WriteOptions {
+                ascii_text: false,
+                ..Default::default()
+            },
+        )
+        .expect("writes"),
+    );
     assert!(!latin1.is_ascii());
     assert!(
         read_photometry(&latin1)
@@ -107,7 +120,7 @@ fn a_c90_mirror_is_written_over_the_whole_circle() {
     let mut p = linear_louvre();
     p.table = table.clone();
     p.symmetry = CPlaneSymmetry::AboutC90C270;
-    let text = write_ies(&p, IesVersion::Lm63_2019);
+    let text = write_ies(&p, IesVersion::Lm63_2019).expect("writes");
     let back = read_photometry(text.as_bytes()).expect("reads");
     assert_eq!(back.symmetry, CPlaneSymmetry::None);
     assert_eq!(back.table.c_planes_deg.first(), Some(&0.0));

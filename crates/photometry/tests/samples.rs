@@ -57,11 +57,11 @@ fn samples_match_an_independent_reader() {
 fn ies_to_ldt_to_ies_keeps_flux_and_peak() {
     for &(name, _, _) in EXPECTED {
         let original = read(name);
-        let ldt = write_ldt(&original);
+        let ldt = write_ldt(&original).expect("writes");
         let via_ldt =
             read_photometry(ldt.as_bytes()).unwrap_or_else(|e| panic!("{name} as LDT: {e}\n{ldt}"));
         for version in [IesVersion::Lm63_2002, IesVersion::Lm63_2019] {
-            let ies = write_ies(&via_ldt, version);
+            let ies = write_ies(&via_ldt, version).expect("writes");
             let back = read_photometry(ies.as_bytes())
                 .unwrap_or_else(|e| panic!("{name} back to IES: {e}\n{ies}"));
             for (what, a, b) in [

@@ -121,11 +121,15 @@ fn analytic_tables_survive_every_format_and_symmetry() {
         let outputs = [
             (
                 "IES 2002",
-                write_ies(&p, IesVersion::Lm63_2002).into_bytes(),
+                write_ies(&p, IesVersion::Lm63_2002)
+                    .expect("writes")
+                    .into_bytes(),
             ),
             (
                 "IES 2019",
-                write_ies(&p, IesVersion::Lm63_2019).into_bytes(),
+                write_ies(&p, IesVersion::Lm63_2019)
+                    .expect("writes")
+                    .into_bytes(),
             ),
             (
                 "IES 2019, 90-270 range allowed",
@@ -137,9 +141,13 @@ fn analytic_tables_survive_every_format_and_symmetry() {
                         ..Default::default()
                     },
                 )
+                .expect("writes")
                 .into_bytes(),
             ),
-            ("LDT", lucerna_photometry::to_latin1(&write_ldt(&p))),
+            (
+                "LDT",
+                lucerna_photometry::to_latin1(&write_ldt(&p).expect("writes")),
+            ),
         ];
         for (format, bytes) in outputs {
             let back = read_photometry(&bytes)

@@ -23,7 +23,7 @@ fn the_corridor_renders_the_same_from_the_ies_and_the_ldt() {
         .collect();
     let from_ldt: Vec<_> = from_ies
         .iter()
-        .map(|p| read_photometry(&to_latin1(&write_ldt(p))).unwrap())
+        .map(|p| read_photometry(&to_latin1(&write_ldt(p).expect("writes"))).unwrap())
         .collect();
     // The louvre's opening is long along C90-C270 (y) either way.
     for p in &from_ldt {

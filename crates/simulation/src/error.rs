@@ -26,6 +26,8 @@ pub enum SimulationError {
         #[source]
         source: std::io::Error,
     },
+    #[error("the photometric file cannot be written")]
+    WritePhotometry(#[from] lucerna_photometry::WritePhotometryError),
     #[error("cannot draw {what}: {message}")]
     Picture { what: &'static str, message: String },
     #[error("the simulation's worker thread has stopped")]

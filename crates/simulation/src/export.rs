@@ -219,9 +219,9 @@ pub fn write_bake_files(
     let outputs: Vec<(String, Vec<u8>)> = vec![
         (
             format!("{stem}.ies"),
-            write_ies(&photometry, IesVersion::Lm63_2019).into_bytes(),
+            write_ies(&photometry, IesVersion::Lm63_2019)?.into_bytes(),
         ),
-        (format!("{stem}.ldt"), to_latin1(&write_ldt(&photometry))),
+        (format!("{stem}.ldt"), to_latin1(&write_ldt(&photometry)?)),
         (format!("{stem}.exr"), exr),
         (format!("{stem}_cube.png"), cube),
         (format!("{stem}_polar.png"), polar),

@@ -43,8 +43,13 @@ fn baked_with(name: &str, opening: Option<LuminousOpening>) -> (Dimensions, Dime
             scene_file: name.to_owned(),
         },
     );
-    let ies = read_photometry(write_ies(&p, IesVersion::Lm63_2019).as_bytes()).expect("IES");
-    let ldt = read_photometry(&to_latin1(&write_ldt(&p))).expect("LDT");
+    let ies = read_photometry(
+        write_ies(&p, IesVersion::Lm63_2019)
+            .expect("writes")
+            .as_bytes(),
+    )
+    .expect("IES");
+    let ldt = read_photometry(&to_latin1(&write_ldt(&p).expect("writes"))).expect("LDT");
     (ies.meta.luminous_area, ldt.meta.luminous_area)
 }
 

@@ -61,10 +61,16 @@ pub fn convert(
         );
     }
     let bytes = match format {
-        OutFormat::Ies2002 => write_ies(&p, IesVersion::Lm63_2002).into_bytes(),
-        OutFormat::Ies2019 => write_ies(&p, IesVersion::Lm63_2019).into_bytes(),
-        OutFormat::Ldt => to_latin1(&write_ldt(&p)),
-    };
+        OutFormat::Ies2002 => write_ies(&p, IesVersion::Lm63_2002).map(String::into_bytes),
+        OutFormat::Ies2019 => write_ies(&p, IesVersion::Lm63_2019).map(String::into_bytes),
+        OutFormat::Ldt => write_ldt(&p).map(|t| to_latin1(&t)),
+    }
+    .with_context(|| {
+        format!(
+            "{} cannot be written as {format:?}; nothing was written",
+            input.display()
+        )
+    })?;
     lucerna_scene::write_atomically(output, &bytes)
         .with_context(|| format!("cannot write {}", output.display()))?;
     let f = p.figures();
