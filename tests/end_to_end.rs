@@ -483,3 +483,48 @@ fn convert_warns_of_unequal_c_steps_in_an_ldt_and_resamples_on_request() {
         b.flux_lm
     );
 }
+
+#[test]
+fn a_bake_where_nothing_escapes_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("boxed.toml");
+    std::fs::write(
+        &scene,
+        r#"format_version = 1
+name = "Boxed LED"
+
+[materials.mirror]
+type = "mirror"
+reflectance = 0.95
+
+[[emitter]]
+name = "LED"
+flux_lm = 100.0
+shape = { type = "disk", radius = 0.002 }
+
+[[part]]
+name = "box"
+material = "mirror"
+shape = { type = "box", size = [0.1, 0.1, 0.1] }
+"#,
+    )
+    .unwrap();
+    let out = lucerna(&[
+        "bake",
+        scene.to_str().unwrap(),
+        "--photons",
+        "20000",
+        "--backend",
+        "cpu",
+        "--resolution",
+        "16",
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stderr).contains("warning: no photon left the luminaire"),
+        "{}",
+        text(&out.stderr)
+    );
+}

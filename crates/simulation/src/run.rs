@@ -195,6 +195,7 @@ impl Run {
             gammas,
         );
         let figures = figures(&table, Some(map.emitter_flux_lm));
+        let warnings = crate::snapshot::degenerate_result_warnings(&map, &figures);
         let report = self.last;
         let noise = Noise {
             peak_relative: report.map_or_else(
@@ -222,6 +223,7 @@ impl Run {
             table: Arc::new(table),
             figures,
             noise,
+            warnings,
         }
     }
 }

@@ -87,4 +87,38 @@ pub struct Snapshot {
     /// Flux, LOR, peak, beam and field angles of that table.
     pub figures: Figures,
     pub noise: Noise,
+    /// What looks degenerate about the result (nothing escaped, almost
+    /// nothing escaped, photons cut off by the bounce limit), in words.
+    pub warnings: Vec<String>,
+}
+
+/// The warnings a map deserves once it holds photons.
+pub(crate) fn degenerate_result_warnings(map: &IntensityMap, figures: &Figures) -> Vec<String> {
+    let mut warnings = Vec::new();
+    let emitted = map.photons_emitted;
+    if emitted == 0 {
+        return warnings;
+    }
+    let escaped = map.photons_escaped();
+    if escaped == 0 {
+        warnings.push(format!(
+            "no photon left the luminaire: all {emitted} were absorbed or cut off (is an emitter enclosed by its parts?)"
+        ));
+    } else if map.light_output_ratio() < 0.01 {
+        warnings.push(format!(
+            "only {:.3} % of the emitted flux leaves the luminaire",
+            100.0 * map.light_output_ratio()
+        ));
+    }
+    let cut_off = map.photons_cut_off as f64 / emitted as f64;
+    if cut_off > 0.001 {
+        warnings.push(format!(
+            "{:.2} % of the photons were still bouncing at the bounce limit and were cut off (a light trap, or raise the limit)",
+            100.0 * cut_off
+        ));
+    }
+    if !(figures.flux_lm.is_finite() && figures.peak_cd.is_finite()) {
+        warnings.push("the table's flux or peak is not a finite number".to_owned());
+    }
+    warnings
 }

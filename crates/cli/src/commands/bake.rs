@@ -264,6 +264,9 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
         seen = Some(s);
     };
     bar.finish();
+    for warning in &snapshot.warnings {
+        eprintln!("warning: {warning}");
+    }
     describe_filter(&snapshot);
     let options = ExportOptions {
         symmetrise: match args.symmetrise {
