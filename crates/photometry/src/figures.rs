@@ -92,7 +92,10 @@ pub fn figures(table: &CandelaTable, lamp_flux_lm: Option<f64>) -> Figures {
         } else {
             0.0
         },
-        light_output_ratio: lamp_flux_lm.filter(|f| *f > 0.0).map(|f| flux_lm / f),
+        light_output_ratio: lamp_flux_lm
+            .filter(|f| *f > 0.0)
+            .map(|f| flux_lm / f)
+            .filter(|r| r.is_finite()),
         peak_cd,
         peak_c_deg,
         peak_gamma_deg,

@@ -89,12 +89,16 @@ impl<'a> Tokens<'a> {
 }
 
 fn check_ascending(v: &[f64], what: &str, line: usize) -> Result<(), ParsePhotometryError> {
-    if let Some(w) = v.windows(2).find(|w| w[0] >= w[1]) {
+    if let Some(w) = v
+        .windows(2)
+        .find(|w| !(w[1] - w[0] >= plausible::MIN_ANGLE_STEP_DEG))
+    {
         return Err(error(
             line,
             format!(
-                "{what} must be strictly ascending, but {} is followed by {}",
-                w[0], w[1]
+                "{what} must be ascending at least 0.0001° apart, but {} is followed by {}",
+                format_number(w[0], 8),
+                format_number(w[1], 8)
             ),
         ));
     }
@@ -336,7 +340,7 @@ pub fn parse_ies(text: &str) -> Result<Photometry, ParsePhotometryError> {
     let symmetry = horizontal_symmetry(&horizontal)
         .ok_or_else(|| error(horizontal_line, format!(
             "unsupported horizontal angle set {} to {}: type C files use 0; 0-90; 0-180; 0-360 (or up to 360 without it); 90-270",
-            horizontal[0], horizontal[horizontal.len() - 1]
+            format_number(horizontal[0], 8), format_number(horizontal[horizontal.len() - 1], 8)
         )))?;
     let (c_planes, rows) = expand_planes(symmetry, &horizontal, &rows);
     let table = CandelaTable::new(c_planes, gammas.clone(), rows.concat())
@@ -414,8 +418,11 @@ pub fn stored_c_planes(table: &CandelaTable, symmetry: CPlaneSymmetry) -> Vec<f6
         .filter(|&c| c >= lo && c <= hi)
         .collect();
     for end in [lo, hi] {
-        if !planes.iter().any(|&c| (c - end).abs() < 1e-9) {
-            planes.push(end);
+        // A plane within 1e-9° of an end is that end, exactly: readers
+        // check the range's ends by value.
+        match planes.iter_mut().find(|c| (**c - end).abs() < 1e-9) {
+            Some(c) => *c = end,
+            None => planes.push(end),
         }
     }
     planes.sort_by(f64::total_cmp);
@@ -505,6 +512,12 @@ pub fn write_ies_with(
         keyword_lines("FILEGENINFO", &m.file_generation_info, &mut out);
     }
     for (k, v) in &m.keywords {
+        // LM-63 keywords are letters, digits and underscores.
+        let k: String = k
+            .chars()
+            .filter(|c| c.is_ascii_alphanumeric() || *c == '_')
+            .collect::<String>()
+            .to_ascii_uppercase();
         let key = if k.is_empty() { "OTHER" } else { k.as_str() };
         if key == "FILEGENINFO" || key == PHOTOMETRY_KEYWORD || key.starts_with("TILT") {
             continue;

@@ -244,14 +244,18 @@ pub fn parse_ldt(text: &str) -> Result<Photometry, ParsePhotometryError> {
     let gammas: Vec<f64> = (0..ng)
         .map(|_| l.number("γ angle"))
         .collect::<Result<_, _>>()?;
-    if c_angles.iter().any(|c| !(0.0..=360.0).contains(c))
-        || c_angles.windows(2).any(|w| w[0] >= w[1])
-    {
-        return Err(error(c_line, "C angles must be ascending within 0..360°"));
+    let apart = |w: &[f64]| w[1] - w[0] >= plausible::MIN_ANGLE_STEP_DEG;
+    if c_angles.iter().any(|c| !(0.0..=360.0).contains(c)) || !c_angles.windows(2).all(apart) {
+        return Err(error(
+            c_line,
+            "C angles must be ascending within 0..360°, at least 0.0001° apart",
+        ));
     }
-    if gammas.iter().any(|g| !(0.0..=180.0).contains(g)) || gammas.windows(2).any(|w| w[0] >= w[1])
-    {
-        return Err(error(g_line, "γ angles must be ascending within 0..180°"));
+    if gammas.iter().any(|g| !(0.0..=180.0).contains(g)) || !gammas.windows(2).all(apart) {
+        return Err(error(
+            g_line,
+            "γ angles must be ascending within 0..180°, at least 0.0001° apart",
+        ));
     }
     let _ = (dc, dg); // the angle lists are authoritative
     let (mc1, mc2) = stored_range(isym, mc);

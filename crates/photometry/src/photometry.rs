@@ -185,7 +185,12 @@ impl Default for WriteOptions {
 impl WriteOptions {
     /// A free-text field on one line, in ASCII where asked.
     pub fn text(&self, s: &str) -> String {
-        let one_line = s.replace(['\r', '\n'], " ");
+        // Control characters (a NUL makes the file "binary" to readers)
+        // and line breaks become spaces.
+        let one_line: String = s
+            .chars()
+            .map(|c| if c.is_control() { ' ' } else { c })
+            .collect();
         if self.ascii_text && !one_line.is_ascii() {
             deunicode::deunicode_with_tofu(&one_line, "?")
         } else {

@@ -1,0 +1,250 @@
+//! What each target feeds its input to, and the invariants it checks.
+
+use std::path::{Path, PathBuf};
+
+use lucerna_photometry::{
+    IesVersion, Photometry, read_photometry, to_latin1, write_ies, write_ldt,
+};
+
+use crate::{Finding, Target, assets, corpus_dir, run_case};
+
+/// A case: files by path relative to a scratch folder.
+pub type Case = Vec<(String, Vec<u8>)>;
+
+fn read(path: &Path) -> Vec<u8> {
+    std::fs::read(path).unwrap_or_default()
+}
+
+fn files_under(dir: &Path, keep: impl Fn(&Path) -> bool) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        let Ok(entries) = std::fs::read_dir(&d) else {
+            continue;
+        };
+        for e in entries.flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if keep(&p) {
+                out.push(p);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+fn extension_in(p: &Path, extensions: &[&str]) -> bool {
+    p.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| extensions.contains(&e.to_ascii_lowercase().as_str()))
+}
+
+/// The cases a campaign starts from: the assets, then the regression
+/// corpus (a file per case for photometry; a folder per case otherwise,
+/// laid out like the assets: `luminaires/`, `meshes/`, `rooms/`).
+pub fn seeds(target: Target) -> Vec<Case> {
+    let assets = assets();
+    let mut cases: Vec<Case> = Vec::new();
+    match target {
+        Target::Photometry => {
+            for p in files_under(&assets.join("profiles"), |p| {
+                extension_in(p, &["ies", "ldt"])
+            }) {
+                cases.push(vec![("profile".to_owned(), read(&p))]);
+            }
+            for p in files_under(&corpus_dir(target), |_| true) {
+                cases.push(vec![("profile".to_owned(), read(&p))]);
+            }
+        }
+        Target::Scene => {
+            let meshes: Case = files_under(&assets.join("meshes"), |_| true)
+                .into_iter()
+                .filter_map(|p| {
+                    let name = p.file_name()?.to_str()?.to_owned();
+                    Some((format!("meshes/{name}"), read(&p)))
+                })
+                .collect();
+            for p in files_under(&assets.join("luminaires"), |p| extension_in(p, &["toml"])) {
+                let name = p
+                    .file_name()
+                    .and_then(|n| n.to_str())
+                    .unwrap_or("scene.toml");
+                let mut case = vec![(format!("luminaires/{name}"), read(&p))];
+                case.extend(meshes.iter().cloned());
+                cases.push(case);
+            }
+            cases.extend(corpus_cases(target));
+        }
+        Target::Room => {
+            let rooms = assets.join("rooms");
+            let meshes: Case = files_under(&rooms, |p| extension_in(p, &["obj", "mtl"]))
+                .into_iter()
+                .filter_map(|p| {
+                    let name = p.file_name()?.to_str()?.to_owned();
+                    Some((format!("rooms/{name}"), read(&p)))
+                })
+                .collect();
+            for p in files_under(&rooms, |p| extension_in(p, &["toml"])) {
+                let name = p
+                    .file_name()
+                    .and_then(|n| n.to_str())
+                    .unwrap_or("room.toml");
+                let mut case = vec![(format!("rooms/{name}"), read(&p))];
+                case.extend(meshes.iter().cloned());
+                cases.push(case);
+            }
+            cases.extend(corpus_cases(target));
+        }
+    }
+    cases
+}
+
+/// Each sub-folder of the target's corpus is a case.
+fn corpus_cases(target: Target) -> Vec<Case> {
+    let dir = corpus_dir(target);
+    let Ok(entries) = std::fs::read_dir(&dir) else {
+        return Vec::new();
+    };
+    let mut folders: Vec<PathBuf> = entries
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.is_dir())
+        .collect();
+    folders.sort();
+    folders
+        .into_iter()
+        .map(|case| {
+            files_under(&case, |_| true)
+                .into_iter()
+                .filter_map(|p| {
+                    let rel = p.strip_prefix(&case).ok()?.to_str()?.replace('\\', "/");
+                    Some((rel, read(&p)))
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Runs one case through its target.
+pub fn run(target: Target, case: Case) -> Option<Finding> {
+    match target {
+        Target::Photometry => run_case(target, case, |files| photometry(&files[0].1)),
+        Target::Scene => run_case(target, case, |files| in_scratch(files, scene)),
+        Target::Room => run_case(target, case, |files| in_scratch(files, room)),
+    }
+}
+
+/// Lays the files out in a scratch folder and runs `check` on it.
+fn in_scratch(
+    files: &[(String, Vec<u8>)],
+    check: fn(&Path, &str) -> Result<(), String>,
+) -> Result<(), String> {
+    let dir = tempfile::tempdir().map_err(|e| format!("scratch folder: {e}"))?;
+    for (name, bytes) in files {
+        let path = dir.path().join(name);
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent).map_err(|e| e.to_string())?;
+        }
+        std::fs::write(&path, bytes).map_err(|e| e.to_string())?;
+    }
+    check(dir.path(), &files[0].0)
+}
+
+/// The figures a report prints must be numbers.
+fn finite_figures(p: &Photometry, what: &str) -> Result<(), String> {
+    let f = p.figures();
+    let mut values = vec![f.flux_lm, f.peak_cd, f.downward_fraction];
+    values.extend(f.light_output_ratio);
+    values.extend(f.beam_angle_deg.iter().flatten());
+    values.extend(f.field_angle_deg.iter().flatten());
+    if values.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(format!("{what}: a figure is not finite: {f:?}"))
+    }
+}
+
+/// Reads; if the file reads, its figures are finite and every file
+/// Lucerna writes from it reads back with the same flux and peak.
+pub fn photometry(bytes: &[u8]) -> Result<(), String> {
+    let Ok(p) = read_photometry(bytes) else {
+        return Ok(());
+    };
+    finite_figures(&p, "as read")?;
+    let (flux, peak) = (p.figures().flux_lm, p.figures().peak_cd);
+    let written: Vec<(&str, Option<Vec<u8>>)> = vec![
+        (
+            "IES 2002",
+            write_ies(&p, IesVersion::Lm63_2002)
+                .ok()
+                .map(String::into_bytes),
+        ),
+        (
+            "IES 2019",
+            write_ies(&p, IesVersion::Lm63_2019)
+                .ok()
+                .map(String::into_bytes),
+        ),
+        ("LDT", write_ldt(&p).ok().map(|t| to_latin1(&t))),
+    ];
+    for (format, bytes) in written {
+        // A writer may refuse (and say why); what it writes must read.
+        let Some(bytes) = bytes else { continue };
+        let back =
+            read_photometry(&bytes).map_err(|e| format!("{format} written, unreadable: {e}"))?;
+        finite_figures(&back, format)?;
+        let f = back.figures();
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-3 * b.abs().max(a.abs()) + 1e-9;
+        if !close(f.flux_lm, flux) || !close(f.peak_cd, peak) {
+            return Err(format!(
+                "{format} round trip: flux {} -> {}, peak {} -> {}",
+                flux, f.flux_lm, peak, f.peak_cd
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Loads, validates and tessellates a scene; a tessellated scene has
+/// finite vertices.
+fn scene(dir: &Path, file: &str) -> Result<(), String> {
+    let path = dir.join(file);
+    let Ok(scene) = lucerna_scene::load_scene(&path) else {
+        return Ok(());
+    };
+    let Ok(tessellated) = lucerna_scene::tessellate(&scene, path.parent().unwrap_or(dir)) else {
+        return Ok(());
+    };
+    if tessellated.mesh.positions.iter().all(|p| p.is_finite()) {
+        Ok(())
+    } else {
+        Err("a tessellated vertex is not finite".to_owned())
+    }
+}
+
+/// Loads and validates a room, builds its scene with a plain profile and
+/// lays out its work plane and mesh.
+fn room(dir: &Path, file: &str) -> Result<(), String> {
+    let path = dir.join(file);
+    let Ok(room) = lucerna_room::model::load_room(&path) else {
+        return Ok(());
+    };
+    let profile = plain_profile();
+    let profiles = vec![profile; room.luminaires.len()];
+    let scene = lucerna_room::RoomScene::new(&room, &profiles);
+    let (xs, ys) = lucerna_room::work_plane::grid_points(&scene);
+    if xs.iter().chain(&ys).any(|v| !v.is_finite()) {
+        return Err("a work-plane point is not finite".to_owned());
+    }
+    let _ = lucerna_room::scene::load_room_mesh(&room, path.parent().unwrap_or(dir));
+    Ok(())
+}
+
+/// A Lambertian profile for rooms (their own profiles are not the target).
+fn plain_profile() -> Photometry {
+    let text = "IESNA:LM-63-2002\r\nTILT=NONE\r\n1 1000 1 3 1 1 2 0.1 0.1 0\r\n1 1 0\r\n0 45 90\r\n0\r\n318 225 0\r\n";
+    read_photometry(text.as_bytes())
+        .unwrap_or_else(|e| unreachable!("the plain profile reads: {e}"))
+}
