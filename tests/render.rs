@@ -263,20 +263,30 @@ fn render_writes_a_work_plane_plan() {
     assert!(w > 400, "{w}");
 }
 
+/// `lucerna near-field-eval PROFILE --pixels P --samples S --out DIR`.
+fn near_field_eval(
+    profile: &std::path::Path,
+    pixels: u32,
+    samples: u32,
+    out: &std::path::Path,
+) -> std::process::Output {
+    lucerna(&[
+        "near-field-eval",
+        profile.to_str().unwrap(),
+        "--pixels",
+        &pixels.to_string(),
+        "--samples",
+        &samples.to_string(),
+        "--out",
+        out.to_str().unwrap(),
+    ])
+}
+
 #[test]
 fn near_field_eval_writes_its_table_and_pictures() {
     let dir = tempfile::tempdir().unwrap();
     let profile = assets().join("profiles/samples/rab_indoor3_2002_full360.ies");
-    let out = lucerna(&[
-        "near-field-eval",
-        profile.to_str().unwrap(),
-        "--pixels",
-        "8",
-        "--samples",
-        "64",
-        "--out",
-        dir.path().to_str().unwrap(),
-    ]);
+    let out = near_field_eval(&profile, 8, 64, dir.path());
     assert!(out.status.success(), "{}", text(&out.stderr));
     let csv = std::fs::read_to_string(dir.path().join("near_field_nrms.csv")).unwrap();
     let rows: Vec<&str> = csv.lines().skip(1).collect();
@@ -300,16 +310,7 @@ fn near_field_csv_quotes_a_profile_name_with_a_comma() {
         &profile,
     )
     .unwrap();
-    let out = lucerna(&[
-        "near-field-eval",
-        profile.to_str().unwrap(),
-        "--pixels",
-        "4",
-        "--samples",
-        "16",
-        "--out",
-        dir.path().to_str().unwrap(),
-    ]);
+    let out = near_field_eval(&profile, 4, 16, dir.path());
     assert!(out.status.success(), "{}", text(&out.stderr));
     let csv = std::fs::read(dir.path().join("near_field_nrms.csv")).unwrap();
     let mut reader = csv::Reader::from_reader(csv.as_slice());

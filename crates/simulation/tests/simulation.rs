@@ -26,6 +26,19 @@ fn small(stop: StoppingRule) -> SimulationSettings {
     }
 }
 
+/// An example's scene, its folder, and a simulation of it started with
+/// `settings`.
+fn started(
+    name: &str,
+    settings: SimulationSettings,
+) -> (Simulation, lucerna_scene::Scene, PathBuf) {
+    let path = example(name);
+    let scene = load_scene(&path).expect("the example loads");
+    let dir = path.parent().expect("a folder").to_path_buf();
+    let sim = Simulation::start(scene.clone(), &dir, settings, || {}).expect("starts");
+    (sim, scene, dir)
+}
+
 /// Waits until `accept` holds for the newest snapshot (at most 60 s).
 fn wait_for(sim: &Simulation, accept: impl Fn(&Snapshot) -> bool) -> Arc<Snapshot> {
     let deadline = Instant::now() + Duration::from_secs(60);
@@ -79,14 +92,7 @@ fn an_edit_restarts_the_run_and_discards_the_old_scene() {
 
 #[test]
 fn pause_holds_the_photons_and_resume_goes_on() {
-    let path = example("opal_bell.toml");
-    let sim = Simulation::start(
-        load_scene(&path).expect("loads"),
-        path.parent().expect("a folder"),
-        small(StoppingRule::default()),
-        || {},
-    )
-    .expect("starts");
+    let (sim, _, _) = started("opal_bell.toml", small(StoppingRule::default()));
     wait_for(&sim, |s| s.photons > 0);
     sim.pause();
     let paused = wait_for(&sim, |s| s.state == RunState::Paused);
@@ -135,14 +141,7 @@ fn a_photon_limit_gives_the_same_counts_as_a_bake_on_this_thread() {
 
 #[test]
 fn finish_stops_a_run_without_a_limit() {
-    let path = example("opal_bell.toml");
-    let sim = Simulation::start(
-        load_scene(&path).expect("loads"),
-        path.parent().expect("a folder"),
-        small(StoppingRule::default()),
-        || {},
-    )
-    .expect("starts");
+    let (sim, _, _) = started("opal_bell.toml", small(StoppingRule::default()));
     wait_for(&sim, |s| s.photons > 0);
     sim.finish();
     let done = sim.wait_until_finished().expect("finishes");
@@ -151,11 +150,8 @@ fn finish_stops_a_run_without_a_limit() {
 
 #[test]
 fn cancel_stops_tracing_without_a_final_export_and_an_edit_starts_again() {
-    let path = example("opal_bell.toml");
-    let scene = load_scene(&path).expect("loads");
-    let dir = path.parent().expect("a folder");
-    let mut sim = Simulation::start(scene.clone(), dir, small(StoppingRule::default()), || {})
-        .expect("starts");
+    let (mut sim, scene, dir) = started("opal_bell.toml", small(StoppingRule::default()));
+    let dir = dir.as_path();
     wait_for(&sim, |s| s.photons > 0);
     sim.cancel();
     let cancelled = wait_for(&sim, |s| {
@@ -171,11 +167,8 @@ fn cancel_stops_tracing_without_a_final_export_and_an_edit_starts_again() {
 
 #[test]
 fn a_broken_edit_is_an_error_value_and_the_next_edit_recovers() {
-    let path = example("opal_bell.toml");
-    let scene = load_scene(&path).expect("loads");
-    let dir = path.parent().expect("a folder");
-    let mut sim = Simulation::start(scene.clone(), dir, small(StoppingRule::default()), || {})
-        .expect("starts");
+    let (mut sim, scene, dir) = started("opal_bell.toml", small(StoppingRule::default()));
+    let dir = dir.as_path();
     wait_for(&sim, |s| s.photons > 0);
     // A part whose OBJ file does not exist fails to tessellate.
     let mut broken = scene.clone();
