@@ -7,6 +7,8 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use crate::work_plane::grid_count;
+
 /// The file format version this build reads and writes.
 pub const ROOM_FORMAT_VERSION: u32 = 1;
 /// Largest room dimension accepted (m): beyond it a unit slip (mm for m)
@@ -14,6 +16,12 @@ pub const ROOM_FORMAT_VERSION: u32 = 1;
 pub const MAX_ROOM_M: f64 = 500.0;
 /// Most luminaires in one room after arrays are expanded.
 pub const MAX_LUMINAIRES: usize = 256;
+/// Largest room file read: a room is a few hundred bytes of TOML.
+pub const MAX_ROOM_FILE_BYTES: u64 = 16 * lucerna_scene::file::MIB;
+/// Most work-plane grid points: a 500 m hall at 0.5 m, or an office at
+/// 1 cm. Each point is shaded by every light; beyond this a spacing typo
+/// asks for gigabytes (500 m at 0.01 m is 2.5 billion points).
+pub const MAX_WORK_PLANE_POINTS: usize = 1_000_000;
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -257,23 +265,18 @@ pub enum SourceKind {
 
 #[derive(Debug, thiserror::Error)]
 pub enum RoomFileError {
-    #[error("cannot read {path}: {source}")]
-    Io {
-        path: PathBuf,
-        source: std::io::Error,
-    },
+    /// Missing, unreadable, larger than its limit or not text.
+    #[error(transparent)]
+    Read(#[from] lucerna_scene::file::ReadFileError),
     #[error("{path}: {message}")]
     Syntax { path: PathBuf, message: String },
     #[error("{path}: invalid room: {problems}")]
     Invalid { path: PathBuf, problems: String },
 }
 
-/// Reads and validates a room file.
+/// Reads (at most [`MAX_ROOM_FILE_BYTES`]) and validates a room file.
 pub fn load_room(path: &Path) -> Result<RoomFile, RoomFileError> {
-    let text = std::fs::read_to_string(path).map_err(|source| RoomFileError::Io {
-        path: path.to_owned(),
-        source,
-    })?;
+    let text = lucerna_scene::file::read_limited_text(path, MAX_ROOM_FILE_BYTES)?;
     parse_room(&text, path)
 }
 
@@ -355,6 +358,16 @@ pub fn validate(room: &RoomFile) -> Vec<String> {
         0.0,
         0.49 * r.width_m.min(r.depth_m),
     );
+    if w.spacing_m.is_finite() && w.spacing_m > 0.0 && w.border_m.is_finite() {
+        let nx = grid_count(r.width_m, w.border_m, w.spacing_m);
+        let ny = grid_count(r.depth_m, w.border_m, w.spacing_m);
+        let points = nx.saturating_mul(ny);
+        if points > MAX_WORK_PLANE_POINTS {
+            p.push(format!(
+                "work_plane.spacing_m: {nx} × {ny} = {points} grid points, at most {MAX_WORK_PLANE_POINTS} (a larger spacing)"
+            ));
+        }
+    }
     let c = &room.camera;
     let size = [r.width_m, r.depth_m, r.height_m];
     for k in 0..3 {

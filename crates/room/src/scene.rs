@@ -227,6 +227,18 @@ impl RoomMesh {
     }
 }
 
+/// An error and its sources, as one line.
+fn error_chain(e: &dyn std::error::Error) -> String {
+    let mut s = e.to_string();
+    let mut source = e.source();
+    while let Some(cause) = source {
+        s.push_str(": ");
+        s.push_str(&cause.to_string());
+        source = cause.source();
+    }
+    s
+}
+
 /// Loads the OBJ a room file names (if any): each object/group takes the
 /// surface named after it, else after its `usemtl` material, else the
 /// walls'. Zero-area triangles are dropped.
@@ -237,7 +249,7 @@ pub fn load_room_mesh(room: &RoomFile, base: &Path) -> Result<Option<RoomMesh>, 
     let path = base.join(obj);
     let groups = lucerna_scene::obj::load_obj(&path).map_err(|e| RoomFileError::Invalid {
         path: path.clone(),
-        problems: e.to_string(),
+        problems: error_chain(&e),
     })?;
     let names: Vec<&String> = room.room.materials.keys().collect();
     let scale = room.room.obj_scale;

@@ -1,10 +1,77 @@
-//! Scene files: TOML load (with file:line errors) and atomic save.
+//! Scene files: TOML load (with file:line errors) and atomic save; the
+//! bounded reading every input file of the project goes through.
 
-use std::io::Write;
+use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 
 use crate::model::Scene;
-use crate::validate::{FieldPath, PathSegment, validate};
+use crate::validate::{FieldPath, PathSegment, validation};
+
+/// One mebibyte, the unit the file-size limits are stated in.
+pub const MIB: u64 = 1 << 20;
+/// Largest scene file read: hand-written luminaires are a few kB, and a
+/// file that is not a scene (`/dev/zero`) must not be read until memory
+/// runs out.
+pub const MAX_SCENE_FILE_BYTES: u64 = 16 * MIB;
+/// Largest emission profile (IES or EULUMDAT) a scene's emitters may name:
+/// measured files are far below 1 MiB even at 1° × 1°.
+pub const MAX_PROFILE_FILE_BYTES: u64 = 16 * MIB;
+
+/// A file could not be read whole within its size limit.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ReadFileError {
+    #[error("cannot read {path}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("file {path} is larger than {} MiB", limit_bytes.div_ceil(MIB))]
+    TooLarge { path: PathBuf, limit_bytes: u64 },
+    #[error("file {path} is not UTF-8 text (line {line})")]
+    NotText { path: PathBuf, line: usize },
+}
+
+/// Reads the whole file at `path`, refusing one larger than `max_bytes`
+/// without reading further than that: devices and pipes (`/dev/zero`)
+/// have no length to check beforehand, so the read itself is bounded.
+pub fn read_limited(path: &Path, max_bytes: u64) -> Result<Vec<u8>, ReadFileError> {
+    let io = |source| ReadFileError::Io {
+        path: path.to_owned(),
+        source,
+    };
+    let too_large = || ReadFileError::TooLarge {
+        path: path.to_owned(),
+        limit_bytes: max_bytes,
+    };
+    let file = std::fs::File::open(path).map_err(io)?;
+    // A regular file's length refuses it before any byte is read (a
+    // sparse file of many GiB costs nothing); 0 for devices and pipes.
+    let stated_bytes = file.metadata().map_err(io)?.len();
+    if stated_bytes > max_bytes {
+        return Err(too_large());
+    }
+    let mut bytes = Vec::with_capacity(stated_bytes as usize + 1);
+    file.take(max_bytes.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(io)?;
+    if bytes.len() as u64 > max_bytes {
+        return Err(too_large());
+    }
+    Ok(bytes)
+}
+
+/// [`read_limited`] for text files: the bytes must be UTF-8.
+pub fn read_limited_text(path: &Path, max_bytes: u64) -> Result<String, ReadFileError> {
+    String::from_utf8(read_limited(path, max_bytes)?).map_err(|e| {
+        let valid = &e.as_bytes()[..e.utf8_error().valid_up_to()];
+        ReadFileError::NotText {
+            path: path.to_owned(),
+            line: valid.iter().filter(|&&b| b == b'\n').count() + 1,
+        }
+    })
+}
 
 /// One problem in a scene file, located by line where the key exists.
 #[derive(Debug, Clone, PartialEq)]
@@ -26,12 +93,9 @@ impl std::fmt::Display for Located {
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum LoadSceneError {
-    #[error("cannot read scene file {path}")]
-    Io {
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
+    /// Missing, unreadable, larger than [`MAX_SCENE_FILE_BYTES`] or not text.
+    #[error(transparent)]
+    Read(#[from] ReadFileError),
     /// Not TOML, a wrong type, an unknown or missing field.
     #[error("{path}:{line}:{column}: {message}")]
     Syntax {
@@ -40,20 +104,23 @@ pub enum LoadSceneError {
         column: usize,
         message: String,
     },
-    /// Well-formed, but values out of range or references that don't resolve.
-    #[error("{path}: invalid scene:\n{}", list(problems))]
+    /// Well-formed, but values out of range or references that don't
+    /// resolve: the first [`crate::validate::MAX_LISTED_PROBLEMS`] in file
+    /// order, and how many more there are.
+    #[error("{path}: invalid scene:\n{}", list(problems, *unlisted))]
     Invalid {
         path: PathBuf,
         problems: Vec<Located>,
+        unlisted: usize,
     },
 }
 
-fn list(problems: &[Located]) -> String {
-    problems
-        .iter()
-        .map(|p| format!("  {p}"))
-        .collect::<Vec<_>>()
-        .join("\n")
+fn list(problems: &[Located], unlisted: usize) -> String {
+    let mut lines: Vec<String> = problems.iter().map(|p| format!("  {p}")).collect();
+    if unlisted > 0 {
+        lines.push(format!("  … and {unlisted} more problems"));
+    }
+    lines.join("\n")
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -83,36 +150,56 @@ fn line_column(text: &str, at: usize) -> (usize, usize) {
     (line, column)
 }
 
-/// Finds the line of the value at `path` (or of its nearest existing parent).
-fn locate(text: &str, path: &FieldPath) -> Option<usize> {
-    use toml::de::{DeTable, DeValue};
-    let root = DeTable::parse(text).ok()?;
-    let mut span = None;
-    let mut table: Option<&DeTable> = Some(root.get_ref());
-    let mut array: Option<&toml::de::DeArray> = None;
-    for segment in &path.0 {
-        let value = match segment {
-            PathSegment::Key(k) => table?
-                .iter()
-                .find(|(key, _)| key.get_ref().as_ref() == k.as_str())
-                .map(|(key, v)| {
-                    // A table's own span can be its header; the key's line is
-                    // where a reader looks.
+/// Finds the lines of values by their field paths in one parse of the
+/// text, so that reporting N problems costs one parse, not N.
+struct Locator<'t> {
+    root: Option<toml::Spanned<toml::de::DeTable<'t>>>,
+    /// Byte offset at which each line starts.
+    line_starts: Vec<usize>,
+}
+
+impl<'t> Locator<'t> {
+    fn new(text: &'t str) -> Self {
+        Locator {
+            root: toml::de::DeTable::parse(text).ok(),
+            line_starts: std::iter::once(0)
+                .chain(text.match_indices('\n').map(|(i, _)| i + 1))
+                .collect(),
+        }
+    }
+
+    /// 1-based line of byte offset `at`.
+    fn line_of(&self, at: usize) -> usize {
+        self.line_starts.partition_point(|&start| start <= at)
+    }
+
+    /// The line of the value at `path` (or of its nearest existing parent).
+    fn line(&self, path: &FieldPath) -> Option<usize> {
+        use toml::de::DeValue;
+        let mut span = None;
+        let mut table = Some(self.root.as_ref()?.get_ref());
+        let mut array: Option<&toml::de::DeArray> = None;
+        for segment in &path.0 {
+            let value = match segment {
+                PathSegment::Key(k) => table?.get_key_value(k.as_str()).map(|(key, v)| {
+                    // A table's own span can be its header; the key's line
+                    // is where a reader looks.
                     span = Some(key.span());
                     v
                 }),
-            PathSegment::Index(i) => array?.get(*i).inspect(|v| span = Some(v.span())),
-        };
-        let Some(value) = value else { break };
-        table = None;
-        array = None;
-        match value.get_ref() {
-            DeValue::Table(t) => table = Some(t),
-            DeValue::Array(a) => array = Some(a),
-            _ => {}
+                PathSegment::Index(i) => array?.get(*i).inspect(|v| span = Some(v.span())),
+            };
+            let Some(value) = value else { break };
+            table = None;
+            array = None;
+            match value.get_ref() {
+                DeValue::Table(t) => table = Some(t),
+                DeValue::Array(a) => array = Some(a),
+                _ => {}
+            }
         }
+        span.map(|s| self.line_of(s.start))
     }
-    span.map(|s| line_column(text, s.start).0)
 }
 
 /// Tagged enums (materials, shapes) are buffered by serde, so an unknown
@@ -164,29 +251,30 @@ pub fn parse_scene(text: &str, path: &Path) -> Result<Scene, LoadSceneError> {
             message: e.message().trim().to_owned(),
         }
     })?;
-    let problems = validate(&scene);
-    if !problems.is_empty() {
+    let found = validation(&scene);
+    if !found.problems.is_empty() {
+        let locator = Locator::new(text);
         return Err(LoadSceneError::Invalid {
             path: path.to_owned(),
-            problems: problems
+            problems: found
+                .problems
                 .into_iter()
                 .map(|p| Located {
-                    line: locate(text, &p.field),
+                    line: locator.line(&p.field),
                     field: p.field.to_string(),
                     message: p.message,
                 })
                 .collect(),
+            unlisted: found.unlisted,
         });
     }
     Ok(scene)
 }
 
-/// Reads, parses and validates a scene file.
+/// Reads (at most [`MAX_SCENE_FILE_BYTES`]), parses and validates a scene
+/// file.
 pub fn load_scene(path: &Path) -> Result<Scene, LoadSceneError> {
-    let text = std::fs::read_to_string(path).map_err(|source| LoadSceneError::Io {
-        path: path.to_owned(),
-        source,
-    })?;
+    let text = read_limited_text(path, MAX_SCENE_FILE_BYTES)?;
     parse_scene(&text, path)
 }
 

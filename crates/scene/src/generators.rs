@@ -133,6 +133,14 @@ pub fn revolve(strips: &[Strip], segments_around: u32, faceted: bool) -> Triangl
     mesh
 }
 
+/// The most triangles [`revolve`] builds from strips with
+/// `profile_segments` segments in all: two per segment and step around,
+/// one fewer where a ring lies on the axis.
+pub fn revolution_triangle_count(segments_around: u32, profile_segments: u64) -> u64 {
+    2u64.saturating_mul(u64::from(segments_around))
+        .saturating_mul(profile_segments)
+}
+
 /// Pushes a triangle with its own three vertices and flat normal.
 pub(crate) fn push_flat(mesh: &mut TriangleMesh, corners: [DVec3; 3]) {
     let normal = (corners[1] - corners[0])

@@ -16,11 +16,11 @@ pub mod tessellate;
 pub mod validate;
 
 pub use file::{
-    LoadSceneError, SaveSceneError, load_scene, parse_scene, save_scene, scene_to_toml,
-    write_atomically,
+    LoadSceneError, ReadFileError, SaveSceneError, load_scene, parse_scene, read_limited,
+    read_limited_text, save_scene, scene_to_toml, write_atomically,
 };
 pub use mesh::{MeshDefect, TriangleMesh};
 pub use model::*;
 pub use shapes::ShapeGenerator;
 pub use tessellate::{SurfaceKind, TessellateError, TessellatedScene, emitter_mesh, tessellate};
-pub use validate::{Invalid, validate};
+pub use validate::{Invalid, Validation, validate, validation};

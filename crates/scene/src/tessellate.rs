@@ -11,7 +11,8 @@ use crate::mesh::{MeshDefect, TriangleMesh};
 use crate::model::{EmitterShape, Material, Scene};
 use crate::obj::LoadObjError;
 use crate::profile::sample_curve;
-use crate::shapes::{Cylinder, Disk, Plate, ShapeGenerator};
+use crate::shapes::{Cylinder, Disk, Plate, ShapeGenerator, revolution_triangle_count};
+use crate::validate::{MAX_PART_TRIANGLES, MAX_SCENE_TRIANGLES};
 
 /// Name of the implicit material of emitters that name none.
 pub const EMITTER_ABSORBER: &str = "<emitter absorber>";
@@ -64,6 +65,22 @@ pub enum TessellateError {
     },
     #[error("part '{part}' uses material '{material}', which the scene does not define")]
     UnknownMaterial { part: String, material: String },
+    /// Caught here too for scenes that did not come through validation,
+    /// before the part's mesh is allocated.
+    #[error("part '{part}' would have {triangles} triangles, at most {max}")]
+    PartTriangles {
+        part: String,
+        triangles: u64,
+        max: u64,
+    },
+    /// The luminaire grew past [`MAX_SCENE_TRIANGLES`] at this surface
+    /// (OBJ parts are only counted once read).
+    #[error("the luminaire would have {triangles} triangles with '{surface}', at most {max}")]
+    SceneTriangles {
+        surface: String,
+        triangles: u64,
+        max: u64,
+    },
 }
 
 impl TessellatedScene {
@@ -72,36 +89,59 @@ impl TessellatedScene {
     }
 }
 
-/// The emitter's surface in its local frame, normals along the emission.
-pub fn emitter_mesh(shape: &EmitterShape) -> TriangleMesh {
+/// Steps around an emitter's disk, sphere or cylinder: emitters are
+/// sampled analytically, their mesh only catches returning photons.
+const EMITTER_SEGMENTS_AROUND: u32 = 32;
+/// Steps from pole to pole of a spherical emitter.
+const EMITTER_SPHERE_SEGMENTS_ALONG: u32 = 16;
+
+/// The emitter's surface as a part shape, where there is one (not the
+/// sphere, a full revolution no part shape makes).
+fn emitter_shape(shape: &EmitterShape) -> Option<Box<dyn ShapeGenerator>> {
     match *shape {
-        EmitterShape::Disk { radius } => Disk {
+        EmitterShape::Disk { radius } => Some(Box::new(Disk {
             radius,
-            segments_around: 32,
-        }
-        .generate(),
-        EmitterShape::Rectangle { width, depth } => Plate { width, depth }.generate(),
-        EmitterShape::Sphere { radius } => {
-            // South pole to north pole: the right-hand normal points out.
-            let strip = sample_curve(
-                -std::f64::consts::FRAC_PI_2,
-                std::f64::consts::FRAC_PI_2,
-                16,
-                |t| DVec2::new(radius * t.cos(), radius * t.sin()),
-                |t| DVec2::new(-t.sin(), t.cos()),
-            );
-            Some(revolve(&[strip], 32, false))
-        }
-        EmitterShape::Cylinder { radius, height } => Cylinder {
+            segments_around: EMITTER_SEGMENTS_AROUND,
+        })),
+        EmitterShape::Rectangle { width, depth } => Some(Box::new(Plate { width, depth })),
+        EmitterShape::Sphere { .. } => None,
+        EmitterShape::Cylinder { radius, height } => Some(Box::new(Cylinder {
             radius,
             height,
             cap_top: false,
             cap_bottom: false,
-            segments_around: 32,
-        }
-        .generate(),
+            segments_around: EMITTER_SEGMENTS_AROUND,
+        })),
     }
-    .unwrap_or_default()
+}
+
+/// The emitter's surface in its local frame, normals along the emission.
+pub fn emitter_mesh(shape: &EmitterShape) -> TriangleMesh {
+    if let EmitterShape::Sphere { radius } = *shape {
+        // South pole to north pole: the right-hand normal points out.
+        let strip = sample_curve(
+            -std::f64::consts::FRAC_PI_2,
+            std::f64::consts::FRAC_PI_2,
+            EMITTER_SPHERE_SEGMENTS_ALONG,
+            |t| DVec2::new(radius * t.cos(), radius * t.sin()),
+            |t| DVec2::new(-t.sin(), t.cos()),
+        );
+        return revolve(&[strip], EMITTER_SEGMENTS_AROUND, false);
+    }
+    emitter_shape(shape)
+        .and_then(|g| g.generate())
+        .unwrap_or_default()
+}
+
+/// The most triangles [`emitter_mesh`] builds for `shape`.
+pub fn emitter_triangle_count(shape: &EmitterShape) -> u64 {
+    match emitter_shape(shape) {
+        Some(generator) => generator.triangle_count().unwrap_or(0),
+        None => revolution_triangle_count(
+            EMITTER_SEGMENTS_AROUND,
+            u64::from(EMITTER_SPHERE_SEGMENTS_ALONG),
+        ),
+    }
 }
 
 /// Tessellates every enabled part and emitter. `scene_dir` resolves the
@@ -151,8 +191,30 @@ pub fn tessellate(scene: &Scene, scene_dir: &Path) -> Result<TessellatedScene, T
         group: group.map(str::to_owned),
         defect,
     };
+    let within_scene_limit = |out: &TessellatedScene, surface: &str, adding: u64| {
+        let triangles = (out.mesh.triangle_count() as u64).saturating_add(adding);
+        if triangles > MAX_SCENE_TRIANGLES {
+            Err(TessellateError::SceneTriangles {
+                surface: surface.to_owned(),
+                triangles,
+                max: MAX_SCENE_TRIANGLES,
+            })
+        } else {
+            Ok(())
+        }
+    };
     for (index, part) in scene.parts.iter().enumerate().filter(|(_, p)| p.enabled) {
         let luminaire_from_part = part.transform.matrix();
+        if let Some(triangles) = part.shape.generator().triangle_count() {
+            if triangles > MAX_PART_TRIANGLES {
+                return Err(TessellateError::PartTriangles {
+                    part: part.name.clone(),
+                    triangles,
+                    max: MAX_PART_TRIANGLES,
+                });
+            }
+            within_scene_limit(&out, &part.name, triangles)?;
+        }
         let surfaces =
             part.shape
                 .generator()
@@ -163,6 +225,7 @@ pub fn tessellate(scene: &Scene, scene_dir: &Path) -> Result<TessellatedScene, T
                     source: e.source,
                 })?;
         for surface in &surfaces {
+            within_scene_limit(&out, &part.name, surface.mesh.triangle_count() as u64)?;
             let mesh = surface.mesh.transformed(&luminaire_from_part);
             mesh.check()
                 .map_err(|d| mesh_error(&part.name, surface.group.as_deref(), d))?;
@@ -172,6 +235,7 @@ pub fn tessellate(scene: &Scene, scene_dir: &Path) -> Result<TessellatedScene, T
         }
     }
     for (index, emitter) in scene.emitters.iter().enumerate().filter(|(_, e)| e.enabled) {
+        within_scene_limit(&out, &emitter.name, emitter_triangle_count(&emitter.shape))?;
         let mesh = emitter_mesh(&emitter.shape).transformed(&emitter.transform.matrix());
         mesh.check()
             .map_err(|d| mesh_error(&emitter.name, None, d))?;

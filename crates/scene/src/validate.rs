@@ -9,6 +9,7 @@ use std::collections::BTreeMap;
 use std::fmt;
 
 use crate::model::{Emitter, EmitterShape, FORMAT_VERSION, LuminousOpening, Material, Part, Scene};
+use crate::tessellate::emitter_triangle_count;
 
 /// Where a value sits in the scene file, e.g. `part[2].shape.focal_length`
 /// (the TOML key path, used to find its line).
@@ -59,8 +60,32 @@ pub struct Invalid {
 /// Most segments a generator may be asked for in one direction; beyond
 /// this a typo (an extra zero) would silently build a 100M-triangle mesh.
 pub const MAX_SEGMENTS: u32 = 4096;
+/// Most triangles of one part, generated or read from an OBJ file: the
+/// segment limits hold per direction, and 4096 × 4096 segments would be
+/// 33M triangles (3 GB) from a 344-byte file. 2M is a finely faceted CAD
+/// reflector; a spun reflector needs a few thousand.
+pub const MAX_PART_TRIANGLES: u64 = 2_000_000;
+/// Most triangles of the enabled parts and emitters together, what the
+/// tracer builds its BVHs over.
+pub const MAX_SCENE_TRIANGLES: u64 = 4_000_000;
 /// Largest length parameter (m) accepted for any shape.
 pub const MAX_LENGTH_M: f64 = 50.0;
+/// Most problems one validation lists; the rest are only counted, so a
+/// generated file with a mistake in every part gives a readable report of
+/// bounded size.
+pub const MAX_LISTED_PROBLEMS: usize = 100;
+/// Most names an "unknown material" message lists of those defined.
+pub const MAX_LISTED_MATERIALS: usize = 10;
+/// Names in messages are cut to this many characters.
+const MAX_NAME_CHARS: usize = 64;
+
+/// The problems of a scene: the first [`MAX_LISTED_PROBLEMS`] in file
+/// order, and how many more were found.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Validation {
+    pub problems: Vec<Invalid>,
+    pub unlisted: usize,
+}
 
 /// Collects the problems of one scene, in file order; its range checks are
 /// the ones shapes share, so equal limits read the same in every shape.
@@ -68,16 +93,29 @@ pub const MAX_LENGTH_M: f64 = 50.0;
 pub struct Checker<'a> {
     /// The scene's materials, for the references a shape makes (OBJ groups).
     materials: &'a BTreeMap<String, Material>,
-    problems: Vec<Invalid>,
+    found: Validation,
+}
+
+/// `name` for a message, cut to [`MAX_NAME_CHARS`].
+fn shortened(name: &str) -> String {
+    match name.char_indices().nth(MAX_NAME_CHARS) {
+        Some((end, _)) => format!("{}…", &name[..end]),
+        None => name.to_owned(),
+    }
 }
 
 impl Checker<'_> {
-    /// Records a problem at `field`.
+    /// Records a problem at `field` (or only counts it, past
+    /// [`MAX_LISTED_PROBLEMS`]).
     pub fn fail(&mut self, field: FieldPath, message: impl Into<String>) {
-        self.problems.push(Invalid {
-            field,
-            message: message.into(),
-        });
+        if self.found.problems.len() < MAX_LISTED_PROBLEMS {
+            self.found.problems.push(Invalid {
+                field,
+                message: message.into(),
+            });
+        } else {
+            self.found.unlisted += 1;
+        }
     }
 
     /// Whether `v` is finite; a range check only makes sense after it.
@@ -285,11 +323,21 @@ impl Checker<'_> {
     /// `name` must be a material defined in the scene's `[materials]`.
     pub fn material_ref(&mut self, at: FieldPath, name: &str) {
         if !self.materials.contains_key(name) {
-            let known: Vec<&str> = self.materials.keys().map(String::as_str).collect();
+            let mut known: Vec<String> = self
+                .materials
+                .keys()
+                .take(MAX_LISTED_MATERIALS)
+                .map(|k| shortened(k))
+                .collect();
+            let more = self.materials.len().saturating_sub(MAX_LISTED_MATERIALS);
+            if more > 0 {
+                known.push(format!("… and {more} more"));
+            }
             self.fail(
                 at,
                 format!(
-                    "unknown material '{name}' (materials defined: {})",
+                    "unknown material '{}' (materials defined: {})",
+                    shortened(name),
                     if known.is_empty() {
                         "none".to_owned()
                     } else {
@@ -300,13 +348,29 @@ impl Checker<'_> {
         }
     }
 
-    fn part(&mut self, at: &FieldPath, part: &Part) {
+    /// The part's triangles, from its parameters alone, within
+    /// [`MAX_PART_TRIANGLES`]; returns them to count towards the scene's.
+    fn part(&mut self, at: &FieldPath, part: &Part) -> u64 {
         if part.name.trim().is_empty() {
             self.fail(at.key("name"), "must not be empty");
         }
         self.material_ref(at.key("material"), &part.material);
-        part.shape.generator().validate(&at.key("shape"), self);
+        let shape = part.shape.generator();
+        shape.validate(&at.key("shape"), self);
         self.transform(at, &part.transform);
+        // A mesh's triangles are in its file: the OBJ reader and the
+        // tessellation hold it to the same limits.
+        let triangles = shape.triangle_count().unwrap_or(0);
+        if triangles > MAX_PART_TRIANGLES {
+            self.fail(
+                at.key("shape"),
+                format!(
+                    "the {} would have {triangles} triangles, at most {MAX_PART_TRIANGLES} (fewer segments)",
+                    shape.kind()
+                ),
+            );
+        }
+        triangles
     }
 
     fn emitter(&mut self, at: &FieldPath, e: &Emitter) {
@@ -348,11 +412,18 @@ impl Checker<'_> {
     }
 }
 
-/// Checks a scene's parameters; returns every problem found, in file order.
+/// Checks a scene's parameters; returns the first [`MAX_LISTED_PROBLEMS`]
+/// problems found, in file order (see [`validation`] for their count).
 pub fn validate(scene: &Scene) -> Vec<Invalid> {
+    validation(scene).problems
+}
+
+/// Checks a scene's parameters: the first [`MAX_LISTED_PROBLEMS`] problems
+/// in file order and the number of the others.
+pub fn validation(scene: &Scene) -> Validation {
     let mut c = Checker {
         materials: &scene.materials,
-        problems: Vec::new(),
+        found: Validation::default(),
     };
     let root = FieldPath::default();
     if scene.format_version != FORMAT_VERSION {
@@ -376,11 +447,29 @@ pub fn validate(scene: &Scene) -> Vec<Invalid> {
             "the luminaire needs at least one enabled [[emitter]]",
         );
     }
+    let mut triangles: u64 = 0;
+    let mut part_over_limit = false;
     for (i, e) in scene.emitters.iter().enumerate() {
         c.emitter(&root.key("emitter").index(i), e);
+        if e.enabled {
+            triangles = triangles.saturating_add(emitter_triangle_count(&e.shape));
+        }
     }
     for (i, p) in scene.parts.iter().enumerate() {
-        c.part(&root.key("part").index(i), p);
+        let part_triangles = c.part(&root.key("part").index(i), p);
+        part_over_limit |= part_triangles > MAX_PART_TRIANGLES;
+        if p.enabled {
+            triangles = triangles.saturating_add(part_triangles);
+        }
+    }
+    // One part over its own limit is the problem to fix first.
+    if triangles > MAX_SCENE_TRIANGLES && !part_over_limit {
+        c.fail(
+            root.key("part"),
+            format!(
+                "the enabled parts and emitters would have {triangles} triangles together, at most {MAX_SCENE_TRIANGLES}"
+            ),
+        );
     }
     if let Some(opening) = &scene.opening {
         let at = root.key("opening");
@@ -425,5 +514,5 @@ pub fn validate(scene: &Scene) -> Vec<Invalid> {
             }
         }
     }
-    c.problems
+    c.found
 }

@@ -335,3 +335,82 @@ fn an_unknown_field_in_a_shape_is_a_syntax_error_at_its_line() {
         other => panic!("{other:?}\n{text}"),
     }
 }
+
+/// The examples and their variants with the other choice of every switch
+/// that changes the triangles (closed necks, smooth surfaces, caps).
+fn examples_and_variants() -> Vec<Shape> {
+    let mut shapes = examples();
+    for shape in examples() {
+        shapes.push(match shape {
+            Shape::Paraboloid(s) => Shape::Paraboloid(Paraboloid {
+                neck_diameter: 0.0,
+                faceted: false,
+                ..s
+            }),
+            Shape::Ellipsoid(s) => Shape::Ellipsoid(Ellipsoid {
+                neck_diameter: 0.0,
+                faceted: false,
+                ..s
+            }),
+            Shape::Revolved(s) => Shape::Revolved(Revolved {
+                profile: vec![[0.0, 0.0], [0.02, -0.01], [0.04, -0.05]],
+                interpolation: Interpolation::CatmullRom,
+                faceted: false,
+                ..s
+            }),
+            Shape::Extruded(s) => Shape::Extruded(Extruded {
+                interpolation: Interpolation::CatmullRom,
+                end_caps: true,
+                ..s
+            }),
+            Shape::Cylinder(s) => Shape::Cylinder(Cylinder {
+                cap_top: true,
+                cap_bottom: true,
+                ..s
+            }),
+            Shape::Box(s) => Shape::Box(BoxShape {
+                open_bottom: false,
+                ..s
+            }),
+            other => other,
+        });
+    }
+    shapes
+}
+
+#[test]
+fn triangle_count_bounds_the_generated_mesh_closely() {
+    for shape in examples_and_variants() {
+        let generator = shape.generator();
+        let Some(mesh) = generator.generate() else {
+            assert_eq!(generator.triangle_count(), None, "{shape:?}");
+            continue;
+        };
+        let (generated, counted) = (mesh.triangle_count() as u64, generator.triangle_count());
+        let counted = counted.unwrap_or_else(|| panic!("{shape:?} counts no triangles"));
+        // At most a ring on the axis (one step around per fan) too many.
+        assert!(
+            generated <= counted && counted <= generated + generated / 10,
+            "{shape:?}: generates {generated}, counts {counted}"
+        );
+    }
+    for shape in [
+        EmitterShape::Disk { radius: 0.01 },
+        EmitterShape::Rectangle {
+            width: 0.01,
+            depth: 0.02,
+        },
+        EmitterShape::Sphere { radius: 0.01 },
+        EmitterShape::Cylinder {
+            radius: 0.01,
+            height: 0.05,
+        },
+    ] {
+        let generated = lucerna_scene::emitter_mesh(&shape).triangle_count() as u64;
+        let counted = lucerna_scene::tessellate::emitter_triangle_count(&shape);
+        assert!(
+            generated <= counted && counted <= generated + generated / 10,
+            "{shape:?}: generates {generated}, counts {counted}"
+        );
+    }
+}

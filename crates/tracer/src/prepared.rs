@@ -1,11 +1,14 @@
 //! The luminaire prepared for tracing: BVH, per-triangle shading data and
 //! materials, emitter samplers. Shared by the CPU tracer and the GPU upload.
 
-use std::path::Path;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Affine3A, Mat3A, Vec3, Vec3A};
+use lucerna_scene::file::{MAX_PROFILE_FILE_BYTES, read_limited};
 use lucerna_scene::{Emission, EmitterShape, Material, Scene, TessellatedScene};
 
 use crate::bvh::Bvh;
@@ -104,7 +107,8 @@ const _: () = assert!(std::mem::size_of::<TriangleShading>() == 64);
 #[derive(Debug, Clone)]
 pub enum EmitterDirections {
     Lambertian,
-    Profile(Box<ProfileSampler>),
+    /// Shared by the emitters that name the same file.
+    Profile(Arc<ProfileSampler>),
 }
 
 /// One emitter ready to sample.
@@ -142,7 +146,7 @@ pub enum PrepareError {
         emitter: String,
         path: std::path::PathBuf,
         #[source]
-        source: std::io::Error,
+        source: lucerna_scene::file::ReadFileError,
     },
     #[error("emitter '{emitter}': emission profile {path}")]
     ProfileParse {
@@ -200,6 +204,9 @@ impl PreparedScene {
             .map(|(_, m)| TraceMaterial::from_material(m))
             .collect();
         let mut emitters = Vec::new();
+        // Each file is read once however many emitters name it (an LED
+        // array of hundreds shares one profile).
+        let mut samplers: HashMap<PathBuf, Arc<ProfileSampler>> = HashMap::new();
         for e in scene
             .emitters
             .iter()
@@ -209,25 +216,33 @@ impl PreparedScene {
                 Emission::Lambertian => EmitterDirections::Lambertian,
                 Emission::Profile(file) => {
                     let path = scene_dir.join(file);
-                    let bytes =
-                        std::fs::read(&path).map_err(|source| PrepareError::ProfileRead {
-                            emitter: e.name.clone(),
-                            path: path.clone(),
-                            source,
+                    if let Some(sampler) = samplers.get(&path) {
+                        EmitterDirections::Profile(sampler.clone())
+                    } else {
+                        let bytes =
+                            read_limited(&path, MAX_PROFILE_FILE_BYTES).map_err(|source| {
+                                PrepareError::ProfileRead {
+                                    emitter: e.name.clone(),
+                                    path: path.clone(),
+                                    source,
+                                }
+                            })?;
+                        let p = lucerna_photometry::read_photometry(&bytes).map_err(|source| {
+                            PrepareError::ProfileParse {
+                                emitter: e.name.clone(),
+                                path: path.clone(),
+                                source,
+                            }
                         })?;
-                    let p = lucerna_photometry::read_photometry(&bytes).map_err(|source| {
-                        PrepareError::ProfileParse {
-                            emitter: e.name.clone(),
-                            path: path.clone(),
-                            source,
-                        }
-                    })?;
-                    let sampler = ProfileSampler::new(&p.table).ok_or_else(|| {
-                        PrepareError::EmptyProfile {
-                            emitter: e.name.clone(),
-                        }
-                    })?;
-                    EmitterDirections::Profile(Box::new(sampler))
+                        let sampler = ProfileSampler::new(&p.table).ok_or_else(|| {
+                            PrepareError::EmptyProfile {
+                                emitter: e.name.clone(),
+                            }
+                        })?;
+                        let sampler = Arc::new(sampler);
+                        samplers.insert(path, sampler.clone());
+                        EmitterDirections::Profile(sampler)
+                    }
                 }
             };
             let m = e.transform.matrix();

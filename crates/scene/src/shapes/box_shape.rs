@@ -36,6 +36,10 @@ impl ShapeGenerator for BoxShape {
         }
     }
 
+    fn triangle_count(&self) -> Option<u64> {
+        Some(if self.open_bottom { 10 } else { 12 })
+    }
+
     fn generate(&self) -> Option<TriangleMesh> {
         let half = DVec3::from_array(self.size) * 0.5;
         let mut mesh = TriangleMesh::default();

@@ -44,6 +44,12 @@ impl ShapeGenerator for Cylinder {
         check.segments(at, "segments_around", self.segments_around, 3);
     }
 
+    /// Two per step around on the side, one per step on each cap.
+    fn triangle_count(&self) -> Option<u64> {
+        let caps = u64::from(self.cap_top) + u64::from(self.cap_bottom);
+        Some((2 + caps) * u64::from(self.segments_around))
+    }
+
     fn generate(&self) -> Option<TriangleMesh> {
         let (radius, segments_around) = (self.radius, self.segments_around);
         let h = 0.5 * self.height;

@@ -28,6 +28,10 @@ impl ShapeGenerator for Disk {
         check.segments(at, "segments_around", self.segments_around, 3);
     }
 
+    fn triangle_count(&self) -> Option<u64> {
+        Some(u64::from(self.segments_around))
+    }
+
     fn generate(&self) -> Option<TriangleMesh> {
         Some(disk(self.radius, 0.0, self.segments_around, DVec3::NEG_Z))
     }

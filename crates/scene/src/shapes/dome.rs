@@ -4,7 +4,7 @@ use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
 use super::ShapeGenerator;
-use crate::generators::revolve;
+use crate::generators::{revolution_triangle_count, revolve};
 use crate::mesh::TriangleMesh;
 use crate::profile::sample_curve;
 use crate::validate::{Checker, FieldPath};
@@ -44,6 +44,13 @@ impl ShapeGenerator for Dome {
         }
         check.segments(at, "segments_around", self.segments_around, 3);
         check.segments(at, "segments_along", self.segments_along, 1);
+    }
+
+    fn triangle_count(&self) -> Option<u64> {
+        Some(revolution_triangle_count(
+            self.segments_around,
+            u64::from(self.segments_along),
+        ))
     }
 
     fn generate(&self) -> Option<TriangleMesh> {

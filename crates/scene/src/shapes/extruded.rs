@@ -43,6 +43,19 @@ impl ShapeGenerator for Extruded {
         check.profile_segments(at, self.profile.len(), self.segments_per_span);
     }
 
+    /// Two per profile segment along the sheet; each end cap is the
+    /// outline's polygon, at most one triangle fewer than its segments.
+    fn triangle_count(&self) -> Option<u64> {
+        let spans = self.profile.len().saturating_sub(1) as u64;
+        let segments = spans.saturating_mul(u64::from(self.segments_per_span));
+        let caps = if self.end_caps {
+            2 * segments.saturating_sub(1)
+        } else {
+            0
+        };
+        Some(segments.saturating_mul(2).saturating_add(caps))
+    }
+
     fn generate(&self) -> Option<TriangleMesh> {
         Some(extrude(
             &sample_profile(&self.profile, self.interpolation, self.segments_per_span),

@@ -67,6 +67,11 @@ impl ShapeGenerator for Louvre {
         }
     }
 
+    /// Every blade and cross blade is one quad.
+    fn triangle_count(&self) -> Option<u64> {
+        Some(2 * (u64::from(self.blade_count) + u64::from(self.cross_blade_count)))
+    }
+
     /// Blades are thin two-sided sheets; their normals face +x (cross
     /// blades +y) before tilting.
     fn generate(&self) -> Option<TriangleMesh> {

@@ -37,6 +37,11 @@ impl ShapeGenerator for Mesh {
         }
     }
 
+    /// The triangles are in the file, limited when it is read.
+    fn triangle_count(&self) -> Option<u64> {
+        None
+    }
+
     /// The triangles are in the file, not in the parameters.
     fn generate(&self) -> Option<TriangleMesh> {
         None

@@ -14,13 +14,15 @@
 //!    [`crate::model`], each field documented with its unit) and its
 //!    `impl ShapeGenerator`: `kind` is the `type` written in scene files,
 //!    `validate` checks every parameter with the shared [`Checker`] ranges
-//!    and the shape's own, `generate` builds the mesh from the helpers in
-//!    [`crate::generators`] and [`crate::profile`].
+//!    and the shape's own, `triangle_count` bounds what `generate` builds
+//!    (validation holds it to the triangle limits), `generate` builds the
+//!    mesh from the helpers in [`crate::generators`] and [`crate::profile`].
 //! 2. In this file: `mod <name>;` with its `pub use`, a variant of
 //!    [`Shape`] wrapping the struct (the variant's snake_case name is the
 //!    `type` tag), and its arm in [`Shape::generator`].
 //! 3. Give it an example in `tests/shapes.rs`, which checks that the kind
-//!    name and the file's `type` agree and that the example round-trips.
+//!    name and the file's `type` agree, that the example round-trips and
+//!    that `triangle_count` bounds the generated mesh closely.
 //!
 //! Validation, tessellation and the CLI's reports then pick it up through
 //! the dispatch.
@@ -29,6 +31,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+pub use crate::generators::revolution_triangle_count;
 use crate::mesh::TriangleMesh;
 use crate::obj::LoadObjError;
 use crate::validate::{Checker, FieldPath};
@@ -66,6 +69,13 @@ pub trait ShapeGenerator {
     /// `shape` table), so a bad value is reported with its line instead of
     /// tessellating into garbage.
     fn validate(&self, at: &FieldPath, check: &mut Checker<'_>);
+
+    /// The most triangles [`ShapeGenerator::generate`] builds from these
+    /// parameters, computed from them alone so that validation refuses a
+    /// part over [`crate::validate::MAX_PART_TRIANGLES`] before any of it
+    /// is allocated; `None` for a shape whose triangles are in a file.
+    /// Parameters need not be valid (the counts saturate).
+    fn triangle_count(&self) -> Option<u64>;
 
     /// The mesh in the part's frame (metres), from the parameters alone;
     /// `None` for a shape whose triangles come from a file ([`Mesh`]).

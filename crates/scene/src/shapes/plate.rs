@@ -28,6 +28,10 @@ impl ShapeGenerator for Plate {
         check.length(at, "depth", self.depth);
     }
 
+    fn triangle_count(&self) -> Option<u64> {
+        Some(2)
+    }
+
     fn generate(&self) -> Option<TriangleMesh> {
         let (hw, hd) = (0.5 * self.width, 0.5 * self.depth);
         Some(quad(

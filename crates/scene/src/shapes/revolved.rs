@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::ShapeGenerator;
-use crate::generators::revolve;
+use crate::generators::{revolution_triangle_count, revolve};
 use crate::mesh::TriangleMesh;
 use crate::model::Interpolation;
 use crate::profile::sample_profile;
@@ -51,6 +51,14 @@ impl ShapeGenerator for Revolved {
         }
         check.segments(at, "segments_around", self.segments_around, 3);
         check.profile_segments(at, self.profile.len(), self.segments_per_span);
+    }
+
+    fn triangle_count(&self) -> Option<u64> {
+        let spans = self.profile.len().saturating_sub(1) as u64;
+        Some(revolution_triangle_count(
+            self.segments_around,
+            spans.saturating_mul(u64::from(self.segments_per_span)),
+        ))
     }
 
     fn generate(&self) -> Option<TriangleMesh> {
