@@ -5,7 +5,6 @@
 //! errors naming the file and line, never a panic or a runaway allocation.
 
 use std::path::Path;
-use std::time::Instant;
 
 use lucerna_scene::file::MAX_SCENE_FILE_BYTES;
 use lucerna_scene::obj::{
@@ -358,11 +357,10 @@ fn many_bad_parts(parts: usize, materials: usize) -> String {
 fn thousands_of_problems_are_located_in_one_parse_and_listed_to_a_limit() {
     let parts = 4000;
     let text = many_bad_parts(parts, 1);
-    let start = Instant::now();
+    // Re-parsing the file for every problem took 47 s here (debug build);
+    // one parse takes milliseconds (speed is the benchmark's to show, this
+    // test checks what is reported).
     let (problems, unlisted, _) = invalid(&text);
-    let elapsed = start.elapsed();
-    // Re-parsing the file for every problem took 47 s here (debug build).
-    assert!(elapsed.as_secs_f64() < 10.0, "{elapsed:?}");
     assert_eq!(problems.len(), MAX_LISTED_PROBLEMS);
     assert_eq!(problems.len() + unlisted, parts);
     // Still located: part[i] starts on line 13 + 5 i, its material two below.

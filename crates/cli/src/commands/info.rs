@@ -33,8 +33,12 @@ pub struct InfoReport {
     warnings: Vec<String>,
 }
 
+/// Reads an IES or EULUMDAT file, at most `MAX_PROFILE_FILE_BYTES` of it
+/// (a photometric file of megabytes is already absurd; `/dev/zero` is not
+/// read until memory runs out).
 pub fn read(path: &Path) -> Result<Photometry> {
-    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let bytes = lucerna_scene::read_limited(path, lucerna_scene::file::MAX_PROFILE_FILE_BYTES)
+        .with_context(|| format!("cannot read {}", path.display()))?;
     read_photometry(&bytes)
         .with_context(|| format!("cannot read photometry from {}", path.display()))
 }

@@ -7,7 +7,6 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use anyhow::{Context, Result};
-use lucerna_photometry::read_photometry;
 use lucerna_room::ProfileGrid;
 use lucerna_room::evaluation::{HEIGHTS, NearFieldSettings, ORIENTATIONS, nrms, stitched_images};
 use lucerna_scene::write_atomically;
@@ -78,9 +77,7 @@ pub fn near_field_eval(args: &NearFieldArgs) -> Result<()> {
         "profile", "h", "prefiltered", "exact-cos", "eq. 10", "point"
     );
     for path in &profiles {
-        let bytes =
-            std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
-        let phot = read_photometry(&bytes).with_context(|| format!("{}", path.display()))?;
+        let phot = super::info::read(path)?;
         let grid = Arc::new(ProfileGrid::from_table(&phot.table));
         let name = stem(path);
         for &h in &HEIGHTS {

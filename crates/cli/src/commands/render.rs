@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use lucerna_photometry::{Photometry, read_photometry};
+use lucerna_photometry::Photometry;
 use lucerna_room::gpu::GpuRoomRenderer;
 use lucerna_room::model::{SourceKind, load_room};
 use lucerna_room::{RoomScene, Shading, render_cpu, tone_map, work_plane_cpu};
@@ -100,11 +100,7 @@ pub fn load_room_scene(path: &Path, photons: u64) -> Result<RoomScene> {
             bail!("luminaire[{i}] has no profile");
         };
         let phot = match kind {
-            SourceKind::PhotometricFile => {
-                let bytes = std::fs::read(&source)
-                    .with_context(|| format!("cannot read {}", source.display()))?;
-                read_photometry(&bytes).with_context(|| format!("{}", source.display()))?
-            }
+            SourceKind::PhotometricFile => super::info::read(&source)?,
             SourceKind::LuminaireScene => {
                 eprintln!("baking {} ({photons} photons)", source.display());
                 bake_profile(&source, photons)
