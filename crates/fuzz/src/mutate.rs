@@ -83,7 +83,7 @@ pub fn mutate(bytes: &[u8], rng: &mut Rng) -> Vec<u8> {
     let text = String::from_utf8_lossy(bytes).into_owned();
     let mut lines: Vec<String> = text.split('\n').map(str::to_owned).collect();
     match rng.below(9) {
-        0 | 1 | 2 => {
+        0..=2 => {
             // A number token becomes an extreme value.
             let numbered: Vec<usize> = (0..lines.len())
                 .filter(|&i| lines[i].chars().any(|c| c.is_ascii_digit()))

@@ -89,14 +89,12 @@ impl<'a> Tokens<'a> {
 }
 
 fn check_ascending(v: &[f64], what: &str, line: usize) -> Result<(), ParsePhotometryError> {
-    if let Some(w) = v
-        .windows(2)
-        .find(|w| !(w[1] - w[0] >= plausible::MIN_ANGLE_STEP_DEG))
-    {
+    let apart = |w: &&[f64]| w[1] - w[0] >= plausible::MIN_ANGLE_STEP_DEG;
+    if let Some(w) = v.windows(2).find(|w| !apart(w)) {
         return Err(error(
             line,
             format!(
-                "{what} must be ascending at least 0.0001° apart, but {} is followed by {}",
+                "{what} must be strictly ascending, at least 0.0001° apart, but {} is followed by {}",
                 format_number(w[0], 8),
                 format_number(w[1], 8)
             ),

@@ -382,7 +382,8 @@ pub fn write_ldt_with(
             watts: m.input_watts,
         }];
     }
-    if !(lamps[0].flux_lm > 0.0) {
+    let has_flux = lamps[0].flux_lm > 0.0;
+    if !has_flux {
         return Err(WritePhotometryError::Value {
             format: FORMAT,
             what: "the flux that cd/klm refers to (an all-dark table)".to_owned(),

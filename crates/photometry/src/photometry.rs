@@ -133,7 +133,8 @@ pub(crate) fn check_printed_angles(
         .map(|&a| format_number(a, significant).parse().unwrap_or(f64::NAN))
         .collect();
     for (i, w) in printed.windows(2).enumerate() {
-        if !(w[1] - w[0] >= plausible::MIN_ANGLE_STEP_DEG) {
+        let apart = w[1] - w[0] >= plausible::MIN_ANGLE_STEP_DEG;
+        if !apart {
             return Err(WritePhotometryError::Angles {
                 what,
                 a: angles[i],
