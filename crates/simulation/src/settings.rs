@@ -156,11 +156,12 @@ impl SimulationSettings {
         if !(1..=100_000).contains(&self.max_bounces) {
             return Err(SettingsError::MaxBounces(self.max_bounces));
         }
-        // IES allows 10 000 angles and EULUMDAT 3600 C-planes: 0.1° C and
-        // 0.05° γ stay far inside both.
+        // EULUMDAT holds at most 3600 C-planes and 3600 γ angles (IES
+        // 10 000): 0.1° C steps give 3600 planes, 0.0625° γ steps 2881
+        // angles.
         for (what, value, min) in [
             ("C-plane", Some(self.table.c_step_deg), 0.1),
-            ("γ", self.table.gamma_step_deg, 0.05),
+            ("γ", self.table.gamma_step_deg, 0.0625),
         ] {
             let Some(v) = value else { continue };
             if !(v >= min && v <= 90.0 && ((180.0 / v) - (180.0 / v).round()).abs() < 1e-9) {
