@@ -83,11 +83,13 @@ fn tree_ui(ui: &mut Ui, scene: &Scene, selected: Option<&Selection>, commands: &
             commands.push(Command::Select(Some(selection)));
         }
     };
-    ui.collapsing("Emitters", |ui| {
-        for (i, e) in scene.emitters.iter().enumerate() {
-            item(ui, Selection::Emitter(i), format!("Emitter {}", e.name));
-        }
-    });
+    egui::CollapsingHeader::new("Emitters")
+        .default_open(true)
+        .show(ui, |ui| {
+            for (i, e) in scene.emitters.iter().enumerate() {
+                item(ui, Selection::Emitter(i), format!("Emitter {}", e.name));
+            }
+        });
     egui::CollapsingHeader::new("Parts")
         .default_open(true)
         .show(ui, |ui| {
@@ -100,15 +102,17 @@ fn tree_ui(ui: &mut Ui, scene: &Scene, selected: Option<&Selection>, commands: &
                 );
             }
         });
-    ui.collapsing("Materials", |ui| {
-        for (name, m) in &scene.materials {
-            item(
-                ui,
-                Selection::Material(name.clone()),
-                format!("Material {name} ({})", m.kind()),
-            );
-        }
-    });
+    egui::CollapsingHeader::new("Materials")
+        .default_open(true)
+        .show(ui, |ui| {
+            for (name, m) in &scene.materials {
+                item(
+                    ui,
+                    Selection::Material(name.clone()),
+                    format!("Material {name} ({})", m.kind()),
+                );
+            }
+        });
 }
 
 fn part_ui(ui: &mut Ui, part: &mut Part, materials: &[String]) {

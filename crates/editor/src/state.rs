@@ -190,8 +190,14 @@ impl EditorState {
         self.shortcuts(ctx);
         if let Some(sim) = &self.sim {
             let published = sim.published();
+            // An error of an older generation is stale once a newer run
+            // publishes.
+            let shown = published.snapshot.as_ref().map_or(0, |s| s.generation);
+            self.sim_error = published
+                .error
+                .filter(|(generation, _)| *generation >= shown)
+                .map(|(_, e)| error_chain(&*e));
             self.snapshot = published.snapshot;
-            self.sim_error = published.error.map(|(_, e)| error_chain(&*e));
         }
     }
 

@@ -13,13 +13,13 @@ use crate::state::{EditorState, View};
 /// Face positions in the cross (column, row), each face in its own (u, v)
 /// axes (u right, v down) as the cube texture stores it; the same cross as
 /// `lucerna bake`'s cube PNG, so the two read alike.
-const CROSS: [(CubeFace, usize, usize); 6] = [
-    (CubeFace::PosY, 1, 0),
-    (CubeFace::NegX, 0, 1),
-    (CubeFace::PosZ, 1, 1),
-    (CubeFace::PosX, 2, 1),
-    (CubeFace::NegZ, 3, 1),
-    (CubeFace::NegY, 1, 2),
+const CROSS: [(CubeFace, usize, usize, &str); 6] = [
+    (CubeFace::PosY, 1, 0, "+Y"),
+    (CubeFace::NegX, 0, 1, "−X"),
+    (CubeFace::PosZ, 1, 1, "+Z up"),
+    (CubeFace::PosX, 2, 1, "+X"),
+    (CubeFace::NegZ, 3, 1, "−Z nadir"),
+    (CubeFace::NegY, 1, 2, "−Y"),
 ];
 
 /// Decades below the peak the colour scale spans: stray light a thousand
@@ -87,13 +87,14 @@ pub fn polar_ui(ui: &mut Ui, table: &CandelaTable) {
                 for side in [-1.0, 1.0] {
                     let rim = [side * reach * s, -reach * c];
                     plot.line(
-                        Line::new("γ spokes", PlotPoints::from(vec![[0.0, 0.0], rim]))
+                        Line::new("", PlotPoints::from(vec![[0.0, 0.0], rim]))
                             .color(Color32::from_gray(90))
                             .width(0.5),
                     );
                 }
+                // Unnamed items stay out of the legend.
                 plot.text(Text::new(
-                    "γ labels",
+                    "",
                     PlotPoint::new(reach * 1.05 * s, -reach * 1.05 * c),
                     format!("γ {gamma:.0}°"),
                 ));
@@ -139,7 +140,7 @@ fn cross_image(layout: CubeMapLayout, candela: &[f64]) -> ColorImage {
     let n = layout.resolution as usize;
     let peak = candela.iter().copied().fold(0.0, f64::max);
     let mut image = ColorImage::filled([4 * n, 3 * n], Color32::from_gray(24));
-    for (face, col, row) in CROSS {
+    for (face, col, row, _) in CROSS {
         for j in 0..n {
             for i in 0..n {
                 let texel = layout.texel_index(face, i as u32, j as u32);
@@ -152,13 +153,26 @@ fn cross_image(layout: CubeMapLayout, candela: &[f64]) -> ColorImage {
     image
 }
 
+/// One swatch per decade below the peak, labelled in cd.
+fn legend_ui(ui: &mut Ui, peak: f64) {
+    ui.horizontal(|ui| {
+        for k in (0..=DECADES as i32).rev() {
+            let v = peak / 10f64.powi(k);
+            let (rect, _) = ui.allocate_exact_size(egui::vec2(14.0, 14.0), egui::Sense::hover());
+            ui.painter()
+                .rect_filled(rect, 2.0, false_colour(log_scale(v, peak)));
+            ui.label(format!("{v:.0} cd"));
+        }
+    });
+}
+
 /// The face and texel under cross position (x, y) in texels, if on the cross.
 fn texel_at(layout: CubeMapLayout, x: f64, y: f64) -> Option<(CubeFace, f64, f64, usize)> {
     let n = f64::from(layout.resolution);
     let (col, row) = ((x / n).floor(), (y / n).floor());
-    let (face, _, _) = CROSS
+    let (face, _, _, _) = CROSS
         .iter()
-        .find(|(_, c, r)| *c as f64 == col && *r as f64 == row)?;
+        .find(|(_, c, r, _)| *c as f64 == col && *r as f64 == row)?;
     let (u, v) = ((x - col * n) / n, (y - row * n) / n);
     let (i, j) = ((u * n) as u32, (v * n) as u32);
     let last = layout.resolution - 1;
@@ -189,12 +203,28 @@ pub fn cube_map_ui(ui: &mut Ui, snapshot: &Arc<Snapshot>, cube: &mut CubeTexture
     let Some(texture) = &cube.texture else { return };
     let peak = snapshot.candela.iter().copied().fold(0.0, f64::max);
     ui.label(format!(
-        "Log scale over {DECADES:.0} decades below the peak ({peak:.0} cd); +Z up, −Z nadir"
+        "Log scale over {DECADES:.0} decades below the peak ({peak:.0} cd)"
     ));
+    legend_ui(ui, peak);
     let available = ui.available_size();
     let width = (available.x).min((available.y - 30.0).max(60.0) * 4.0 / 3.0);
     let size = egui::vec2(width, width * 0.75);
     let response = ui.add(egui::Image::new((texture.id(), size)).sense(egui::Sense::hover()));
+    let painter = ui.painter_at(response.rect);
+    for (_, col, row, name) in CROSS {
+        let at = response.rect.min
+            + egui::vec2(
+                col as f32 * size.x / 4.0 + 4.0,
+                row as f32 * size.y / 3.0 + 2.0,
+            );
+        painter.text(
+            at,
+            egui::Align2::LEFT_TOP,
+            name,
+            egui::FontId::proportional(12.0),
+            Color32::from_gray(200),
+        );
+    }
     let hovered = response.hover_pos().and_then(|pos| {
         let n = f64::from(layout.resolution);
         let x = f64::from((pos.x - response.rect.left()) / size.x) * 4.0 * n;
