@@ -36,6 +36,20 @@ pub fn files_bar_ui(ui: &mut Ui, state: &mut EditorState) {
         ui.separator();
         ui.label(state.title());
     });
+    if let Some(path) = state.pending_open.clone() {
+        ui.horizontal(|ui| {
+            ui.colored_label(
+                ui.visuals().warn_fg_color,
+                format!("Unsaved changes: open {} anyway?", path.display()),
+            );
+            if ui.button("Discard changes and open").clicked() {
+                commands.push(Command::OpenDiscarding(path));
+            }
+            if ui.button("Keep editing").clicked() {
+                commands.push(Command::CancelOpen);
+            }
+        });
+    }
     if let Some(error) = &state.file_error {
         ui.colored_label(ui.visuals().error_fg_color, error);
     }

@@ -31,7 +31,12 @@ pub enum NewPart {
 /// so that no panel mutates what another is still drawing.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Command {
+    /// Opens a file; with unsaved changes it asks first.
     Open(PathBuf),
+    /// Opens a file, dropping unsaved changes.
+    OpenDiscarding(PathBuf),
+    /// Keeps the unsaved changes: the pending open is dropped.
+    CancelOpen,
     Save,
     SaveAs(PathBuf),
     Undo,
@@ -67,6 +72,8 @@ pub struct EditorState {
     pub(crate) open_path: String,
     pub(crate) save_as_path: String,
     pub(crate) view: View,
+    /// A file whose opening waits for the user to drop unsaved changes.
+    pub(crate) pending_open: Option<PathBuf>,
     undoer: Undoer<Scene>,
     /// A pointer drag or text entry is changing the scene: one undo step.
     gesture: bool,
@@ -107,6 +114,7 @@ impl EditorState {
             open_path: String::new(),
             save_as_path: String::new(),
             view: View::default(),
+            pending_open: None,
             undoer: Undoer::with_settings(UndoSettings {
                 max_undos: 200,
                 ..UndoSettings::default()
@@ -144,6 +152,11 @@ impl EditorState {
 
     pub fn problems(&self) -> &[String] {
         &self.problems
+    }
+
+    /// The file waiting to be opened until unsaved changes are dropped.
+    pub fn pending_open(&self) -> Option<&Path> {
+        self.pending_open.as_deref()
     }
 
     pub fn file_error(&self) -> Option<&str> {
@@ -250,7 +263,12 @@ impl EditorState {
 
     fn apply(&mut self, command: Command) {
         match command {
-            Command::Open(path) => self.open(path),
+            Command::Open(path) if self.is_dirty() => self.pending_open = Some(path),
+            Command::Open(path) | Command::OpenDiscarding(path) => {
+                self.pending_open = None;
+                self.open(path);
+            }
+            Command::CancelOpen => self.pending_open = None,
             Command::Save => match self.path.clone() {
                 Some(path) => self.save(path),
                 None => self.file_error = Some("no file to save to: use Save as".to_owned()),

@@ -312,3 +312,66 @@ fn the_views_show_the_polar_diagram_and_the_cube_map() {
     h.get_by_label_contains("Log scale over 3 decades");
     h.get_by_label_contains("Beam C0-C180");
 }
+
+#[test]
+fn opening_over_unsaved_changes_asks_first() {
+    let mut h = editor(Some(example()));
+    h.step();
+    select_reflector(&mut h);
+    h.get_by_label("Focal length").set_value_accesskit(30.0);
+    h.step();
+    h.get_by_label("Open").click();
+    h.step();
+    h.step();
+    assert!(h.state().state.pending_open().is_some());
+    h.get_by_label("Keep editing").click();
+    h.step();
+    assert!(h.state().state.pending_open().is_none());
+    assert!((focal_length(&h) - 0.03).abs() < 1e-12);
+    h.get_by_label("Open").click();
+    h.step();
+    h.step();
+    h.get_by_label("Discard changes and open").click();
+    h.step();
+    h.step();
+    assert!((focal_length(&h) - 0.025).abs() < 1e-12);
+    assert!(!h.state().state.is_dirty());
+}
+
+/// Every item of every example shows its properties with labelled fields,
+/// and merely looking at them changes nothing.
+#[test]
+fn every_item_of_every_example_can_be_inspected_without_changing_it() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/luminaires");
+    let mut examples: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    examples.sort();
+    assert!(examples.len() >= 5);
+    for path in examples {
+        let mut h = editor(Some(path.clone()));
+        h.step();
+        let scene = h.state().state.scene().expect("loads").clone();
+        let mut items: Vec<String> = scene
+            .emitters
+            .iter()
+            .map(|e| format!("Emitter {}", e.name))
+            .collect();
+        items.extend(
+            scene
+                .parts
+                .iter()
+                .map(|p| format!("Part {} ({}", p.name, p.shape.generator().kind())),
+        );
+        items.extend(scene.materials.keys().map(|m| format!("Material {m} (")));
+        for item in items {
+            h.get_by_label_contains(&item).click();
+            h.step();
+            h.step();
+        }
+        assert_eq!(h.state().state.scene(), Some(&scene), "{}", path.display());
+        assert!(!h.state().state.is_dirty(), "{}", path.display());
+    }
+}
