@@ -375,3 +375,50 @@ fn every_item_of_every_example_can_be_inspected_without_changing_it() {
         assert!(!h.state().state.is_dirty(), "{}", path.display());
     }
 }
+
+/// A whole drag of a field is one undo step, however many frames it
+/// changed the scene in.
+#[test]
+fn a_drag_is_one_undo_step() {
+    let mut h = editor(Some(example()));
+    h.step();
+    select_reflector(&mut h);
+    let start = h.get_by_label("Focal length").rect().center();
+    let button = |pos, pressed| egui::Event::PointerButton {
+        pos,
+        button: egui::PointerButton::Primary,
+        pressed,
+        modifiers: egui::Modifiers::NONE,
+    };
+    h.event(egui::Event::PointerMoved(start));
+    h.step();
+    h.event(button(start, true));
+    h.step();
+    let mut pos = start;
+    let mut seen = Vec::new();
+    for _ in 0..6 {
+        pos.x += 10.0;
+        h.event(egui::Event::PointerMoved(pos));
+        h.step();
+        seen.push(focal_length(&h));
+    }
+    h.event(button(pos, false));
+    h.step();
+    h.step();
+    let dragged = focal_length(&h);
+    assert!(dragged > 0.025 + 1e-4, "{seen:?}");
+    // The scene changed in several frames of the drag…
+    seen.dedup();
+    assert!(seen.len() > 2, "{seen:?}");
+    // …and one undo goes back to before it.
+    h.get_by_label("Undo").click();
+    h.step();
+    assert!(
+        (focal_length(&h) - 0.025).abs() < 1e-12,
+        "{}",
+        focal_length(&h)
+    );
+    h.get_by_label("Redo").click();
+    h.step();
+    assert!((focal_length(&h) - dragged).abs() < 1e-12);
+}
