@@ -422,3 +422,36 @@ fn a_drag_is_one_undo_step() {
     h.step();
     assert!((focal_length(&h) - dragged).abs() < 1e-12);
 }
+
+#[test]
+fn settings_restart_the_run_and_pause_pauses_it() {
+    let mut h = editor(Some(example()));
+    wait_for(&mut h, "the first run", |s| s.generation == 0);
+    h.get_by_label("Symmetry pooling").click();
+    h.step();
+    h.step();
+    let sim = h.state().state.simulation().unwrap();
+    assert!(!sim.settings().pool_symmetry);
+    assert_eq!(sim.generation(), 1);
+    h.get_by_label("Filter (automatic)").click();
+    h.step();
+    h.step();
+    let sim = h.state().state.simulation().unwrap();
+    assert_eq!(
+        sim.settings().filter,
+        lucerna_simulation::FilterChoice::Automatic
+    );
+    assert_eq!(sim.generation(), 2);
+    wait_for(&mut h, "the filtered run", |s| s.generation == 2);
+    for (button, then) in [("Pause", "Resume"), ("Resume", "Pause")] {
+        h.get_by_label(button).hover();
+        h.step();
+        h.get_by_label(button).click();
+        h.step();
+        h.step();
+        assert!(
+            h.query_by_label(then).is_some(),
+            "{button} did not turn into {then}"
+        );
+    }
+}
