@@ -252,6 +252,11 @@ impl EditorState {
         if ctx.input_mut(|i| i.consume_shortcut(&save)) {
             self.push(Command::Save);
         }
+        // A clean way out even without a window manager (Xvfb in CI).
+        let quit = KeyboardShortcut::new(Modifiers::COMMAND, Key::Q);
+        if ctx.input_mut(|i| i.consume_shortcut(&quit)) {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+        }
         self.apply_commands();
     }
 
