@@ -528,3 +528,19 @@ shape = { type = "box", size = [0.1, 0.1, 0.1] }
         text(&out.stderr)
     );
 }
+
+#[test]
+fn edit_without_a_display_points_to_bake() {
+    // With the editor beside `lucerna` it refuses for want of a display;
+    // without it, `edit` says how to get it. Either way: a clear failure.
+    let out = Command::new(env!("CARGO_BIN_EXE_lucerna"))
+        .arg("edit")
+        .arg(assets().join("luminaires/parabolic_spot.toml"))
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let all = format!("{}{}", text(&out.stdout), text(&out.stderr));
+    assert!(all.contains("lucerna bake"), "{all}");
+}

@@ -8,6 +8,7 @@ use clap::{Parser, Subcommand};
 mod bake;
 mod bench;
 mod convert;
+mod edit;
 mod filter_bench;
 mod info;
 mod live_bench;
@@ -28,6 +29,9 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// Open the editor's window (the `lucerna-editor` binary installed
+    /// beside this one) on a scene.
+    Edit { scene: Option<PathBuf> },
     /// Load, validate and tessellate a luminaire scene; print its parts,
     /// triangles, bounding box and materials.
     Validate {
@@ -84,6 +88,7 @@ enum Command {
 
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
+        Command::Edit { scene } => edit::edit(scene.as_deref()),
         Command::Validate { scene, json } => {
             let report = validate::report(&scene)
                 .with_context(|| format!("scene {} is not usable", scene.display()))?;

@@ -1,0 +1,514 @@
+//! The editor's state apart from any drawing: the document, its undo
+//! history, the running simulation, and the commands the panels queue.
+//! Panels edit scene fields in place (that is how egui widgets work) and
+//! queue everything else as a [`Command`], applied once per frame.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use egui::util::undoer::{Settings as UndoSettings, Undoer};
+use lucerna_scene::shapes::{Disk, Paraboloid, Plate};
+use lucerna_scene::{Material, Part, Scene, Shape, Transform, load_scene, save_scene, validate};
+use lucerna_simulation::{Simulation, SimulationSettings, Snapshot};
+
+/// What is selected in the scene panel.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Selection {
+    Emitter(usize),
+    Part(usize),
+    Material(String),
+}
+
+/// The part shapes the "Add" buttons create.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NewPart {
+    Paraboloid,
+    Disk,
+    Plate,
+}
+
+/// A UI action, queued by a panel and applied after the panels are drawn
+/// so that no panel mutates what another is still drawing.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Command {
+    /// Opens a file; with unsaved changes it asks first.
+    Open(PathBuf),
+    /// Opens a file, dropping unsaved changes.
+    OpenDiscarding(PathBuf),
+    /// Keeps the unsaved changes: the pending open is dropped.
+    CancelOpen,
+    Save,
+    SaveAs(PathBuf),
+    Undo,
+    Redo,
+    Select(Option<Selection>),
+    AddPart(NewPart),
+    DuplicatePart(usize),
+    DeletePart(usize),
+    Pause,
+    Resume,
+    SetSettings(SimulationSettings),
+}
+
+/// Which view the central panel shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum View {
+    #[default]
+    Polar,
+    CubeMap,
+}
+
+/// Everything the editor knows; the panels draw it and queue commands.
+pub struct EditorState {
+    pub(crate) scene: Option<Scene>,
+    pub(crate) path: Option<PathBuf>,
+    /// The scene as last loaded or saved, for the unsaved-changes marker.
+    saved: Option<Scene>,
+    pub(crate) selection: Option<Selection>,
+    /// Validation problems of the edited scene as "field: message".
+    pub(crate) problems: Vec<String>,
+    /// The last file error (load or save), shown until the next success.
+    pub(crate) file_error: Option<String>,
+    pub(crate) open_path: String,
+    pub(crate) save_as_path: String,
+    pub(crate) view: View,
+    /// A file whose opening waits for the user to drop unsaved changes.
+    pub(crate) pending_open: Option<PathBuf>,
+    undoer: Undoer<Scene>,
+    /// A pointer drag or text entry is changing the scene: one undo step.
+    gesture: bool,
+    /// The last valid scene handed to the simulation.
+    sent: Option<Scene>,
+    sim: Option<Simulation>,
+    pub(crate) settings: SimulationSettings,
+    pub(crate) paused: bool,
+    pub(crate) snapshot: Option<Arc<Snapshot>>,
+    pub(crate) sim_error: Option<String>,
+    commands: Vec<Command>,
+    /// The context the simulation's worker asks to repaint; known from the
+    /// first frame on.
+    ctx: Option<egui::Context>,
+    title: String,
+}
+
+impl std::fmt::Debug for EditorState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("EditorState")
+            .field("path", &self.path)
+            .field("selection", &self.selection)
+            .field("problems", &self.problems)
+            .finish_non_exhaustive()
+    }
+}
+
+impl EditorState {
+    /// An editor with no scene; `open` is loaded in the first frame.
+    pub fn new(open: Option<PathBuf>, settings: SimulationSettings) -> Self {
+        let mut state = EditorState {
+            scene: None,
+            path: None,
+            saved: None,
+            selection: None,
+            problems: Vec::new(),
+            file_error: None,
+            open_path: String::new(),
+            save_as_path: String::new(),
+            view: View::default(),
+            pending_open: None,
+            undoer: Undoer::with_settings(UndoSettings {
+                max_undos: 200,
+                ..UndoSettings::default()
+            }),
+            gesture: false,
+            sent: None,
+            sim: None,
+            settings,
+            paused: false,
+            snapshot: None,
+            sim_error: None,
+            commands: Vec::new(),
+            ctx: None,
+            title: String::new(),
+        };
+        if let Some(path) = open {
+            state.open_path = path.display().to_string();
+            state.push(Command::Open(path));
+        }
+        state
+    }
+
+    /// Queues a command for the end of this frame.
+    pub fn push(&mut self, command: Command) {
+        self.commands.push(command);
+    }
+
+    pub fn scene(&self) -> Option<&Scene> {
+        self.scene.as_ref()
+    }
+
+    pub fn path(&self) -> Option<&Path> {
+        self.path.as_deref()
+    }
+
+    pub fn problems(&self) -> &[String] {
+        &self.problems
+    }
+
+    /// The file waiting to be opened until unsaved changes are dropped.
+    pub fn pending_open(&self) -> Option<&Path> {
+        self.pending_open.as_deref()
+    }
+
+    pub fn file_error(&self) -> Option<&str> {
+        self.file_error.as_deref()
+    }
+
+    pub fn simulation(&self) -> Option<&Simulation> {
+        self.sim.as_ref()
+    }
+
+    /// The newest snapshot shown (refreshed each frame).
+    pub fn snapshot(&self) -> Option<&Arc<Snapshot>> {
+        self.snapshot.as_ref()
+    }
+
+    /// Unsaved changes since the last load or save.
+    pub fn is_dirty(&self) -> bool {
+        self.scene.is_some() && self.scene != self.saved
+    }
+
+    /// The window title: file name and an unsaved-changes marker.
+    pub fn title(&self) -> String {
+        let name = self.path.as_deref().and_then(Path::file_name).map_or_else(
+            || "no scene".to_owned(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        let marker = if self.is_dirty() { " •" } else { "" };
+        format!("{name}{marker} — Lucerna editor")
+    }
+
+    fn scene_dir(&self) -> PathBuf {
+        self.path
+            .as_deref()
+            .and_then(Path::parent)
+            .map_or_else(|| PathBuf::from("."), Path::to_path_buf)
+    }
+
+    /// Called at the start of each frame, before the panels.
+    pub(crate) fn begin_frame(&mut self, ctx: &egui::Context) {
+        if self.ctx.is_none() {
+            self.ctx = Some(ctx.clone());
+        }
+        self.apply_commands();
+        self.shortcuts(ctx);
+        if let Some(sim) = &self.sim {
+            let published = sim.published();
+            // An error of an older generation is stale once a newer run
+            // publishes.
+            let shown = published.snapshot.as_ref().map_or(0, |s| s.generation);
+            self.sim_error = published
+                .error
+                .filter(|(generation, _)| *generation >= shown)
+                .map(|(_, e)| error_chain(&*e));
+            self.snapshot = published.snapshot;
+        }
+    }
+
+    /// Called after the panels with the scene as it was before them: an
+    /// edit opens an undo step unless a gesture already holds one, and a
+    /// valid scene goes to the simulation at once.
+    pub(crate) fn end_frame(&mut self, ctx: &egui::Context, before: Option<Scene>) {
+        let held = ctx.input(|i| i.pointer.any_down()) || ctx.egui_wants_keyboard_input();
+        if self.scene != before {
+            if let Some(before) = &before
+                && !self.gesture
+            {
+                self.undoer.add_undo(before);
+            }
+            self.gesture = held;
+            self.scene_changed();
+        } else if !held {
+            self.gesture = false;
+        }
+        self.apply_commands();
+        let title = self.title();
+        if title != self.title {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
+            self.title = title;
+        }
+    }
+
+    fn shortcuts(&mut self, ctx: &egui::Context) {
+        use egui::{Key, KeyboardShortcut, Modifiers};
+        let redo = KeyboardShortcut::new(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z);
+        let undo = KeyboardShortcut::new(Modifiers::COMMAND, Key::Z);
+        let save = KeyboardShortcut::new(Modifiers::COMMAND, Key::S);
+        // Redo first: Ctrl+Z would also match Ctrl+Shift+Z.
+        if ctx.input_mut(|i| i.consume_shortcut(&redo)) {
+            self.push(Command::Redo);
+        } else if ctx.input_mut(|i| i.consume_shortcut(&undo)) {
+            self.push(Command::Undo);
+        }
+        if ctx.input_mut(|i| i.consume_shortcut(&save)) {
+            self.push(Command::Save);
+        }
+        // A clean way out even without a window manager (Xvfb in CI).
+        let quit = KeyboardShortcut::new(Modifiers::COMMAND, Key::Q);
+        if ctx.input_mut(|i| i.consume_shortcut(&quit)) {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+        }
+        self.apply_commands();
+    }
+
+    fn apply_commands(&mut self) {
+        for command in std::mem::take(&mut self.commands) {
+            self.apply(command);
+        }
+    }
+
+    fn apply(&mut self, command: Command) {
+        match command {
+            Command::Open(path) if self.is_dirty() => self.pending_open = Some(path),
+            Command::Open(path) | Command::OpenDiscarding(path) => {
+                self.pending_open = None;
+                self.open(path);
+            }
+            Command::CancelOpen => self.pending_open = None,
+            Command::Save => match self.path.clone() {
+                Some(path) => self.save(path),
+                None => self.file_error = Some("no file to save to: use Save as".to_owned()),
+            },
+            Command::SaveAs(path) => self.save(path),
+            Command::Undo => {
+                if let Some(scene) = &self.scene
+                    && let Some(previous) = self.undoer.undo(scene).cloned()
+                {
+                    self.scene = Some(previous);
+                    self.gesture = false;
+                    self.scene_changed();
+                }
+            }
+            Command::Redo => {
+                if let Some(scene) = &self.scene
+                    && let Some(next) = self.undoer.redo(scene).cloned()
+                {
+                    self.scene = Some(next);
+                    self.gesture = false;
+                    self.scene_changed();
+                }
+            }
+            Command::Select(selection) => self.selection = selection,
+            Command::AddPart(kind) => self.structural(|scene, selection| {
+                let part = new_part(scene, kind);
+                scene.parts.push(part);
+                *selection = Some(Selection::Part(scene.parts.len() - 1));
+            }),
+            Command::DuplicatePart(i) => self.structural(|scene, selection| {
+                if let Some(part) = scene.parts.get(i) {
+                    let mut copy = part.clone();
+                    copy.name = unique_name(scene, &part.name);
+                    scene.parts.insert(i + 1, copy);
+                    *selection = Some(Selection::Part(i + 1));
+                }
+            }),
+            Command::DeletePart(i) => self.structural(|scene, selection| {
+                if i < scene.parts.len() {
+                    scene.parts.remove(i);
+                    *selection = None;
+                }
+            }),
+            Command::Pause => {
+                if let Some(sim) = &self.sim {
+                    sim.pause();
+                }
+                self.paused = true;
+            }
+            Command::Resume => {
+                if let Some(sim) = &self.sim {
+                    sim.resume();
+                }
+                self.paused = false;
+            }
+            Command::SetSettings(settings) => {
+                let result = match &mut self.sim {
+                    Some(sim) => sim.set_settings(settings).map(|_| ()),
+                    None => settings.validate().map_err(Into::into),
+                };
+                match result {
+                    Ok(()) => self.settings = settings,
+                    Err(e) => self.sim_error = Some(error_chain(&e)),
+                }
+            }
+        }
+    }
+
+    /// A structural edit: its own undo step, then validation.
+    fn structural(&mut self, edit: impl FnOnce(&mut Scene, &mut Option<Selection>)) {
+        let Some(scene) = &mut self.scene else { return };
+        self.undoer.add_undo(scene);
+        edit(scene, &mut self.selection);
+        self.gesture = false;
+        self.scene_changed();
+    }
+
+    /// Validates the edited scene; a valid one restarts the simulation, an
+    /// invalid one is only reported (the last valid one keeps running).
+    fn scene_changed(&mut self) {
+        let Some(scene) = &self.scene else { return };
+        let problems = validate(scene);
+        self.problems = problems
+            .iter()
+            .map(|p| format!("{}: {}", p.field, p.message))
+            .collect();
+        if !problems.is_empty() || self.sent.as_ref() == Some(scene) {
+            return;
+        }
+        let scene = scene.clone();
+        let dir = self.scene_dir();
+        self.sent = Some(scene.clone());
+        match &mut self.sim {
+            Some(sim) => {
+                sim.edit(scene, &dir);
+            }
+            None => self.start_simulation(scene, &dir),
+        }
+    }
+
+    fn start_simulation(&mut self, scene: Scene, dir: &Path) {
+        let ctx = self.ctx.clone();
+        let repaint = move || {
+            if let Some(ctx) = &ctx {
+                ctx.request_repaint();
+            }
+        };
+        self.snapshot = None;
+        match Simulation::start(scene, dir, self.settings, repaint) {
+            Ok(sim) => {
+                if self.paused {
+                    sim.pause();
+                }
+                self.sim = Some(sim);
+                self.sim_error = None;
+            }
+            Err(e) => self.sim_error = Some(error_chain(&e)),
+        }
+    }
+
+    /// Loads a scene file; on failure the current scene stays and the
+    /// error (file, line, field) is shown.
+    fn open(&mut self, path: PathBuf) {
+        match load_scene(&path) {
+            Ok(scene) => {
+                self.path = Some(path);
+                self.saved = Some(scene.clone());
+                self.scene = Some(scene.clone());
+                self.undoer = Undoer::with_settings(UndoSettings {
+                    max_undos: 200,
+                    ..UndoSettings::default()
+                });
+                self.selection = None;
+                self.problems.clear();
+                self.file_error = None;
+                self.gesture = false;
+                // A new document gets a fresh run (generation 0).
+                self.sim = None;
+                self.sent = Some(scene.clone());
+                let dir = self.scene_dir();
+                self.start_simulation(scene, &dir);
+            }
+            Err(e) => self.file_error = Some(error_chain(&e)),
+        }
+    }
+
+    fn save(&mut self, path: PathBuf) {
+        let Some(scene) = &self.scene else {
+            self.file_error = Some("no scene to save".to_owned());
+            return;
+        };
+        match save_scene(scene, &path) {
+            Ok(()) => {
+                self.saved = Some(scene.clone());
+                self.file_error = None;
+                if self.path.as_deref() != Some(&path) {
+                    self.path = Some(path);
+                    // Relative paths in the scene now resolve from here.
+                    self.sent = None;
+                    self.scene_changed();
+                }
+            }
+            Err(e) => self.file_error = Some(error_chain(&e)),
+        }
+    }
+}
+
+/// The error and its sources, one per line.
+pub(crate) fn error_chain(e: &dyn std::error::Error) -> String {
+    let mut text = e.to_string();
+    let mut source = e.source();
+    while let Some(s) = source {
+        text.push_str(&format!("\n  caused by: {s}"));
+        source = s.source();
+    }
+    text
+}
+
+/// `base` or `base 2`, `base 3`, … whichever no part is called yet.
+fn unique_name(scene: &Scene, base: &str) -> String {
+    let taken = |n: &str| scene.parts.iter().any(|p| p.name == n);
+    if !taken(base) {
+        return base.to_owned();
+    }
+    (2..)
+        .map(|k| format!("{base} {k}"))
+        .find(|n| !taken(n))
+        .unwrap_or_else(|| base.to_owned())
+}
+
+/// A new part of `kind` in the scene's first material (white paint added
+/// when it has none), so that it validates at once.
+fn new_part(scene: &mut Scene, kind: NewPart) -> Part {
+    let material = match scene.materials.keys().next() {
+        Some(name) => name.clone(),
+        None => {
+            scene.materials.insert(
+                "white_paint".to_owned(),
+                Material::Lambertian { albedo: 0.8 },
+            );
+            "white_paint".to_owned()
+        }
+    };
+    let (name, shape) = match kind {
+        NewPart::Paraboloid => (
+            "paraboloid",
+            Shape::Paraboloid(Paraboloid {
+                focal_length: 0.025,
+                aperture_diameter: 0.1,
+                neck_diameter: 0.0,
+                segments_around: 64,
+                segments_along: 32,
+                faceted: false,
+            }),
+        ),
+        NewPart::Disk => (
+            "disk",
+            Shape::Disk(Disk {
+                radius: 0.05,
+                segments_around: 64,
+            }),
+        ),
+        NewPart::Plate => (
+            "plate",
+            Shape::Plate(Plate {
+                width: 0.1,
+                depth: 0.1,
+            }),
+        ),
+    };
+    Part {
+        name: unique_name(scene, name),
+        shape,
+        material,
+        enabled: true,
+        transform: Transform::default(),
+    }
+}

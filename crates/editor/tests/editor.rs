@@ -1,0 +1,457 @@
+#![allow(clippy::unwrap_used, clippy::expect_used)] // reason: tests may panic
+//! The editor driven through its labelled widgets, as a user would: open,
+//! edit, watch the simulation restart, undo, save, reopen, and a broken
+//! file. CPU backend, small maps and a photon limit keep every run short
+//! and its figures deterministic (a seed and a photon count fix the map).
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use lucerna_editor::{EditorApp, EditorState};
+use lucerna_scene::Shape;
+use lucerna_simulation::{BackendRequest, RunState, SimulationSettings, Snapshot, StoppingRule};
+
+/// Photons per run: enough for a stable beam angle at this resolution.
+const PHOTONS: u64 = 1_000_000;
+
+fn example() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/luminaires/parabolic_spot.toml")
+}
+
+fn settings(resolution: u32) -> SimulationSettings {
+    SimulationSettings {
+        resolution,
+        backend: BackendRequest::Cpu,
+        stop: StoppingRule {
+            photons: Some(PHOTONS),
+            ..StoppingRule::default()
+        },
+        ..SimulationSettings::default()
+    }
+}
+
+fn editor(open: Option<PathBuf>) -> Harness<'static, EditorApp> {
+    editor_at(open, 64)
+}
+
+/// An editor whose runs use `resolution` texels per cube-face edge.
+fn editor_at(open: Option<PathBuf>, resolution: u32) -> Harness<'static, EditorApp> {
+    Harness::builder()
+        .with_size([1366.0, 900.0])
+        .build_ui_state(
+            |ui, app: &mut EditorApp| app.ui(ui),
+            EditorApp::new(EditorState::new(open, settings(resolution))),
+        )
+}
+
+/// Steps frames until the shown snapshot satisfies `done`.
+fn wait_for(
+    h: &mut Harness<'_, EditorApp>,
+    what: &str,
+    done: impl Fn(&Snapshot) -> bool,
+) -> Arc<Snapshot> {
+    let deadline = Instant::now() + Duration::from_secs(60);
+    loop {
+        h.step();
+        if let Some(s) = h.state().state.snapshot()
+            && done(s)
+        {
+            return s.clone();
+        }
+        if let Some(sim) = h.state().state.simulation()
+            && let Some((_, e)) = sim.published().error
+        {
+            panic!("simulation failed while waiting for {what}: {e}");
+        }
+        assert!(Instant::now() < deadline, "timed out waiting for {what}");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+fn finished(generation: u64) -> impl Fn(&Snapshot) -> bool {
+    move |s| s.generation == generation && matches!(s.state, RunState::Finished(_))
+}
+
+fn focal_length(h: &Harness<'_, EditorApp>) -> f64 {
+    match &h.state().state.scene().expect("a scene").parts[0].shape {
+        Shape::Paraboloid(p) => p.focal_length,
+        other => panic!("expected the paraboloid, got {other:?}"),
+    }
+}
+
+fn select_reflector(h: &mut Harness<'_, EditorApp>) {
+    h.get_by_label("Part reflector (paraboloid)").click();
+    h.step();
+    h.step();
+}
+
+#[test]
+fn a_longer_focal_length_restarts_the_run_and_narrows_the_beam_and_undo_restores_it() {
+    // Texels of 0.45° at the nadir: fine enough for a beam of a few degrees.
+    let mut h = editor_at(Some(example()), 256);
+    let before = wait_for(&mut h, "the first run", finished(0));
+    assert_eq!(before.photons, PHOTONS);
+    let beam_before = before.figures.beam_angle_deg[0].expect("a beam angle");
+
+    select_reflector(&mut h);
+    h.get_by_label("Focal length").set_value_accesskit(50.0);
+    h.step();
+    h.step();
+    assert!(
+        (focal_length(&h) - 0.05).abs() < 1e-12,
+        "{}",
+        focal_length(&h)
+    );
+    assert!(
+        h.state().state.problems().is_empty(),
+        "{:?}",
+        h.state().state.problems()
+    );
+    assert_eq!(h.state().state.simulation().unwrap().generation(), 1);
+    assert!(h.state().state.is_dirty());
+    assert!(h.state().state.title().contains('•'));
+
+    // The edited run counts its photons from zero: it stops at the same
+    // limit, not at twice it.
+    let after = wait_for(&mut h, "the edited run", finished(1));
+    assert_eq!(after.photons, PHOTONS);
+    let beam_after = after.figures.beam_angle_deg[0].expect("a beam angle");
+    // The LED's angular size seen from the reflector shrinks with the
+    // distance to it: 25-50 mm at f = 25 mm, 50-62.5 mm at f = 50 mm
+    // (measured here: 3.20° → 2.72°, deterministic for this seed and count).
+    assert!(
+        beam_after < 0.9 * beam_before,
+        "beam {beam_before:.2}° at f = 25 mm, {beam_after:.2}° at f = 50 mm"
+    );
+
+    h.get_by_label("Undo").click();
+    h.step();
+    h.step();
+    assert!(
+        (focal_length(&h) - 0.025).abs() < 1e-12,
+        "{}",
+        focal_length(&h)
+    );
+    assert!(!h.state().state.is_dirty());
+    assert_eq!(h.state().state.simulation().unwrap().generation(), 2);
+    let undone = wait_for(&mut h, "the undone run", finished(2));
+    assert_eq!(undone.figures.beam_angle_deg, before.figures.beam_angle_deg);
+
+    h.get_by_label("Redo").click();
+    h.step();
+    assert!((focal_length(&h) - 0.05).abs() < 1e-12);
+}
+
+#[test]
+fn an_invalid_edit_is_shown_and_not_simulated() {
+    let mut h = editor(Some(example()));
+    wait_for(&mut h, "the first run", |s| s.generation == 0);
+    select_reflector(&mut h);
+    h.get_by_label("Focal length").set_value_accesskit(0.0);
+    h.step();
+    h.step();
+    let problems = h.state().state.problems().to_vec();
+    assert!(
+        problems
+            .iter()
+            .any(|p| p.contains("part[0].shape.focal_length")),
+        "{problems:?}"
+    );
+    assert_eq!(h.state().state.simulation().unwrap().generation(), 0);
+    h.get_by_label_contains("part[0].shape.focal_length");
+    // Fixing it sends the fixed scene.
+    h.get_by_label("Focal length").set_value_accesskit(30.0);
+    h.step();
+    assert!(h.state().state.problems().is_empty());
+    assert_eq!(h.state().state.simulation().unwrap().generation(), 1);
+}
+
+#[test]
+fn save_as_and_reopen_gives_the_same_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let saved = dir.path().join("spot.toml");
+    let mut h = editor(Some(example()));
+    h.step();
+    select_reflector(&mut h);
+    h.get_by_label("Focal length").set_value_accesskit(40.0);
+    h.step();
+    h.get_by_label("Save as path").click();
+    h.step();
+    h.get_by_label("Save as path")
+        .type_text(&saved.display().to_string());
+    h.step();
+    h.get_by_label("Save as").click();
+    h.step();
+    h.step();
+    assert_eq!(h.state().state.file_error(), None);
+    assert!(!h.state().state.is_dirty());
+    let edited = h.state().state.scene().unwrap().clone();
+    assert_eq!(lucerna_scene::load_scene(&saved).unwrap(), edited);
+
+    // Reopen from the file in a fresh editor, then through the Open field.
+    let mut again = editor(Some(saved.clone()));
+    again.step();
+    again.step();
+    assert_eq!(again.state().state.scene(), Some(&edited));
+    assert!(!again.state().state.is_dirty());
+    assert_eq!(again.state().state.path(), Some(saved.as_path()));
+}
+
+#[test]
+fn ctrl_s_saves_to_the_open_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let copy = dir.path().join("spot.toml");
+    std::fs::copy(example(), &copy).unwrap();
+    let mut h = editor(Some(copy.clone()));
+    h.step();
+    select_reflector(&mut h);
+    h.get_by_label("Aperture diameter")
+        .set_value_accesskit(120.0);
+    h.step();
+    assert!(h.state().state.is_dirty());
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::S);
+    h.step();
+    h.step();
+    assert!(!h.state().state.is_dirty());
+    let on_disk = lucerna_scene::load_scene(&copy).unwrap();
+    assert_eq!(Some(&on_disk), h.state().state.scene());
+}
+
+#[test]
+fn a_broken_scene_file_shows_its_error_and_the_editor_keeps_running() {
+    let dir = tempfile::tempdir().unwrap();
+    let broken = dir.path().join("broken.toml");
+    std::fs::write(
+        &broken,
+        "format_version = 1\nname = \"broken\"\n[[part]]\nname = \"r\"\nmaterial = \"nothing\"\n\
+         shape = { type = \"paraboloid\", focal_length = -0.02, aperture_diameter = 0.1 }\n",
+    )
+    .unwrap();
+    let mut h = editor(Some(example()));
+    h.step();
+    let original = h.state().state.scene().unwrap().clone();
+    h.get_by_label("Scene file").click();
+    h.step();
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::A);
+    h.get_by_label("Scene file")
+        .type_text(&broken.display().to_string());
+    h.step();
+    h.get_by_label("Open").click();
+    h.step();
+    h.step();
+    let error = h.state().state.file_error().expect("an error").to_owned();
+    assert!(error.contains("broken.toml"), "{error}");
+    assert!(error.contains("line 6"), "{error}");
+    assert!(error.contains("focal_length"), "{error}");
+    h.get_by_label_contains("focal_length");
+    // The scene that was open stays open and simulated.
+    assert_eq!(h.state().state.scene(), Some(&original));
+    for _ in 0..5 {
+        h.step();
+    }
+    assert!(h.state().state.simulation().is_some());
+
+    // A file that is not TOML at all.
+    std::fs::write(&broken, "this is = = not toml").unwrap();
+    h.get_by_label("Open").click();
+    h.step();
+    let error = h.state().state.file_error().expect("an error").to_owned();
+    assert!(error.contains("broken.toml:1"), "{error}");
+}
+
+#[test]
+fn parts_are_added_duplicated_and_deleted_each_as_one_undo_step() {
+    let mut h = editor(Some(example()));
+    h.step();
+    h.get_by_label("Add disk").click();
+    h.step();
+    h.step();
+    let parts = |h: &Harness<'_, EditorApp>| h.state().state.scene().unwrap().parts.len();
+    assert_eq!(parts(&h), 2);
+    assert!(
+        h.state().state.problems().is_empty(),
+        "{:?}",
+        h.state().state.problems()
+    );
+    h.get_by_label("Duplicate part").click();
+    h.step();
+    h.step();
+    assert_eq!(parts(&h), 3);
+    let names: Vec<String> = h
+        .state()
+        .state
+        .scene()
+        .unwrap()
+        .parts
+        .iter()
+        .map(|p| p.name.clone())
+        .collect();
+    assert_eq!(names, ["reflector", "disk", "disk 2"]);
+    h.get_by_label("Delete part").click();
+    h.step();
+    assert_eq!(parts(&h), 2);
+    for expected in [3, 2, 1] {
+        h.get_by_label("Undo").click();
+        h.step();
+        assert_eq!(parts(&h), expected);
+    }
+}
+
+#[test]
+fn the_views_show_the_polar_diagram_and_the_cube_map() {
+    let mut h = editor(Some(example()));
+    wait_for(&mut h, "a snapshot", |_| true);
+    h.step();
+    h.get_by_label("Polar diagram");
+    h.get_by_label("Cube map").click();
+    h.step();
+    h.step();
+    h.get_by_label_contains("Log scale over 3 decades");
+    h.get_by_label_contains("Beam C0-C180");
+}
+
+#[test]
+fn opening_over_unsaved_changes_asks_first() {
+    let mut h = editor(Some(example()));
+    h.step();
+    select_reflector(&mut h);
+    h.get_by_label("Focal length").set_value_accesskit(30.0);
+    h.step();
+    h.get_by_label("Open").click();
+    h.step();
+    h.step();
+    assert!(h.state().state.pending_open().is_some());
+    h.get_by_label("Keep editing").click();
+    h.step();
+    assert!(h.state().state.pending_open().is_none());
+    assert!((focal_length(&h) - 0.03).abs() < 1e-12);
+    h.get_by_label("Open").click();
+    h.step();
+    h.step();
+    h.get_by_label("Discard changes and open").click();
+    h.step();
+    h.step();
+    assert!((focal_length(&h) - 0.025).abs() < 1e-12);
+    assert!(!h.state().state.is_dirty());
+}
+
+/// Every item of every example shows its properties with labelled fields,
+/// and merely looking at them changes nothing.
+#[test]
+fn every_item_of_every_example_can_be_inspected_without_changing_it() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/luminaires");
+    let mut examples: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    examples.sort();
+    assert!(examples.len() >= 5);
+    for path in examples {
+        let mut h = editor(Some(path.clone()));
+        h.step();
+        let scene = h.state().state.scene().expect("loads").clone();
+        let mut items: Vec<String> = scene
+            .emitters
+            .iter()
+            .map(|e| format!("Emitter {}", e.name))
+            .collect();
+        items.extend(
+            scene
+                .parts
+                .iter()
+                .map(|p| format!("Part {} ({}", p.name, p.shape.generator().kind())),
+        );
+        items.extend(scene.materials.keys().map(|m| format!("Material {m} (")));
+        for item in items {
+            h.get_by_label_contains(&item).click();
+            h.step();
+            h.step();
+        }
+        assert_eq!(h.state().state.scene(), Some(&scene), "{}", path.display());
+        assert!(!h.state().state.is_dirty(), "{}", path.display());
+    }
+}
+
+/// A whole drag of a field is one undo step, however many frames it
+/// changed the scene in.
+#[test]
+fn a_drag_is_one_undo_step() {
+    let mut h = editor(Some(example()));
+    h.step();
+    select_reflector(&mut h);
+    let start = h.get_by_label("Focal length").rect().center();
+    let button = |pos, pressed| egui::Event::PointerButton {
+        pos,
+        button: egui::PointerButton::Primary,
+        pressed,
+        modifiers: egui::Modifiers::NONE,
+    };
+    h.event(egui::Event::PointerMoved(start));
+    h.step();
+    h.event(button(start, true));
+    h.step();
+    let mut pos = start;
+    let mut seen = Vec::new();
+    for _ in 0..6 {
+        pos.x += 10.0;
+        h.event(egui::Event::PointerMoved(pos));
+        h.step();
+        seen.push(focal_length(&h));
+    }
+    h.event(button(pos, false));
+    h.step();
+    h.step();
+    let dragged = focal_length(&h);
+    assert!(dragged > 0.025 + 1e-4, "{seen:?}");
+    // The scene changed in several frames of the drag…
+    seen.dedup();
+    assert!(seen.len() > 2, "{seen:?}");
+    // …and one undo goes back to before it.
+    h.get_by_label("Undo").click();
+    h.step();
+    assert!(
+        (focal_length(&h) - 0.025).abs() < 1e-12,
+        "{}",
+        focal_length(&h)
+    );
+    h.get_by_label("Redo").click();
+    h.step();
+    assert!((focal_length(&h) - dragged).abs() < 1e-12);
+}
+
+#[test]
+fn settings_restart_the_run_and_pause_pauses_it() {
+    let mut h = editor(Some(example()));
+    wait_for(&mut h, "the first run", |s| s.generation == 0);
+    h.get_by_label("Symmetry pooling").click();
+    h.step();
+    h.step();
+    let sim = h.state().state.simulation().unwrap();
+    assert!(!sim.settings().pool_symmetry);
+    assert_eq!(sim.generation(), 1);
+    h.get_by_label("Filter (automatic)").click();
+    h.step();
+    h.step();
+    let sim = h.state().state.simulation().unwrap();
+    assert_eq!(
+        sim.settings().filter,
+        lucerna_simulation::FilterChoice::Automatic
+    );
+    assert_eq!(sim.generation(), 2);
+    wait_for(&mut h, "the filtered run", |s| s.generation == 2);
+    for (button, then) in [("Pause", "Resume"), ("Resume", "Pause")] {
+        h.get_by_label(button).hover();
+        h.step();
+        h.get_by_label(button).click();
+        h.step();
+        h.step();
+        assert!(
+            h.query_by_label(then).is_some(),
+            "{button} did not turn into {then}"
+        );
+    }
+}
