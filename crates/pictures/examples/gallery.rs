@@ -1,6 +1,6 @@
 //! Every picture this crate draws, from a sample profile and made-up data,
 //! written into one folder so a person can look at the labels:
-//! `cargo run -p lucerna-pictures --example gallery -- /tmp/gallery`.
+//! `cargo run -p lucerna-pictures --example gallery -- target/gallery`.
 
 use std::error::Error;
 use std::path::PathBuf;
@@ -12,7 +12,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let out = PathBuf::from(
         std::env::args()
             .nth(1)
-            .unwrap_or_else(|| "/tmp/gallery".to_owned()),
+            .unwrap_or_else(|| "target/gallery".to_owned()),
     );
     std::fs::create_dir_all(&out)?;
     let write = |name: &str, png: Vec<u8>| -> Result<(), Box<dyn Error>> {
