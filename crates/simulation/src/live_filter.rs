@@ -1,6 +1,8 @@
 //! The automatic filter at the pace of a live preview.
 
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
+use std::time::{Duration, Instant};
 
 use lucerna_filter::{AutomaticReport, FilterSettings, Filtered, Threshold, filter_map};
 use lucerna_photometry::{IntensityMap, TexelSymmetry};
@@ -18,18 +20,49 @@ struct Choice {
 /// choice changes slowly with the photon count. On the live path the rule
 /// is therefore chosen again only once the photons have grown by
 /// [`LiveFilter::RECHOOSE_GROWTH`], on a thread of its own from a copy of
-/// the counts; until its answer arrives each snapshot is one filter pass
+/// the counts, once the run is half a second old, one at a time in the
+/// process; until its answer arrives each snapshot is one filter pass
 /// with the last rule (before the first answer, the paper's fixed
 /// threshold of 100 photons). A final export chooses afresh, in line.
 /// Fixed thresholds pass straight through.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub struct LiveFilter {
     chosen: Option<Choice>,
     pending: Option<Receiver<Choice>>,
+    created: Instant,
+}
+
+impl Default for LiveFilter {
+    fn default() -> Self {
+        LiveFilter {
+            chosen: None,
+            pending: None,
+            created: Instant::now(),
+        }
+    }
 }
 
 /// Until cross-validation has answered: the paper's threshold.
 const FIRST_RULE: Threshold = Threshold::Fixed(100.0);
+
+/// A run this young gets no background choice: while a slider is dragged
+/// each edit restarts the run, and a second of cross-validation for a
+/// scene already replaced would only slow the next one down.
+const SETTLE_BEFORE_CHOOSING: Duration = Duration::from_millis(500);
+
+/// Background choices running in this process (at most one: a choice for
+/// a run that an edit has since replaced finishes alone, and no second
+/// starts beside it).
+static CHOICES_IN_FLIGHT: AtomicUsize = AtomicUsize::new(0);
+
+/// Frees the one background slot when its thread ends, however it ends.
+struct InFlight;
+
+impl Drop for InFlight {
+    fn drop(&mut self) {
+        CHOICES_IN_FLIGHT.store(0, Ordering::Release);
+    }
+}
 
 impl LiveFilter {
     pub const RECHOOSE_GROWTH: u64 = 2;
@@ -74,7 +107,11 @@ impl LiveFilter {
         let stale = self.chosen.is_none_or(|c| {
             photons >= c.photons.saturating_mul(Self::RECHOOSE_GROWTH) || photons < c.photons
         });
-        if stale && self.pending.is_none() && photons > 0 {
+        if stale
+            && self.pending.is_none()
+            && photons > 0
+            && self.created.elapsed() >= SETTLE_BEFORE_CHOOSING
+        {
             self.choose_in_background(map.clone(), symmetry.clone());
         }
         match self.chosen {
@@ -112,10 +149,17 @@ impl LiveFilter {
     }
 
     fn choose_in_background(&mut self, map: IntensityMap, symmetry: TexelSymmetry) {
+        if CHOICES_IN_FLIGHT
+            .compare_exchange(0, 1, Ordering::AcqRel, Ordering::Acquire)
+            .is_err()
+        {
+            return;
+        }
         let (tx, rx) = channel();
         let spawned = std::thread::Builder::new()
             .name("lucerna-filter-choice".to_owned())
             .spawn(move || {
+                let _slot = InFlight;
                 let settings = FilterSettings {
                     threshold: Threshold::Automatic,
                     ..Default::default()
@@ -135,8 +179,9 @@ impl LiveFilter {
                 });
             });
         // Without a thread the last rule simply stays.
-        if spawned.is_ok() {
-            self.pending = Some(rx);
+        match spawned {
+            Ok(_) => self.pending = Some(rx),
+            Err(_) => CHOICES_IN_FLIGHT.store(0, Ordering::Release),
         }
     }
 }
