@@ -13,6 +13,8 @@ pub mod obj;
 pub mod profile;
 pub mod shapes;
 pub mod tessellate;
+#[cfg(feature = "test-support")]
+pub mod test_support;
 pub mod validate;
 
 pub use file::{

@@ -6,54 +6,11 @@
 #![cfg(target_os = "linux")]
 
 use std::path::Path;
-use std::process::Command;
 
 use lucerna_scene::{parse_scene, tessellate};
 use lucerna_tracer::PreparedScene;
 
-/// Set in the child process that runs the inputs under the limit.
-const CHILD: &str = "LUCERNA_UNDER_ADDRESS_SPACE_LIMIT";
-const LIMIT_BYTES: u64 = 1 << 30;
-
-/// Runs test `name` of this binary again in a child process limited to
-/// [`LIMIT_BYTES`] of address space; true in that child.
-fn in_limited_child(name: &str) -> bool {
-    if std::env::var_os(CHILD).is_some() {
-        let limits = std::fs::read_to_string("/proc/self/limits").unwrap();
-        let line = limits
-            .lines()
-            .find(|l| l.starts_with("Max address space"))
-            .unwrap();
-        assert!(
-            line.contains(&LIMIT_BYTES.to_string()),
-            "not limited: {line}"
-        );
-        return true;
-    }
-    let output = Command::new("sh")
-        .arg("-c")
-        .arg(format!(
-            "ulimit -v {} && exec \"$0\" \"$@\"",
-            LIMIT_BYTES >> 10
-        ))
-        .arg(std::env::current_exe().unwrap())
-        .args([name, "--exact", "--test-threads=1", "--nocapture"])
-        .env(CHILD, "1")
-        // One malloc arena: each reserves 64 MiB of address space.
-        .env("MALLOC_ARENA_MAX", "1")
-        .env("RAYON_NUM_THREADS", "2")
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(
-        output.status.success() && stdout.contains("1 passed"),
-        "under a {} MiB address space: {}\n{stdout}\n{}",
-        LIMIT_BYTES >> 20,
-        output.status,
-        String::from_utf8_lossy(&output.stderr)
-    );
-    false
-}
+use lucerna_scene::test_support::in_address_limited_child as in_limited_child;
 
 #[test]
 fn an_endless_emission_profile_is_refused_within_1_gib() {
