@@ -99,7 +99,21 @@ pub fn trace_photon(
     max_bounces: u32,
     rng: &mut PhotonRng,
 ) -> (Fate, u32, u32) {
+    trace_photon_recorded(scene, max_bounces, rng, |_| {})
+}
+
+/// [`trace_photon`], telling `record` where the photon starts and every
+/// point where it meets a surface (absorbed there or not): the same code
+/// path, so a drawn path is exactly a traced photon.
+#[inline(always)]
+pub fn trace_photon_recorded(
+    scene: &PreparedScene,
+    max_bounces: u32,
+    rng: &mut PhotonRng,
+    mut record: impl FnMut(Vec3A),
+) -> (Fate, u32, u32) {
     let (mut origin, mut dir) = emit(scene, rng);
+    record(origin);
     // Absorption coefficient of the medium the photon travels in (1/m).
     let mut medium_absorption = 0.0f32;
     let mut rays = 0u32;
@@ -108,15 +122,19 @@ pub fn trace_photon(
         let Some(hit) = scene.bvh.intersect(origin, dir, f32::INFINITY) else {
             return (Fate::Escaped(dir), bounce, rays);
         };
+        let position = origin + dir * hit.t;
         if medium_absorption > 0.0 && rng.next_f32() >= (-medium_absorption * hit.t).exp() {
+            // Absorbed inside the medium: somewhere along this segment;
+            // the path is drawn to the surface ahead.
+            record(position);
             return (Fate::Absorbed, bounce, rays);
         }
+        record(position);
         if bounce == max_bounces {
             return (Fate::CutOff, bounce, rays);
         }
         let s = &scene.shading[hit.triangle as usize];
         let m = &scene.materials[s.material as usize];
-        let position = origin + dir * hit.t;
         let geometric = Vec3A::from_array(s.geometric_normal);
         let w = 1.0 - hit.u - hit.v;
         let shading_normal = (Vec3A::from_slice(&s.n0[..3]) * w

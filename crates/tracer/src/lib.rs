@@ -6,6 +6,7 @@
 pub mod bvh;
 pub mod cpu;
 pub mod gpu;
+pub mod paths;
 pub mod prepared;
 pub mod rng;
 pub mod sampling;
@@ -17,6 +18,7 @@ pub mod symmetry;
 pub mod wide_traversal;
 
 pub use cpu::{Fate, Tally, TraceSettings, trace_batch};
+pub use paths::{PhotonPath, sample_photon_paths};
 pub use prepared::{PrepareError, PreparedScene};
 pub use session::{Backend, BackendRequest, IterationReport, Session, choose_backend};
 pub use symmetry::{LuminaireSymmetry, luminaire_symmetry};
