@@ -4,6 +4,7 @@ use crate::files_bar::files_bar_ui;
 use crate::scene_panel::scene_panel_ui;
 use crate::simulation_panel::simulation_panel_ui;
 use crate::state::EditorState;
+use crate::viewport::{GpuTarget, Viewport, viewport_ui};
 use crate::views::{CubeTexture, views_ui};
 
 /// The editor: its state and the textures only drawing needs.
@@ -11,14 +12,40 @@ use crate::views::{CubeTexture, views_ui};
 pub struct EditorApp {
     pub state: EditorState,
     cube: CubeTexture,
+    viewport: Viewport,
 }
 
 impl EditorApp {
+    /// An editor whose 3D view draws nothing (no wgpu renderer known).
     pub fn new(state: EditorState) -> Self {
+        Self::with_gpu_target(state, None)
+    }
+
+    /// An editor drawing its 3D view for egui's wgpu pass of `target`.
+    pub fn with_gpu_target(state: EditorState, target: Option<GpuTarget>) -> Self {
         EditorApp {
             state,
             cube: CubeTexture::default(),
+            viewport: Viewport::new(target),
         }
+    }
+
+    /// An editor for eframe's creation context: its wgpu target, if any.
+    pub fn from_creation(cc: &eframe::CreationContext<'_>, state: EditorState) -> Self {
+        let target = cc.wgpu_render_state.as_ref().map(|rs| GpuTarget {
+            format: rs.target_format,
+            // eframe's egui pass is not multisampled unless asked.
+            samples: 1,
+        });
+        Self::with_gpu_target(state, target)
+    }
+
+    pub fn viewport(&self) -> &Viewport {
+        &self.viewport
+    }
+
+    pub fn viewport_mut(&mut self) -> &mut Viewport {
+        &mut self.viewport
     }
 
     /// One frame of the whole editor; the eframe app and the tests both
@@ -41,7 +68,18 @@ impl EditorApp {
                 egui::ScrollArea::vertical()
                     .show(ui, |ui| simulation_panel_ui(ui, &mut self.state));
             });
-        egui::CentralPanel::default().show(ui, |ui| views_ui(ui, &mut self.state, &mut self.cube));
+        egui::CentralPanel::default().show(ui, |ui| {
+            // The photometric views beside the 3D view: an edit shows in
+            // both at once.
+            let half = 0.5 * ui.available_width();
+            egui::Panel::right("photometry")
+                .resizable(true)
+                .default_size(half)
+                .size_range(200.0..=(ui.available_width() - 200.0).max(200.0))
+                .show(ui, |ui| views_ui(ui, &mut self.state, &mut self.cube));
+            egui::CentralPanel::default()
+                .show(ui, |ui| viewport_ui(ui, &mut self.state, &mut self.viewport));
+        });
         self.state.end_frame(&ctx, before);
     }
 }

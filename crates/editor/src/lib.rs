@@ -6,10 +6,12 @@
 //! everything else as [`Command`]s, applied once per frame.
 
 mod app;
+mod colour;
 mod files_bar;
 mod scene_panel;
 mod simulation_panel;
 mod state;
+mod viewport;
 mod views;
 mod widgets;
 
@@ -17,6 +19,7 @@ use std::path::PathBuf;
 
 pub use app::EditorApp;
 pub use state::{Command, EditorState, NewPart, Selection, View};
+pub use viewport::{Bounds, CubeShown, GpuTarget, OrbitCamera, StandardView, Viewport, pick};
 
 /// Why the editor could not run.
 #[derive(Debug, thiserror::Error)]
@@ -51,7 +54,7 @@ pub fn run(scene: Option<PathBuf>) -> Result<(), RunEditorError> {
     eframe::run_native(
         "Lucerna editor",
         options,
-        Box::new(move |_creation| Ok(Box::new(EditorApp::new(state)))),
+        Box::new(move |cc| Ok(Box::new(EditorApp::from_creation(cc, state)))),
     )
     .map_err(RunEditorError::Window)
 }

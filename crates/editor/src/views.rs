@@ -8,6 +8,7 @@ use egui_plot::{Line, Plot, PlotPoint, PlotPoints, Text};
 use lucerna_photometry::{CandelaTable, CubeFace, CubeMapLayout};
 use lucerna_simulation::Snapshot;
 
+use crate::colour::{DECADES, false_colour, legend_ui, log_scale};
 use crate::state::{EditorState, View};
 
 /// Face positions in the cross (column, row), each face in its own (u, v)
@@ -21,10 +22,6 @@ const CROSS: [(CubeFace, usize, usize, &str); 6] = [
     (CubeFace::NegZ, 3, 1, "−Z nadir"),
     (CubeFace::NegY, 1, 2, "−Y"),
 ];
-
-/// Decades below the peak the colour scale spans: stray light a thousand
-/// times dimmer than the beam still shows.
-const DECADES: f64 = 3.0;
 
 /// The cube-map texture of one snapshot, rebuilt when a new one arrives.
 #[derive(Default)]
@@ -104,37 +101,6 @@ pub fn polar_ui(ui: &mut Ui, table: &CandelaTable) {
         });
 }
 
-/// Position of `v` on the logarithmic colour scale of a map peaking at
-/// `peak`, in [0, 1].
-fn log_scale(v: f64, peak: f64) -> f32 {
-    if v <= 0.0 || peak <= 0.0 {
-        0.0
-    } else {
-        ((v / peak).log10() / DECADES + 1.0).clamp(0.0, 1.0) as f32
-    }
-}
-
-/// A perceptually ordered false colour (black, blue, magenta, orange,
-/// yellow, white) for t in [0, 1].
-fn false_colour(t: f32) -> Color32 {
-    const STOPS: [[f32; 3]; 6] = [
-        [0.0, 0.0, 0.0],
-        [0.1, 0.1, 0.6],
-        [0.7, 0.1, 0.6],
-        [0.95, 0.4, 0.1],
-        [1.0, 0.85, 0.2],
-        [1.0, 1.0, 1.0],
-    ];
-    let x = t.clamp(0.0, 1.0) * (STOPS.len() - 1) as f32;
-    let i = (x as usize).min(STOPS.len() - 2);
-    let f = x - i as f32;
-    let [r, g, b] = [0, 1, 2].map(|k| {
-        let v = STOPS[i][k] + f * (STOPS[i + 1][k] - STOPS[i][k]);
-        (v * 255.0).round() as u8
-    });
-    Color32::from_rgb(r, g, b)
-}
-
 /// The unwrapped cross as an image of 4N × 3N texels (black off the cross).
 fn cross_image(layout: CubeMapLayout, candela: &[f64]) -> ColorImage {
     let n = layout.resolution as usize;
@@ -151,19 +117,6 @@ fn cross_image(layout: CubeMapLayout, candela: &[f64]) -> ColorImage {
         }
     }
     image
-}
-
-/// One swatch per decade below the peak, labelled in cd.
-fn legend_ui(ui: &mut Ui, peak: f64) {
-    ui.horizontal(|ui| {
-        for k in (0..=DECADES as i32).rev() {
-            let v = peak / 10f64.powi(k);
-            let (rect, _) = ui.allocate_exact_size(egui::vec2(14.0, 14.0), egui::Sense::hover());
-            ui.painter()
-                .rect_filled(rect, 2.0, false_colour(log_scale(v, peak)));
-            ui.label(format!("{v:.0} cd"));
-        }
-    });
 }
 
 /// The face and texel under cross position (x, y) in texels, if on the cross.

@@ -1,0 +1,332 @@
+//! What the viewport draws, as vertex data: the luminaire's surfaces with
+//! a look per material, the intensity cube, photon paths and axes. Pure
+//! data, so it is tested without a GPU.
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+use lucerna_photometry::{CubeFace, CubeMapLayout};
+use lucerna_scene::{Material, SurfaceKind, TessellatedScene};
+use lucerna_tracer::{Fate, PhotonPath};
+
+use crate::colour::{false_colour, log_scale};
+
+/// Shading looks (the shader's `LOOK_*`).
+pub const LOOK_DIFFUSE: u32 = 0;
+pub const LOOK_METAL: u32 = 1;
+pub const LOOK_GLASS: u32 = 2;
+pub const LOOK_EMITTER: u32 = 3;
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable, PartialEq)]
+pub struct MeshVertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    /// Linear RGBA.
+    pub colour: [f32; 4],
+    pub look: u32,
+    /// Index into [`TessellatedScene::surfaces`], for the highlight.
+    pub surface: u32,
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable, PartialEq)]
+pub struct CubeVertex {
+    /// Corner on the unit cube.
+    pub corner: [f32; 3],
+    pub outward: [f32; 3],
+    pub uv: [f32; 2],
+    pub layer: u32,
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable, PartialEq)]
+pub struct LineVertex {
+    pub position: [f32; 3],
+    /// Linear RGBA.
+    pub colour: [f32; 4],
+}
+
+/// Colour (linear) and look of a material: paint is grey by its albedo,
+/// metal silvery, plastics pale blue or milky.
+pub fn material_look(m: &Material) -> ([f32; 4], u32) {
+    match *m {
+        Material::Absorber => ([0.03, 0.03, 0.03, 1.0], LOOK_DIFFUSE),
+        Material::Lambertian { albedo } => {
+            let a = albedo.clamp(0.02, 1.0) as f32;
+            ([a, a * 0.98, a * 0.94, 1.0], LOOK_DIFFUSE)
+        }
+        Material::Mirror { reflectance } => {
+            let r = reflectance.clamp(0.05, 1.0) as f32;
+            ([0.85 * r, 0.88 * r, 0.93 * r, 1.0], LOOK_METAL)
+        }
+        Material::RoughConductor { reflectance, .. } => {
+            let r = reflectance.clamp(0.05, 1.0) as f32;
+            ([0.6 * r, 0.62 * r, 0.66 * r, 1.0], LOOK_METAL)
+        }
+        Material::Dielectric { .. } => ([0.35, 0.62, 0.75, 1.0], LOOK_GLASS),
+        Material::Diffuser { .. } => ([0.8, 0.8, 0.76, 1.0], LOOK_GLASS),
+    }
+}
+
+/// The warm yellow of an emitter's surface.
+const EMITTER_COLOUR: [f32; 4] = [1.0, 0.78, 0.2, 1.0];
+
+/// Three vertices per triangle (smooth normals, flat material and surface).
+pub fn luminaire_vertices(t: &TessellatedScene) -> Vec<MeshVertex> {
+    let mesh = &t.mesh;
+    let mut vertices = Vec::with_capacity(3 * mesh.triangles.len());
+    for (s, surface) in t.surfaces.iter().enumerate() {
+        for tri in surface.triangles.clone() {
+            let Some(corners) = mesh.triangles.get(tri) else {
+                continue;
+            };
+            let (colour, look) = match surface.kind {
+                SurfaceKind::Emitter => (EMITTER_COLOUR, LOOK_EMITTER),
+                SurfaceKind::Part => t
+                    .triangle_material
+                    .get(tri)
+                    .and_then(|&m| t.materials.get(m as usize))
+                    .map_or(([0.5; 4], LOOK_DIFFUSE), |(_, m)| material_look(m)),
+            };
+            for &i in corners {
+                let i = i as usize;
+                vertices.push(MeshVertex {
+                    position: mesh.positions[i].to_array(),
+                    normal: mesh.normals.get(i).copied().unwrap_or(Vec3::Z).to_array(),
+                    colour,
+                    look,
+                    surface: s as u32,
+                });
+            }
+        }
+    }
+    vertices
+}
+
+/// The surface (index into `surfaces`) a triangle belongs to.
+pub fn surface_of_triangle(t: &TessellatedScene, triangle: usize) -> Option<usize> {
+    t.surfaces
+        .iter()
+        .position(|s| s.triangles.contains(&triangle))
+}
+
+/// The faces in the layout's order, so a face's layer is its texel block.
+const FACES: [CubeFace; 6] = [
+    CubeFace::PosX,
+    CubeFace::NegX,
+    CubeFace::PosY,
+    CubeFace::NegY,
+    CubeFace::PosZ,
+    CubeFace::NegZ,
+];
+
+/// Two triangles per face of the unit cube, with face coordinates: texel
+/// (column i, row j) of a face sits at uv ((i + ½)/n, (j + ½)/n).
+pub fn cube_vertices() -> Vec<CubeVertex> {
+    let mut vertices = Vec::with_capacity(36);
+    for face in FACES {
+        let layer = face as u32;
+        let outward = face.direction(0.0, 0.0).map(|v| v as f32);
+        let corner = |a: f64, b: f64| CubeVertex {
+            corner: face.direction(a, b).map(|v| v as f32),
+            outward,
+            uv: [(0.5 * (a + 1.0)) as f32, (0.5 * (b + 1.0)) as f32],
+            layer,
+        };
+        let quad = [
+            corner(-1.0, -1.0),
+            corner(1.0, -1.0),
+            corner(1.0, 1.0),
+            corner(-1.0, 1.0),
+        ];
+        vertices.extend([quad[0], quad[1], quad[2], quad[0], quad[2], quad[3]]);
+    }
+    vertices
+}
+
+/// The cube where no photon went.
+const NO_LIGHT: egui::Color32 = egui::Color32::from_rgb(38, 40, 46);
+
+/// RGBA8 (sRGB) texels of the six layers in the layout's texel order: the
+/// cube-map view's log false colour over its decades below `peak`.
+pub fn cube_texels(layout: CubeMapLayout, candela: &[f64], peak: f64) -> Vec<u8> {
+    let mut texels = Vec::with_capacity(4 * layout.texel_count());
+    for t in 0..layout.texel_count() {
+        let v = candela.get(t).copied().unwrap_or(0.0);
+        // Directions no light reaches stay a dark grey, so the cube reads
+        // as a box and not as the background.
+        let c = if v > 0.0 {
+            false_colour(log_scale(v, peak))
+        } else {
+            NO_LIGHT
+        };
+        texels.extend_from_slice(&[c.r(), c.g(), c.b(), 255]);
+    }
+    texels
+}
+
+/// A path's colour by the bounces it took: direct light yellow, then
+/// green, cyan, magenta, red for four and more: a stray reflection
+/// stands out by its colour.
+pub fn bounce_colour(bounces: u32) -> egui::Color32 {
+    match bounces {
+        0 => egui::Color32::from_rgb(255, 220, 40),
+        1 => egui::Color32::from_rgb(60, 220, 80),
+        2 => egui::Color32::from_rgb(40, 200, 240),
+        3 => egui::Color32::from_rgb(230, 60, 230),
+        _ => egui::Color32::from_rgb(240, 50, 40),
+    }
+}
+
+fn linear(c: egui::Color32) -> [f32; 4] {
+    egui::Rgba::from(c).to_array()
+}
+
+/// Distance along `d` from `p` (inside) to the box of half edge `half`
+/// about `centre`.
+fn exit_distance(p: Vec3, d: Vec3, centre: Vec3, half: f32) -> f32 {
+    (0..3)
+        .filter(|&k| d[k].abs() > 1e-9)
+        .map(|k| ((centre[k] + half * d[k].signum()) - p[k]) / d[k])
+        .fold(f32::INFINITY, f32::min)
+        .max(0.0)
+}
+
+/// Line segments of the escaped paths (the ones that make the
+/// distribution), each drawn out to the box of half edge `reach` about
+/// `centre`.
+pub fn path_lines(paths: &[PhotonPath], centre: Vec3, reach: f32) -> Vec<LineVertex> {
+    let mut lines = Vec::new();
+    for p in paths {
+        let Fate::Escaped(d) = p.fate else { continue };
+        let colour = linear(bounce_colour(p.bounces));
+        let mut push = |a: Vec3, b: Vec3| {
+            lines.push(LineVertex {
+                position: a.to_array(),
+                colour,
+            });
+            lines.push(LineVertex {
+                position: b.to_array(),
+                colour,
+            });
+        };
+        for w in p.points.windows(2) {
+            push(w[0], w[1]);
+        }
+        if let Some(&last) = p.points.last() {
+            let d = Vec3::from(d);
+            push(last, last + d * exit_distance(last, d, centre, reach));
+        }
+    }
+    lines
+}
+
+/// The twelve edges of the cube of half edge `half` about `centre`.
+pub fn cube_edges(centre: Vec3, half: f32) -> Vec<LineVertex> {
+    let colour = linear(egui::Color32::from_gray(110));
+    let corner = |i: usize| {
+        centre
+            + half
+                * Vec3::new(
+                    if i & 1 == 0 { -1.0 } else { 1.0 },
+                    if i & 2 == 0 { -1.0 } else { 1.0 },
+                    if i & 4 == 0 { -1.0 } else { 1.0 },
+                )
+    };
+    let mut lines = Vec::with_capacity(24);
+    for i in 0..8 {
+        for bit in [1, 2, 4] {
+            if i & bit == 0 {
+                for p in [corner(i), corner(i | bit)] {
+                    lines.push(LineVertex {
+                        position: p.to_array(),
+                        colour,
+                    });
+                }
+            }
+        }
+    }
+    lines
+}
+
+/// The luminaire's axes from its origin: x (C0) red, y (C90) green, z (up)
+/// blue, `length` long.
+pub fn axis_lines(length: f32) -> Vec<LineVertex> {
+    [
+        (Vec3::X, egui::Color32::from_rgb(230, 60, 60)),
+        (Vec3::Y, egui::Color32::from_rgb(70, 200, 70)),
+        (Vec3::Z, egui::Color32::from_rgb(70, 120, 240)),
+    ]
+    .into_iter()
+    .flat_map(|(axis, c)| {
+        let colour = linear(c);
+        [
+            LineVertex {
+                position: [0.0; 3],
+                colour,
+            },
+            LineVertex {
+                position: (axis * length).to_array(),
+                colour,
+            },
+        ]
+    })
+    .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    #[test]
+    fn cube_texels_sit_where_their_directions_point() {
+        let layout = CubeMapLayout::new(4);
+        let n = layout.resolution;
+        let vertices = cube_vertices();
+        for (k, face) in FACES.into_iter().enumerate() {
+            // A face's layer is its block of texels in the layout.
+            assert_eq!(layout.texel_index(face, 0, 0), k * (n * n) as usize);
+            let quad: Vec<&CubeVertex> = vertices.iter().filter(|v| v.layer == k as u32).collect();
+            assert_eq!(quad.len(), 6);
+            // Corners interpolate face coordinates linearly in uv.
+            for v in quad {
+                let (a, b) = (2.0 * v.uv[0] as f64 - 1.0, 2.0 * v.uv[1] as f64 - 1.0);
+                assert_eq!(v.corner, face.direction(a, b).map(|x| x as f32));
+            }
+            // The texture's texel at (column i, row j) of the layer shows
+            // the direction the layout counts in texel (face, i, j).
+            for j in 0..n {
+                for i in 0..n {
+                    let uv = [(f64::from(i) + 0.5) / f64::from(n), (f64::from(j) + 0.5) / f64::from(n)];
+                    let d = face.direction(2.0 * uv[0] - 1.0, 2.0 * uv[1] - 1.0);
+                    let texel = k * (n * n) as usize + (j * n + i) as usize;
+                    assert_eq!(layout.texel_of_direction(d), texel, "{face:?} {i} {j}");
+                }
+            }
+        }
+        let texels = cube_texels(layout, &vec![1.0; layout.texel_count()], 1.0);
+        assert_eq!(texels.len(), 4 * layout.texel_count());
+    }
+
+    #[test]
+    fn an_escaped_path_is_drawn_to_the_box() {
+        let path = PhotonPath {
+            points: vec![Vec3::ZERO, Vec3::new(0.0, 0.0, 0.01)],
+            fate: Fate::Escaped(glam::Vec3A::new(0.0, 0.6, -0.8)),
+            bounces: 1,
+        };
+        let lines = path_lines(&[path], Vec3::ZERO, 0.2);
+        assert_eq!(lines.len(), 4);
+        let end = Vec3::from(lines[3].position);
+        // Leaves through the bottom face (z = −0.2).
+        assert!((end.z + 0.2).abs() < 1e-5, "{end}");
+        assert_eq!(lines[0].colour, linear(bounce_colour(1)));
+        let absorbed = PhotonPath {
+            points: vec![Vec3::ZERO, Vec3::X],
+            fate: Fate::Absorbed,
+            bounces: 0,
+        };
+        assert!(path_lines(&[absorbed], Vec3::ZERO, 1.0).is_empty());
+    }
+}
