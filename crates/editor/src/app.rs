@@ -77,8 +77,9 @@ impl EditorApp {
                 .default_size(half)
                 .size_range(200.0..=(ui.available_width() - 200.0).max(200.0))
                 .show(ui, |ui| views_ui(ui, &mut self.state, &mut self.cube));
-            egui::CentralPanel::default()
-                .show(ui, |ui| viewport_ui(ui, &mut self.state, &mut self.viewport));
+            egui::CentralPanel::default().show(ui, |ui| {
+                viewport_ui(ui, &mut self.state, &mut self.viewport)
+            });
         });
         self.state.end_frame(&ctx, before);
     }

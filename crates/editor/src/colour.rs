@@ -38,7 +38,6 @@ pub fn false_colour(t: f32) -> Color32 {
     Color32::from_rgb(r, g, b)
 }
 
-
 /// One swatch per decade below the peak, labelled in cd.
 pub fn legend_ui(ui: &mut Ui, peak: f64) {
     ui.horizontal(|ui| {
@@ -51,4 +50,3 @@ pub fn legend_ui(ui: &mut Ui, peak: f64) {
         }
     });
 }
-

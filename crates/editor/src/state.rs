@@ -159,6 +159,11 @@ impl EditorState {
         self.pending_open.as_deref()
     }
 
+    /// What the scene panel edits and the 3D view highlights.
+    pub fn selection(&self) -> Option<&Selection> {
+        self.selection.as_ref()
+    }
+
     pub fn file_error(&self) -> Option<&str> {
         self.file_error.as_deref()
     }

@@ -20,12 +20,10 @@ pub struct Bounds {
 impl Bounds {
     /// The sphere about the box of `points`; a unit-ish default for none.
     pub fn of_points(points: &[Vec3]) -> Bounds {
-        let (lo, hi) = points
-            .iter()
-            .filter(|p| p.is_finite())
-            .fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(lo, hi), p| {
-                (lo.min(*p), hi.max(*p))
-            });
+        let (lo, hi) = points.iter().filter(|p| p.is_finite()).fold(
+            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
         if lo.x > hi.x {
             return Bounds {
                 centre: Vec3::ZERO,
@@ -127,8 +125,12 @@ impl OrbitCamera {
         let far = reach + 2.0 * bounds.radius;
         let near = (reach - 2.0 * bounds.radius).max(far * 1e-4);
         // wgpu's clip space: depth 0..1, y up (Direct3D's convention).
-        glam::camera::rh::proj::directx::perspective(FIELD_OF_VIEW_Y_RAD, aspect.max(1e-3), near, far)
-            * self.view()
+        glam::camera::rh::proj::directx::perspective(
+            FIELD_OF_VIEW_Y_RAD,
+            aspect.max(1e-3),
+            near,
+            far,
+        ) * self.view()
     }
 
     pub fn look_from(&mut self, view: StandardView) {
@@ -163,8 +165,7 @@ impl OrbitCamera {
     /// Dollies in (positive `scroll`) or out, never through the target.
     pub fn zoom(&mut self, scroll: f32, bounds: Bounds) {
         let factor = (-scroll * 0.003).exp().clamp(0.5, 2.0);
-        self.distance =
-            (self.distance * factor).clamp(0.02 * bounds.radius, 200.0 * bounds.radius);
+        self.distance = (self.distance * factor).clamp(0.02 * bounds.radius, 200.0 * bounds.radius);
     }
 
     /// The ray through a point of the view, `ndc` in [−1, 1]² (y up):
@@ -205,13 +206,19 @@ mod tests {
     fn standard_views_put_the_axes_where_datasheets_do() {
         // Front: +x to the right, +z up.
         let c = framed(StandardView::Front);
-        let right = c.project(BOUNDS.centre + Vec3::X * 0.05, 1.0, BOUNDS).unwrap();
-        let up = c.project(BOUNDS.centre + Vec3::Z * 0.05, 1.0, BOUNDS).unwrap();
+        let right = c
+            .project(BOUNDS.centre + Vec3::X * 0.05, 1.0, BOUNDS)
+            .unwrap();
+        let up = c
+            .project(BOUNDS.centre + Vec3::Z * 0.05, 1.0, BOUNDS)
+            .unwrap();
         assert!(right.x > 0.1 && right.y.abs() < 1e-4, "{right}");
         assert!(up.y > 0.1 && up.x.abs() < 1e-4, "{up}");
         // Side: +y to the right.
         let c = framed(StandardView::Side);
-        let right = c.project(BOUNDS.centre + Vec3::Y * 0.05, 1.0, BOUNDS).unwrap();
+        let right = c
+            .project(BOUNDS.centre + Vec3::Y * 0.05, 1.0, BOUNDS)
+            .unwrap();
         assert!(right.x > 0.1 && right.y.abs() < 1e-4, "{right}");
         // Below: the eye is under the luminaire, looking up.
         let c = framed(StandardView::Below);

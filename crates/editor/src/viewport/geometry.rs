@@ -298,7 +298,10 @@ mod tests {
             // the direction the layout counts in texel (face, i, j).
             for j in 0..n {
                 for i in 0..n {
-                    let uv = [(f64::from(i) + 0.5) / f64::from(n), (f64::from(j) + 0.5) / f64::from(n)];
+                    let uv = [
+                        (f64::from(i) + 0.5) / f64::from(n),
+                        (f64::from(j) + 0.5) / f64::from(n),
+                    ];
                     let d = face.direction(2.0 * uv[0] - 1.0, 2.0 * uv[1] - 1.0);
                     let texel = k * (n * n) as usize + (j * n + i) as usize;
                     assert_eq!(layout.texel_of_direction(d), texel, "{face:?} {i} {j}");

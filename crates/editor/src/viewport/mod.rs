@@ -147,7 +147,12 @@ impl Viewport {
     }
 
     /// The escaped photons of the run's first iteration, traced again.
-    fn paths_of(&mut self, luminaire: &Arc<Luminaire>, seed: u32, bounces: u32) -> Arc<Vec<PhotonPath>> {
+    fn paths_of(
+        &mut self,
+        luminaire: &Arc<Luminaire>,
+        seed: u32,
+        bounces: u32,
+    ) -> Arc<Vec<PhotonPath>> {
         if let Some((l, paths)) = &self.paths
             && Arc::ptr_eq(l, luminaire)
         {
@@ -286,9 +291,7 @@ pub fn viewport_ui(ui: &mut Ui, state: &mut EditorState, vp: &mut Viewport) {
     let (rect, response) = ui.allocate_exact_size(size, Sense::click_and_drag());
     let aspect = rect.width() / rect.height().max(1.0);
     vp.aspect = aspect;
-    response.widget_info(|| {
-        egui::WidgetInfo::labeled(egui::Role::Canvas, true, "3D view")
-    });
+    response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "3D view"));
     let (Some(snapshot), Some(luminaire), Some((mesh, bounds))) = (snapshot, luminaire, mesh)
     else {
         ui.painter().text(
@@ -302,7 +305,10 @@ pub fn viewport_ui(ui: &mut Ui, state: &mut EditorState, vp: &mut Viewport) {
     };
     // A new document is framed once; edits keep the camera where it is.
     if snapshot.generation == 0
-        && !vp.framed.as_ref().is_some_and(|f| Arc::ptr_eq(f, &luminaire))
+        && !vp
+            .framed
+            .as_ref()
+            .is_some_and(|f| Arc::ptr_eq(f, &luminaire))
         || vp.framed.is_none()
     {
         vp.camera.frame(bounds, aspect);
@@ -314,7 +320,16 @@ pub fn viewport_ui(ui: &mut Ui, state: &mut EditorState, vp: &mut Viewport) {
         centre: bounds.centre,
         radius: reach * 3f32.sqrt(),
     };
-    interact(ui, &response, rect, vp, &luminaire, bounds, depth_bounds, state);
+    interact(
+        ui,
+        &response,
+        rect,
+        vp,
+        &luminaire,
+        bounds,
+        depth_bounds,
+        state,
+    );
 
     let cube = vp.cube_of(&snapshot);
     let paths = vp
@@ -359,7 +374,15 @@ pub fn viewport_ui(ui: &mut Ui, state: &mut EditorState, vp: &mut Viewport) {
             );
         }
     }
-    overlay_ui(ui, rect, vp, cube.map(|(_, peak)| peak), paths.as_deref(), bounds, depth_bounds);
+    overlay_ui(
+        ui,
+        rect,
+        vp,
+        cube.map(|(_, peak)| peak),
+        paths.as_deref(),
+        bounds,
+        depth_bounds,
+    );
 }
 
 #[allow(clippy::too_many_arguments)]

@@ -170,7 +170,10 @@ fn upload<T: Pod>(
     source: &Arc<Vec<T>>,
     label: &str,
 ) {
-    if slot.as_ref().is_some_and(|u| Arc::ptr_eq(&u.source, source)) {
+    if slot
+        .as_ref()
+        .is_some_and(|u| Arc::ptr_eq(&u.source, source))
+    {
         return;
     }
     let buffer = (!source.is_empty()).then(|| {
@@ -309,8 +312,7 @@ impl Resources {
                 cache: None,
             })
         };
-        let mesh_attributes =
-            wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Uint32, 4 => Uint32];
+        let mesh_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Uint32, 4 => Uint32];
         let cube_attributes =
             wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Uint32];
         let line_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x4];
@@ -627,7 +629,9 @@ mod tests {
             (
                 "viewport.wgsl",
                 include_str!("viewport.wgsl"),
-                &["vs_mesh", "fs_mesh", "vs_cube", "fs_cube", "vs_line", "fs_line"][..],
+                &[
+                    "vs_mesh", "fs_mesh", "vs_cube", "fs_cube", "vs_line", "fs_line",
+                ][..],
             ),
             (
                 "blit.wgsl",
