@@ -34,6 +34,25 @@ pub enum RunEditorError {
     Window(#[source] eframe::Error),
 }
 
+/// eframe's wgpu setup, asking for the adapter's own limits: on GL (all a
+/// machine without Vulkan has) egui's default is WebGL2's, with no storage
+/// buffers and 2048-texel textures.
+fn wgpu_configuration() -> eframe::egui_wgpu::WgpuConfiguration {
+    use eframe::egui_wgpu::{WgpuSetup, WgpuSetupCreateNew};
+    use eframe::wgpu;
+    let mut setup = WgpuSetupCreateNew::without_display_handle();
+    setup.device_descriptor =
+        std::sync::Arc::new(|adapter: &wgpu::Adapter| wgpu::DeviceDescriptor {
+            label: Some("Lucerna editor"),
+            required_limits: adapter.limits(),
+            ..wgpu::DeviceDescriptor::default()
+        });
+    eframe::egui_wgpu::WgpuConfiguration {
+        wgpu_setup: WgpuSetup::CreateNew(setup),
+        ..eframe::egui_wgpu::WgpuConfiguration::default()
+    }
+}
+
 /// Opens the editor's window on `scene` (or none) and runs until it closes.
 pub fn run(scene: Option<PathBuf>) -> Result<(), RunEditorError> {
     if std::env::var_os("DISPLAY").is_none() && std::env::var_os("WAYLAND_DISPLAY").is_none() {
@@ -44,6 +63,7 @@ pub fn run(scene: Option<PathBuf>) -> Result<(), RunEditorError> {
             .with_inner_size([1366.0, 768.0])
             .with_min_inner_size([800.0, 500.0])
             .with_title("Lucerna editor"),
+        wgpu_options: wgpu_configuration(),
         ..eframe::NativeOptions::default()
     };
     let settings = lucerna_simulation::SimulationSettings {

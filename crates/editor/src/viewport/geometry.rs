@@ -147,10 +147,18 @@ pub fn cube_vertices() -> Vec<CubeVertex> {
 /// The cube where no photon went.
 const NO_LIGHT: egui::Color32 = egui::Color32::from_rgb(38, 40, 46);
 
-/// RGBA8 (sRGB) texels of the six layers in the layout's texel order: the
+/// Faces across and down the cube texture: a 3 × 2 atlas rather than a
+/// six-layer array, which wgpu's GL backend would take for a cube map.
+pub const ATLAS_COLUMNS: usize = 3;
+pub const ATLAS_ROWS: usize = 2;
+
+/// RGBA8 (sRGB) texels of the cube atlas (3n × 2n): face k at column
+/// k mod 3, row k / 3, each in its (column, row) texel order; the
 /// cube-map view's log false colour over its decades below `peak`.
 pub fn cube_texels(layout: CubeMapLayout, candela: &[f64], peak: f64) -> Vec<u8> {
-    let mut texels = Vec::with_capacity(4 * layout.texel_count());
+    let n = layout.resolution as usize;
+    let width = ATLAS_COLUMNS * n;
+    let mut texels = vec![0u8; 4 * width * ATLAS_ROWS * n];
     for t in 0..layout.texel_count() {
         let v = candela.get(t).copied().unwrap_or(0.0);
         // Directions no light reaches stay a dark grey, so the cube reads
@@ -160,7 +168,12 @@ pub fn cube_texels(layout: CubeMapLayout, candela: &[f64], peak: f64) -> Vec<u8>
         } else {
             NO_LIGHT
         };
-        texels.extend_from_slice(&[c.r(), c.g(), c.b(), 255]);
+        let (face, rest) = (t / (n * n), t % (n * n));
+        let (row, column) = (rest / n, rest % n);
+        let x = (face % ATLAS_COLUMNS) * n + column;
+        let y = (face / ATLAS_COLUMNS) * n + row;
+        let at = 4 * (y * width + x);
+        texels[at..at + 4].copy_from_slice(&[c.r(), c.g(), c.b(), 255]);
     }
     texels
 }
@@ -308,8 +321,25 @@ mod tests {
                 }
             }
         }
-        let texels = cube_texels(layout, &vec![1.0; layout.texel_count()], 1.0);
+        // In the atlas, texel t sits at its face's cell: one bright texel
+        // per face lands where the shader's atlas coordinates look.
+        let mut candela = vec![0.0; layout.texel_count()];
+        for face in FACES {
+            candela[layout.texel_index(face, 1, 2)] = 1.0;
+        }
+        let texels = cube_texels(layout, &candela, 1.0);
+        let width = ATLAS_COLUMNS * n as usize;
         assert_eq!(texels.len(), 4 * layout.texel_count());
+        let bright: Vec<(usize, usize)> = (0..texels.len() / 4)
+            .filter(|&p| texels[4 * p..4 * p + 3] != [38, 40, 46])
+            .map(|p| (p % width, p / width))
+            .collect();
+        let expected: Vec<(usize, usize)> = (0..6)
+            .map(|k| ((k % 3) * n as usize + 1, (k / 3) * n as usize + 2))
+            .collect();
+        let mut sorted = expected.clone();
+        sorted.sort_by_key(|&(x, y)| (y, x));
+        assert_eq!(bright, sorted);
     }
 
     #[test]

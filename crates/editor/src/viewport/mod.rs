@@ -503,6 +503,16 @@ fn overlay_ui(
                     rect.left() + 0.5 * (ndc.x + 1.0) * rect.width(),
                     rect.top() + 0.5 * (1.0 - ndc.y) * rect.height(),
                 );
+                // A dark halo keeps the name readable over a white part.
+                for offset in [egui::vec2(1.0, 1.0), egui::vec2(-1.0, -1.0)] {
+                    painter.text(
+                        at + offset,
+                        egui::Align2::CENTER_CENTER,
+                        name,
+                        font.clone(),
+                        Color32::from_black_alpha(200),
+                    );
+                }
                 painter.text(at, egui::Align2::CENTER_CENTER, name, font.clone(), text);
             }
         }

@@ -10,7 +10,9 @@ use eframe::egui_wgpu::{self, CallbackResources, CallbackTrait, ScreenDescriptor
 use eframe::wgpu;
 use wgpu::util::DeviceExt;
 
-use super::geometry::{CubeVertex, LineVertex, MeshVertex, cube_vertices};
+use super::geometry::{
+    ATLAS_COLUMNS, ATLAS_ROWS, CubeVertex, LineVertex, MeshVertex, cube_vertices,
+};
 
 /// The format and sample count of egui's pass, which the blit must match.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -36,7 +38,7 @@ pub struct Uniforms {
     pub _pad: [u32; 3],
 }
 
-/// The cube's false-colour texels (RGBA8 sRGB, six layers of n²).
+/// The cube's false-colour texels (RGBA8 sRGB, the 3n × 2n atlas).
 #[derive(Debug, Clone)]
 pub struct CubeTexels {
     pub resolution: u32,
@@ -248,7 +250,7 @@ impl Resources {
                 ],
             })
         };
-        let cube_layout = texture_layout("viewport cube", wgpu::TextureViewDimension::D2Array);
+        let cube_layout = texture_layout("viewport cube", wgpu::TextureViewDimension::D2);
         let blit_layout = texture_layout("viewport picture", wgpu::TextureViewDimension::D2);
         let layout = |label: &str, groups: &[Option<&wgpu::BindGroupLayout>]| {
             device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -504,14 +506,17 @@ impl Resources {
             return;
         }
         let n = cube.resolution.max(1);
-        if cube.texels.len() != 4 * 6 * (n as usize).pow(2) {
+        let (width, height) = (ATLAS_COLUMNS as u32 * n, ATLAS_ROWS as u32 * n);
+        if cube.texels.len() != 4 * (width * height) as usize
+            || width.max(height) > device.limits().max_texture_dimension_2d
+        {
             self.cube = None;
             return;
         }
         let size = wgpu::Extent3d {
-            width: n,
-            height: n,
-            depth_or_array_layers: 6,
+            width,
+            height,
+            depth_or_array_layers: 1,
         };
         let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("viewport cube"),
@@ -533,15 +538,12 @@ impl Resources {
             &cube.texels,
             wgpu::TexelCopyBufferLayout {
                 offset: 0,
-                bytes_per_row: Some(4 * n),
-                rows_per_image: Some(n),
+                bytes_per_row: Some(4 * width),
+                rows_per_image: Some(height),
             },
             size,
         );
-        let view = texture.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            ..wgpu::TextureViewDescriptor::default()
-        });
+        let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
         let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("viewport cube"),
             layout: &self.cube_layout,

@@ -91,7 +91,8 @@ fn fs_mesh(v: MeshOut) -> @location(0) vec4<f32> {
 
 // ---- intensity cube -----------------------------------------------------
 
-@group(1) @binding(0) var cube_faces: texture_2d_array<f32>;
+// The six faces in a 3 × 2 atlas (face k at column k mod 3, row k / 3).
+@group(1) @binding(0) var cube_faces: texture_2d<f32>;
 @group(1) @binding(1) var cube_sampler: sampler;
 
 struct CubeIn {
@@ -130,7 +131,13 @@ fn fs_cube(v: CubeOut) -> @location(0) vec4<f32> {
     if dot(v.outward, u.eye.xyz - v.world) > 0.0 {
         discard;
     }
-    return vec4<f32>(textureSample(cube_faces, cube_sampler, v.uv, v.layer).rgb, 1.0);
+    let cell = vec2<f32>(f32(v.layer % 3u), f32(v.layer / 3u));
+    // Kept inside the face's cell so nearest sampling never takes a
+    // neighbour face's texel at an edge.
+    let dims = vec2<f32>(textureDimensions(cube_faces));
+    let inset = clamp(v.uv, vec2<f32>(0.0), vec2<f32>(1.0) - 0.5 / (dims / vec2<f32>(3.0, 2.0)));
+    let atlas = (cell + inset) / vec2<f32>(3.0, 2.0);
+    return vec4<f32>(textureSample(cube_faces, cube_sampler, atlas).rgb, 1.0);
 }
 
 // ---- photon paths and axes ---------------------------------------------
