@@ -1,5 +1,6 @@
 //! The window: the panels around the views, one frame at a time.
 
+use crate::benchmark::Benchmark;
 use crate::files_bar::files_bar_ui;
 use crate::scene_panel::scene_panel_ui;
 use crate::simulation_panel::simulation_panel_ui;
@@ -13,6 +14,7 @@ pub struct EditorApp {
     pub state: EditorState,
     cube: CubeTexture,
     viewport: Viewport,
+    benchmark: Option<Benchmark>,
 }
 
 impl EditorApp {
@@ -27,6 +29,7 @@ impl EditorApp {
             state,
             cube: CubeTexture::default(),
             viewport: Viewport::new(target),
+            benchmark: None,
         }
     }
 
@@ -38,6 +41,17 @@ impl EditorApp {
             samples: 1,
         });
         Self::with_gpu_target(state, target)
+    }
+
+    /// Measures frames and scripted edits for `duration`, then closes.
+    pub fn with_benchmark(mut self, duration: std::time::Duration) -> Self {
+        self.benchmark = Some(Benchmark::new(duration));
+        self
+    }
+
+    /// The benchmark's figures, if one ran.
+    pub fn benchmark_report(&self) -> Option<String> {
+        self.benchmark.as_ref().map(Benchmark::report)
     }
 
     pub fn viewport(&self) -> &Viewport {
@@ -52,8 +66,17 @@ impl EditorApp {
     /// drive this.
     pub fn ui(&mut self, ui: &mut egui::Ui) {
         let ctx = ui.ctx().clone();
+        let frame_start = std::time::Instant::now();
         self.state.begin_frame(&ctx);
         let before = self.state.scene.clone();
+        if let Some(b) = &mut self.benchmark {
+            b.begin_frame(&mut self.state, frame_start);
+            if b.is_finished() {
+                ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+            } else {
+                ctx.request_repaint();
+            }
+        }
         egui::Panel::top("files").show(ui, |ui| files_bar_ui(ui, &mut self.state));
         egui::Panel::left("scene")
             .resizable(true)
@@ -82,11 +105,20 @@ impl EditorApp {
             });
         });
         self.state.end_frame(&ctx, before);
+        if let Some(b) = &mut self.benchmark {
+            b.end_frame(frame_start.elapsed());
+        }
     }
 }
 
 impl eframe::App for EditorApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         EditorApp::ui(self, ui);
+    }
+
+    fn on_exit(&mut self) {
+        if let Some(report) = self.benchmark_report() {
+            println!("{report}");
+        }
     }
 }

@@ -6,6 +6,7 @@
 //! everything else as [`Command`]s, applied once per frame.
 
 mod app;
+mod benchmark;
 mod colour;
 mod files_bar;
 mod scene_panel;
@@ -53,8 +54,13 @@ fn wgpu_configuration() -> eframe::egui_wgpu::WgpuConfiguration {
     }
 }
 
-/// Opens the editor's window on `scene` (or none) and runs until it closes.
-pub fn run(scene: Option<PathBuf>) -> Result<(), RunEditorError> {
+/// Opens the editor's window on `scene` (or none) and runs until it closes;
+/// with `benchmark`, for that long under measurement (figures printed on
+/// exit).
+pub fn run(
+    scene: Option<PathBuf>,
+    benchmark: Option<std::time::Duration>,
+) -> Result<(), RunEditorError> {
     if std::env::var_os("DISPLAY").is_none() && std::env::var_os("WAYLAND_DISPLAY").is_none() {
         return Err(RunEditorError::NoDisplay);
     }
@@ -74,7 +80,13 @@ pub fn run(scene: Option<PathBuf>) -> Result<(), RunEditorError> {
     eframe::run_native(
         "Lucerna editor",
         options,
-        Box::new(move |cc| Ok(Box::new(EditorApp::from_creation(cc, state)))),
+        Box::new(move |cc| {
+            let app = EditorApp::from_creation(cc, state);
+            Ok(Box::new(match benchmark {
+                Some(d) => app.with_benchmark(d),
+                None => app,
+            }))
+        }),
     )
     .map_err(RunEditorError::Window)
 }

@@ -177,3 +177,39 @@ fn the_main_window_with_a_converged_example_matches_its_snapshot() {
             .max_failed_pixels(2500),
     );
 }
+
+/// The `--benchmark` mode's scripted edits restart the run, each one's
+/// first preview is timed, and the nudges cancel out.
+#[test]
+fn the_benchmark_mode_times_each_scripted_edit() {
+    let state = EditorState::new(Some(example()), settings(u64::MAX / 4));
+    let mut h = Harness::builder()
+        .with_size([1366.0, 900.0])
+        .build_ui_state(
+            |ui, app: &mut EditorApp| app.ui(ui),
+            EditorApp::new(state).with_benchmark(Duration::from_secs_f64(4.5)),
+        );
+    wait_for_snapshot(&mut h, |_| true);
+    let original = h.state().state.scene().unwrap().parts[0].transform.clone();
+    let start = Instant::now();
+    while !h.state().benchmark_report().unwrap().contains("(2 edits)")
+        || h.state().state.snapshot().unwrap().generation < 2
+    {
+        assert!(start.elapsed() < Duration::from_secs(60), "no second edit");
+        std::thread::sleep(Duration::from_millis(10));
+        h.step();
+    }
+    let report = h.state().benchmark_report().unwrap();
+    // Up then down again: the part is back where it was.
+    let moved = h.state().state.scene().unwrap().parts[0].transform.clone();
+    assert!((moved.translate[2] - original.translate[2]).abs() < 1e-12);
+    let latencies = report
+        .lines()
+        .find(|l| l.starts_with("edit to first preview"))
+        .unwrap();
+    assert!(
+        latencies.contains("over 1") || latencies.contains("over 2"),
+        "{report}"
+    );
+    assert!(!latencies.contains("NaN"), "{report}");
+}

@@ -1,0 +1,138 @@
+//! `lucerna-editor --benchmark SECONDS`: the real window under load,
+//! measured. Frames are repainted continuously; every two seconds a
+//! scripted edit (the first part nudged 0.5 mm up or down, which restarts
+//! the run) is made, and the time until a frame shows the new run's first
+//! snapshot is taken. At the end the window closes and the figures are
+//! printed: frame interval and UI time (median, 95th percentile),
+//! edit-to-preview latency, photons/s while the UI runs.
+
+use std::time::{Duration, Instant};
+
+use crate::state::EditorState;
+
+/// Time between scripted edits: long enough for the run to settle.
+const EDIT_EVERY: Duration = Duration::from_secs(2);
+/// The nudge each edit gives the first part (m).
+const NUDGE_M: f64 = 0.0005;
+
+/// A running benchmark of the editor's frames.
+#[derive(Debug)]
+pub struct Benchmark {
+    duration: Duration,
+    started: Option<Instant>,
+    last_frame: Option<Instant>,
+    frame_intervals: Vec<Duration>,
+    ui_times: Vec<Duration>,
+    last_edit: Option<Instant>,
+    /// The edit waiting for its first preview: when, and the generation
+    /// shown before it.
+    waiting: Option<(Instant, u64)>,
+    latencies: Vec<Duration>,
+    /// Photons/s of the last snapshot of each run segment.
+    photons_per_second: Vec<f64>,
+    edits: u32,
+    finished: bool,
+}
+
+impl Benchmark {
+    pub fn new(duration: Duration) -> Self {
+        Benchmark {
+            duration,
+            started: None,
+            last_frame: None,
+            frame_intervals: Vec::new(),
+            ui_times: Vec::new(),
+            last_edit: None,
+            waiting: None,
+            latencies: Vec::new(),
+            photons_per_second: Vec::new(),
+            edits: 0,
+            finished: false,
+        }
+    }
+
+    pub fn is_finished(&self) -> bool {
+        self.finished
+    }
+
+    /// Called at the start of a frame, after the state took the newest
+    /// snapshot and before the panels: measures, and may edit the scene
+    /// (as a panel would, so the frame's end restarts the run).
+    pub fn begin_frame(&mut self, state: &mut EditorState, now: Instant) {
+        let shown = state
+            .snapshot()
+            .map(|s| (s.generation, s.photons_per_second));
+        // Measure from the first snapshot on: loading is not a frame cost.
+        let Some((generation, photons_per_second)) = shown else {
+            return;
+        };
+        let started = *self.started.get_or_insert(now);
+        if let Some(last) = self.last_frame {
+            self.frame_intervals.push(now - last);
+        }
+        self.last_frame = Some(now);
+        if let Some((at, before)) = self.waiting
+            && generation > before
+        {
+            self.latencies.push(now - at);
+            self.waiting = None;
+        }
+        if now - started >= self.duration {
+            self.photons_per_second.push(photons_per_second);
+            self.finished = true;
+            return;
+        }
+        let due = self
+            .last_edit
+            .map_or(now - started >= EDIT_EVERY, |e| now - e >= EDIT_EVERY);
+        if due && self.waiting.is_none() {
+            if let Some(part) = state.scene.as_mut().and_then(|s| s.parts.first_mut()) {
+                self.photons_per_second.push(photons_per_second);
+                let sign = if self.edits % 2 == 0 { 1.0 } else { -1.0 };
+                part.transform.translate[2] += sign * NUDGE_M;
+                self.edits += 1;
+                self.waiting = Some((now, generation));
+            }
+            self.last_edit = Some(now);
+        }
+    }
+
+    pub fn end_frame(&mut self, ui_time: Duration) {
+        if self.started.is_some() {
+            self.ui_times.push(ui_time);
+        }
+    }
+
+    /// The figures, as the benchmark prints them.
+    pub fn report(&self) -> String {
+        let ms = |d: Duration| d.as_secs_f64() * 1e3;
+        let stats = |v: &[Duration]| {
+            let mut v: Vec<f64> = v.iter().copied().map(ms).collect();
+            v.sort_by(f64::total_cmp);
+            let at = |q: f64| {
+                v.get(((v.len() as f64 - 1.0) * q).round() as usize)
+                    .copied()
+                    .unwrap_or(f64::NAN)
+            };
+            format!(
+                "median {:.1} ms, p95 {:.1} ms, max {:.1} ms over {}",
+                at(0.5),
+                at(0.95),
+                at(1.0),
+                v.len()
+            )
+        };
+        let mut pps = self.photons_per_second.clone();
+        pps.sort_by(f64::total_cmp);
+        let median_pps = pps.get(pps.len() / 2).copied().unwrap_or(f64::NAN);
+        format!(
+            "frame interval: {}\nUI time per frame: {}\nedit to first preview: {} ({} edits)\nphotons/s while the UI runs: median {:.3e} over {} runs",
+            stats(&self.frame_intervals),
+            stats(&self.ui_times),
+            stats(&self.latencies),
+            self.edits,
+            median_pps,
+            pps.len()
+        )
+    }
+}
