@@ -88,7 +88,11 @@ impl Benchmark {
         if due && self.waiting.is_none() {
             if let Some(part) = state.scene.as_mut().and_then(|s| s.parts.first_mut()) {
                 self.photons_per_second.push(photons_per_second);
-                let sign = if self.edits.is_multiple_of(2) { 1.0 } else { -1.0 };
+                let sign = if self.edits.is_multiple_of(2) {
+                    1.0
+                } else {
+                    -1.0
+                };
                 part.transform.translate[2] += sign * NUDGE_M;
                 self.edits += 1;
                 self.waiting = Some((now, generation));

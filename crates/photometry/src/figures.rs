@@ -1,5 +1,5 @@
 //! Derived figures a datasheet shows: flux, LOR, downward/upward fractions,
-//! peak intensity, beam and field angles.
+//! peak intensity, beam and field angles, zonal lumens.
 
 use serde::Serialize;
 
@@ -28,7 +28,20 @@ pub struct Figures {
     pub beam_angle_deg: [Option<f64>; 2],
     /// Full field angle (10 %) in the same planes.
     pub field_angle_deg: [Option<f64>; 2],
+    /// Flux in the zones of [`ZONES_DEG`] (lm): the zonal lumen summary of
+    /// a datasheet.
+    pub zonal_flux_lm: [f64; 5],
 }
+
+/// The zonal lumen summary's γ zones (degrees): 0-30°, 0-40°, 0-60°,
+/// 0-90°, 90-180°.
+pub const ZONES_DEG: [(f64, f64); 5] = [
+    (0.0, 30.0),
+    (0.0, 40.0),
+    (0.0, 60.0),
+    (0.0, 90.0),
+    (90.0, 180.0),
+];
 
 /// Intensity along a full vertical plane through C and C + 180°, as a
 /// function of the signed angle θ ∈ [−180°, 180°]: θ ≥ 0 is γ = θ in plane
@@ -107,5 +120,6 @@ pub fn figures(table: &CandelaTable, lamp_flux_lm: Option<f64>) -> Figures {
             spread_angle(table, 0.0, 0.1),
             spread_angle(table, 90.0, 0.1),
         ],
+        zonal_flux_lm: ZONES_DEG.map(|(g0, g1)| table.flux_between_lm(g0, g1)),
     }
 }

@@ -357,3 +357,27 @@ fn merged_maps_add_exactly() {
             .is_err()
     );
 }
+
+#[test]
+fn rms_difference_is_zero_for_a_table_itself_and_exact_for_closed_forms() {
+    let lambert = CandelaTable::from_fn(5.0, 1.0, |_, g| {
+        if g < 90.0 {
+            300.0 * g.to_radians().cos()
+        } else {
+            0.0
+        }
+    });
+    assert_eq!(lambert.rms_difference_cd(&lambert), 0.0);
+    // Constant tables: the difference everywhere.
+    let a = CandelaTable::from_fn(15.0, 5.0, |_, _| 100.0);
+    let b = CandelaTable::from_fn(22.5, 2.5, |_, _| 60.0);
+    assert!((a.rms_difference_cd(&b) - 40.0).abs() < 1e-9);
+    // I0 cos γ over the lower hemisphere against darkness:
+    // ∫ I0² cos² γ dΩ / 4π = I0² / 6.
+    let dark = CandelaTable::from_fn(90.0, 90.0, |_, _| 0.0);
+    let rms = lambert.rms_difference_cd(&dark);
+    let exact = 300.0 / 6f64.sqrt();
+    assert!((rms - exact).abs() < 2e-3 * exact, "{rms} vs {exact}");
+    // Symmetric in its arguments.
+    assert!((dark.rms_difference_cd(&lambert) - rms).abs() < 1e-9);
+}

@@ -5,14 +5,19 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use lucerna_gpu::{BackendRequest, GpuContext};
+use lucerna_photometry::figures::ZONES_DEG;
 use lucerna_photometry::resample::{GammaGrid, TableResampler};
 use lucerna_photometry::table::uniform_c_planes;
 use lucerna_photometry::{AxialSymmetry, CubeMapLayout, TexelSymmetry, figures};
 use lucerna_tracer::gpu::GpuTracer;
-use lucerna_tracer::session::{flux_relative_error, peak_relative_error};
+use lucerna_tracer::session::{
+    flux_relative_error, peak_relative_error, zone_flux_relative_errors,
+};
 use lucerna_tracer::{Backend, IterationReport, Session, TraceSettings, choose_backend};
 
-use crate::snapshot::{FilterSummary, Noise, RunState, Snapshot, StopReason};
+use crate::snapshot::{
+    FilterSummary, Noise, RunState, Snapshot, StopReason, spread_angle_noise_deg,
+};
 use crate::{LiveFilter, Luminaire, SimulationError, SimulationSettings};
 
 /// A progressive run: the tracing session and what turns its map into a
@@ -188,21 +193,38 @@ impl Run {
                 tolerance: 0.005,
             },
         };
-        let table = self.resampler.table(
-            map.layout,
-            &candela,
-            &uniform_c_planes(grid.c_step_deg),
-            gammas,
+        let c_planes = uniform_c_planes(grid.c_step_deg);
+        let table = Arc::new(
+            self.resampler
+                .table(map.layout, &candela, &c_planes, gammas),
         );
+        // The unfiltered table beside it, so views can show both.
+        let raw_table = if filter.is_some() {
+            let raw = map.symmetrised(&self.symmetry).candela();
+            Arc::new(self.resampler.table(map.layout, &raw, &c_planes, gammas))
+        } else {
+            table.clone()
+        };
         let figures = figures(&table, Some(map.emitter_flux_lm));
         let warnings = crate::snapshot::degenerate_result_warnings(&map, &figures);
         let report = self.last;
+        let peak_relative = report.map_or_else(
+            || peak_relative_error(&map, &self.symmetry),
+            |r| r.peak_relative_error,
+        );
+        let zonal = zone_flux_relative_errors(&map, &ZONES_DEG);
+        let angle_noise = |angles: [Option<f64>; 2], fraction: f64| {
+            [0.0, 90.0].map(|c| {
+                let angle = angles[if c == 0.0 { 0 } else { 1 }];
+                spread_angle_noise_deg(&table, &map, c, fraction, angle, peak_relative)
+            })
+        };
         let noise = Noise {
-            peak_relative: report.map_or_else(
-                || peak_relative_error(&map, &self.symmetry),
-                |r| r.peak_relative_error,
-            ),
+            peak_relative,
             flux_relative: flux_relative_error(&map),
+            zonal_relative: std::array::from_fn(|k| zonal.get(k).copied().unwrap_or(f64::INFINITY)),
+            beam_angle_deg: angle_noise(figures.beam_angle_deg, 0.5),
+            field_angle_deg: angle_noise(figures.field_angle_deg, 0.1),
         };
         Snapshot {
             generation,
@@ -220,7 +242,8 @@ impl Run {
             symmetry: self.symmetry.symmetry,
             candela: Arc::new(candela),
             filter,
-            table: Arc::new(table),
+            table,
+            raw_table,
             figures,
             noise,
             warnings,

@@ -37,6 +37,89 @@ pub struct Noise {
     pub peak_relative: f64,
     /// Of the escaped flux (binomial).
     pub flux_relative: f64,
+    /// Of the flux in each zone of `lucerna_photometry::figures::ZONES_DEG`
+    /// (binomial).
+    pub zonal_relative: [f64; 5],
+    /// Of the beam and field angles in the C0-C180 and C90-C270 planes
+    /// (degrees, absolute): the crossings' intensity noise over the
+    /// distribution's slope there.
+    pub beam_angle_deg: [Option<f64>; 2],
+    pub field_angle_deg: [Option<f64>; 2],
+}
+
+/// 1σ of a full spread angle `angle_deg` at `fraction` of the plane's
+/// maximum in plane `c_deg`: at each crossing (γ = angle/2 in planes C and
+/// C + 180°, the symmetric reading) the Poisson noise of the photons the
+/// table's cell there averages, and the threshold's share of the peak's
+/// noise, over the slope of the table there; the two crossings add in
+/// quadrature.
+pub(crate) fn spread_angle_noise_deg(
+    table: &CandelaTable,
+    map: &IntensityMap,
+    c_deg: f64,
+    fraction: f64,
+    angle_deg: Option<f64>,
+    peak_relative: f64,
+) -> Option<f64> {
+    let half = 0.5 * angle_deg?;
+    let peak = table.peak().0;
+    let gamma_step = local_step(&table.gammas_deg, half);
+    let c_step = local_step(&table.c_planes_deg, c_deg.rem_euclid(360.0));
+    let mut variance = 0.0;
+    for c in [c_deg, c_deg + 180.0] {
+        let slope_per_deg =
+            (table.intensity(c, half + 0.25) - table.intensity(c, (half - 0.25).max(0.0))) / 0.5;
+        if !(slope_per_deg.abs() > 0.0) {
+            return None;
+        }
+        let count = photons_in_cell(map, c, half, c_step, gamma_step);
+        if count == 0 {
+            return None;
+        }
+        let intensity_sigma = table.intensity(c, half) / (count as f64).sqrt();
+        let threshold_sigma = fraction * peak * peak_relative;
+        variance += (intensity_sigma.powi(2) + threshold_sigma.powi(2)) / slope_per_deg.powi(2);
+    }
+    Some(variance.sqrt())
+}
+
+/// The grid step of ascending `values` around `at` (degrees).
+fn local_step(values: &[f64], at: f64) -> f64 {
+    let k = values
+        .partition_point(|&v| v < at)
+        .clamp(1, values.len().max(2) - 1);
+    match (values.get(k - 1), values.get(k)) {
+        (Some(a), Some(b)) if b > a => b - a,
+        _ => 5.0,
+    }
+}
+
+/// Photons escaped into the texels of the table cell about (C, γ): found by
+/// sampling directions across the cell, so only those texels are visited.
+fn photons_in_cell(
+    map: &IntensityMap,
+    c_deg: f64,
+    gamma_deg: f64,
+    c_step: f64,
+    gamma_step: f64,
+) -> u64 {
+    const SAMPLES: usize = 12;
+    let mut texels = Vec::with_capacity(SAMPLES * SAMPLES);
+    for i in 0..SAMPLES {
+        for j in 0..SAMPLES {
+            let c = c_deg + c_step * ((i as f64 + 0.5) / SAMPLES as f64 - 0.5);
+            let g = (gamma_deg + gamma_step * ((j as f64 + 0.5) / SAMPLES as f64 - 0.5))
+                .clamp(0.0, 180.0);
+            let d = lucerna_photometry::table::direction(c.to_radians(), g.to_radians());
+            texels.push(map.layout.texel_of_direction(d));
+        }
+    }
+    texels.sort_unstable();
+    texels.dedup();
+    texels
+        .iter()
+        .map(|&t| map.counts.get(t).copied().unwrap_or(0))
+        .sum()
 }
 
 /// What the filter did to the exported map.
@@ -84,6 +167,9 @@ pub struct Snapshot {
     pub filter: Option<FilterSummary>,
     /// The exported candela table (on the settings' grid).
     pub table: Arc<CandelaTable>,
+    /// The table of the pooled but unfiltered map (the same `Arc` as
+    /// `table` when no filter is asked for).
+    pub raw_table: Arc<CandelaTable>,
     /// Flux, LOR, peak, beam and field angles of that table.
     pub figures: Figures,
     pub noise: Noise,

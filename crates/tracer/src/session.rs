@@ -332,6 +332,41 @@ pub fn flux_relative_error(map: &IntensityMap) -> f64 {
     ((1.0 - p) / (n * p)).sqrt()
 }
 
+/// Binomial standard errors of the flux escaping into each γ zone
+/// (degrees, texels counted by their centres), relative; one pass over the
+/// map comparing cos γ (γ = 0 at the nadir), no trigonometry per texel.
+pub fn zone_flux_relative_errors(map: &IntensityMap, zones_deg: &[(f64, f64)]) -> Vec<f64> {
+    let cos_bounds: Vec<(f64, f64)> = zones_deg
+        .iter()
+        .map(|&(g0, g1)| (g0.to_radians().cos(), g1.to_radians().cos()))
+        .collect();
+    let mut counts = vec![0u64; zones_deg.len()];
+    for t in 0..map.layout.texel_count() {
+        let c = map.counts[t];
+        if c == 0 {
+            continue;
+        }
+        let [x, y, z] = map.layout.texel_centre_direction(t);
+        let cos_gamma = -z / (x * x + y * y + z * z).sqrt();
+        for (k, &(cos0, cos1)) in cos_bounds.iter().enumerate() {
+            if cos_gamma <= cos0 && cos_gamma > cos1 {
+                counts[k] += c;
+            }
+        }
+    }
+    let n = map.photons_emitted as f64;
+    counts
+        .into_iter()
+        .map(|k| {
+            if k == 0 {
+                return f64::INFINITY;
+            }
+            let p = k as f64 / n;
+            ((1.0 - p) / (n * p)).sqrt()
+        })
+        .collect()
+}
+
 /// Poisson error 1/√n of the brightest block of texels (blocks of 1/8 of a
 /// face edge, compared per steradian), relative. A block's solid angle is
 /// the exact solid angle of its face rectangle, so this costs a few hundred

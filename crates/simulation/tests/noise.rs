@@ -1,0 +1,91 @@
+#![allow(clippy::unwrap_used, clippy::expect_used)] // reason: test helpers may panic
+//! The noise estimates a snapshot shows beside its figures against the
+//! scatter of the figures over independent runs (different seeds): an
+//! estimate that is off by more than a factor of two fails.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use lucerna_photometry::figures::ZONES_DEG;
+use lucerna_simulation::{Luminaire, SimulationSettings, Snapshot, StoppingRule, bake};
+
+fn runs(name: &str, photons: u64, count: u32) -> Vec<Snapshot> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../assets/luminaires")
+        .join(name);
+    let luminaire = Arc::new(Luminaire::load(&path).unwrap());
+    (0..count)
+        .map(|seed| {
+            let settings = SimulationSettings {
+                resolution: 32,
+                seed: 100 + seed,
+                // Unpooled, so the estimate's model (independent photons
+                // per texel) is the one tested.
+                pool_symmetry: false,
+                stop: StoppingRule {
+                    photons: Some(photons),
+                    ..StoppingRule::default()
+                },
+                ..SimulationSettings::default()
+            };
+            bake(luminaire.clone(), settings).unwrap()
+        })
+        .collect()
+}
+
+/// Sample standard deviation.
+fn scatter(values: &[f64]) -> f64 {
+    let n = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt()
+}
+
+fn mean(values: &[f64]) -> f64 {
+    values.iter().sum::<f64>() / values.len() as f64
+}
+
+fn assert_within_factor_two(what: &str, estimated: f64, observed: f64) {
+    let ratio = estimated / observed;
+    assert!(
+        (0.5..=2.0).contains(&ratio),
+        "{what}: estimated {estimated:.4e}, observed {observed:.4e} (ratio {ratio:.2})"
+    );
+}
+
+#[test]
+fn zonal_flux_noise_matches_the_scatter_over_seeds() {
+    let snapshots = runs("opal_bell.toml", 20_000, 24);
+    for (k, zone) in ZONES_DEG.iter().enumerate() {
+        let fluxes: Vec<f64> = snapshots
+            .iter()
+            .map(|s| s.figures.zonal_flux_lm[k])
+            .collect();
+        let observed = scatter(&fluxes) / mean(&fluxes);
+        let estimated = mean(
+            &snapshots
+                .iter()
+                .map(|s| s.noise.zonal_relative[k])
+                .collect::<Vec<_>>(),
+        );
+        assert_within_factor_two(&format!("zone {zone:?}"), estimated, observed);
+    }
+}
+
+#[test]
+fn beam_angle_noise_matches_the_scatter_over_seeds() {
+    let snapshots = runs("faceted_downlight.toml", 50_000, 24);
+    for plane in 0..2 {
+        let angles: Vec<f64> = snapshots
+            .iter()
+            .map(|s| s.figures.beam_angle_deg[plane].unwrap())
+            .collect();
+        let observed = scatter(&angles);
+        let estimated = mean(
+            &snapshots
+                .iter()
+                .map(|s| s.noise.beam_angle_deg[plane].unwrap())
+                .collect::<Vec<_>>(),
+        );
+        assert_within_factor_two(&format!("beam angle, plane {plane}"), estimated, observed);
+    }
+}
