@@ -6,7 +6,11 @@
 //! everything else as [`Command`]s, applied once per frame.
 
 mod app;
+mod config;
+mod dialogs;
+mod files;
 mod files_bar;
+mod recovery;
 mod scene_panel;
 mod simulation_panel;
 mod state;
@@ -16,6 +20,10 @@ mod widgets;
 use std::path::PathBuf;
 
 pub use app::EditorApp;
+pub use config::{EditorPaths, MAX_RECENT, ThemeChoice};
+pub use dialogs::DialogKind;
+pub use files::{ImportMeshError, PendingAction, starter_scene};
+pub use recovery::RecoveryOffer;
 pub use state::{Command, EditorState, NewPart, Selection, View};
 
 /// Why the editor could not run.
@@ -47,7 +55,7 @@ pub fn run(scene: Option<PathBuf>) -> Result<(), RunEditorError> {
         resolution: 64,
         ..lucerna_simulation::SimulationSettings::default()
     };
-    let state = EditorState::new(scene, settings);
+    let state = EditorState::with_paths(scene, settings, EditorPaths::user());
     eframe::run_native(
         "Lucerna editor",
         options,
