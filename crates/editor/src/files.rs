@@ -152,13 +152,13 @@ pub enum ImportMeshError {
     Load {
         path: PathBuf,
         #[source]
-        source: LoadObjError,
+        source: Box<LoadObjError>,
     },
     #[error("cannot import {path}")]
     Unusable {
         path: PathBuf,
         #[source]
-        source: TessellateError,
+        source: Box<TessellateError>,
     },
     #[error("cannot import {path}: scene files store paths as UTF-8")]
     NotUtf8 { path: PathBuf },
@@ -179,7 +179,7 @@ pub fn mesh_part(
     let absolute = std::path::absolute(obj).unwrap_or_else(|_| obj.to_path_buf());
     let groups = load_obj(&absolute).map_err(|source| ImportMeshError::Load {
         path: obj.to_owned(),
-        source,
+        source: Box::new(source),
     })?;
     let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
     for p in groups.iter().flat_map(|g| &g.mesh.positions) {
@@ -240,7 +240,7 @@ pub fn mesh_part(
     let dir = scene_dir.map_or_else(|| PathBuf::from("."), Path::to_path_buf);
     tessellate(&alone, &dir).map_err(|source| ImportMeshError::Unusable {
         path: obj.to_owned(),
-        source,
+        source: Box::new(source),
     })?;
     Ok((part, notice))
 }

@@ -20,58 +20,67 @@ pub fn files_bar_ui(ui: &mut Ui, state: &mut EditorState) {
             commands.push(Command::New);
         }
         ui.separator();
-        labelled(ui, "Scene file", |ui| {
-            ui.add(egui::TextEdit::singleline(&mut state.open_path).desired_width(240.0))
+        // Each field stays on one line with its buttons when the bar wraps.
+        ui.horizontal(|ui| {
+            labelled(ui, "Scene file", |ui| {
+                ui.add(egui::TextEdit::singleline(&mut state.open_path).desired_width(240.0))
+            });
+            if ui.button("Open").clicked() && !state.open_path.trim().is_empty() {
+                commands.push(Command::Open(PathBuf::from(state.open_path.trim())));
+            }
+            if ui
+                .add_enabled(!dialog_open, egui::Button::new("Open…"))
+                .on_hover_text("Choose a scene file in a dialog")
+                .clicked()
+            {
+                commands.push(Command::FileDialog(DialogKind::Open));
+            }
+            recent_menu_ui(ui, state, &mut commands);
         });
-        if ui.button("Open").clicked() && !state.open_path.trim().is_empty() {
-            commands.push(Command::Open(PathBuf::from(state.open_path.trim())));
-        }
-        if ui
-            .add_enabled(!dialog_open, egui::Button::new("Open…"))
-            .on_hover_text("Choose a scene file in a dialog")
-            .clicked()
-        {
-            commands.push(Command::FileDialog(DialogKind::Open));
-        }
-        recent_menu_ui(ui, state, &mut commands);
         ui.separator();
         if ui.button("Save").on_hover_text("Ctrl+S").clicked() {
             commands.push(Command::Save);
         }
-        labelled(ui, "Save as path", |ui| {
-            ui.add(egui::TextEdit::singleline(&mut state.save_as_path).desired_width(180.0))
+        ui.horizontal(|ui| {
+            labelled(ui, "Save as path", |ui| {
+                ui.add(egui::TextEdit::singleline(&mut state.save_as_path).desired_width(180.0))
+            });
+            if ui.button("Save as").clicked() && !state.save_as_path.trim().is_empty() {
+                commands.push(Command::SaveAs(PathBuf::from(state.save_as_path.trim())));
+            }
+            if ui
+                .add_enabled(!dialog_open, egui::Button::new("Save as…"))
+                .on_hover_text("Choose where to save in a dialog")
+                .clicked()
+            {
+                commands.push(Command::FileDialog(DialogKind::SaveAs));
+            }
         });
-        if ui.button("Save as").clicked() && !state.save_as_path.trim().is_empty() {
-            commands.push(Command::SaveAs(PathBuf::from(state.save_as_path.trim())));
-        }
-        if ui
-            .add_enabled(!dialog_open, egui::Button::new("Save as…"))
-            .on_hover_text("Choose where to save in a dialog")
-            .clicked()
-        {
-            commands.push(Command::FileDialog(DialogKind::SaveAs));
-        }
         ui.separator();
-        labelled(ui, "OBJ file", |ui| {
-            ui.add(egui::TextEdit::singleline(&mut state.files.import_path).desired_width(160.0))
+        ui.horizontal(|ui| {
+            labelled(ui, "OBJ file", |ui| {
+                ui.add(
+                    egui::TextEdit::singleline(&mut state.files.import_path).desired_width(160.0),
+                )
+            });
+            if ui
+                .button("Import OBJ")
+                .on_hover_text("Add the OBJ file as a mesh part (or drop it on the window)")
+                .clicked()
+                && !state.files.import_path.trim().is_empty()
+            {
+                commands.push(Command::ImportMesh(PathBuf::from(
+                    state.files.import_path.trim(),
+                )));
+            }
+            if ui
+                .add_enabled(!dialog_open, egui::Button::new("Import OBJ…"))
+                .on_hover_text("Choose an OBJ file in a dialog")
+                .clicked()
+            {
+                commands.push(Command::FileDialog(DialogKind::ImportMesh));
+            }
         });
-        if ui
-            .button("Import OBJ")
-            .on_hover_text("Add the OBJ file as a mesh part (or drop it on the window)")
-            .clicked()
-            && !state.files.import_path.trim().is_empty()
-        {
-            commands.push(Command::ImportMesh(PathBuf::from(
-                state.files.import_path.trim(),
-            )));
-        }
-        if ui
-            .add_enabled(!dialog_open, egui::Button::new("Import OBJ…"))
-            .on_hover_text("Choose an OBJ file in a dialog")
-            .clicked()
-        {
-            commands.push(Command::FileDialog(DialogKind::ImportMesh));
-        }
         ui.separator();
         if ui.button("Undo").on_hover_text("Ctrl+Z").clicked() {
             commands.push(Command::Undo);

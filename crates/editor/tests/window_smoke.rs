@@ -7,7 +7,8 @@
 //! xdotool and ImageMagick; without them the test is skipped locally and
 //! fails under CI.
 
-use std::path::{Path, PathBuf};
+use std::io::BufRead;
+use std::path::Path;
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
@@ -36,16 +37,6 @@ fn wait_timeout(child: &mut Child, timeout: Duration) -> Option<ExitStatus> {
         std::thread::sleep(Duration::from_millis(50));
     }
     None
-}
-
-/// A display number no X server uses (nor has left a lock for).
-fn free_display() -> u32 {
-    (90..400)
-        .find(|n| {
-            !Path::new(&format!("/tmp/.X11-unix/X{n}")).exists()
-                && !Path::new(&format!("/tmp/.X{n}-lock")).exists()
-        })
-        .expect("a free X display number")
 }
 
 fn xdotool(display: &str, args: &[&str]) -> std::process::Output {
@@ -81,29 +72,33 @@ fn the_editor_opens_traces_shows_the_scene_and_quits_on_ctrl_q() {
         return;
     }
     let work = tempfile::tempdir().unwrap();
-    let n = free_display();
-    let display = format!(":{n}");
-    let _xvfb = Reaped(
+    // Xvfb picks a free display itself and writes its number once it
+    // accepts clients: no race with other X servers starting meanwhile.
+    let mut xvfb = Reaped(
         Command::new("Xvfb")
             .args([
-                display.as_str(),
+                "-displayfd",
+                "1",
                 "-screen",
                 "0",
                 "1366x768x24",
                 "-nolisten",
                 "tcp",
             ])
-            .stdout(Stdio::null())
+            .stdout(Stdio::piped())
             .stderr(Stdio::null())
             .spawn()
             .unwrap(),
     );
-    let socket = PathBuf::from(format!("/tmp/.X11-unix/X{n}"));
-    let deadline = Instant::now() + Duration::from_secs(10);
-    while !socket.exists() {
-        assert!(Instant::now() < deadline, "Xvfb {display} did not start");
-        std::thread::sleep(Duration::from_millis(50));
-    }
+    let mut number = String::new();
+    std::io::BufReader::new(xvfb.0.stdout.take().unwrap())
+        .read_line(&mut number)
+        .unwrap();
+    let number: u32 = number
+        .trim()
+        .parse()
+        .unwrap_or_else(|_| panic!("Xvfb did not report a display: {number:?}"));
+    let display = format!(":{number}");
 
     let example =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/luminaires/parabolic_spot.toml");
