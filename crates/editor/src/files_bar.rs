@@ -20,7 +20,7 @@ pub fn files_bar_ui(ui: &mut Ui, state: &mut EditorState) {
             commands.push(Command::New);
         }
         ui.separator();
-        // Each field stays on one line with its buttons when the bar wraps.
+        // Each field stays with its buttons (on narrow windows too).
         ui.horizontal(|ui| {
             labelled(ui, "Scene file", |ui| {
                 ui.add(egui::TextEdit::singleline(&mut state.open_path).desired_width(240.0))
@@ -56,7 +56,10 @@ pub fn files_bar_ui(ui: &mut Ui, state: &mut EditorState) {
                 commands.push(Command::FileDialog(DialogKind::SaveAs));
             }
         });
-        ui.separator();
+    });
+    // A second row: on one row the bar is wider than a 1366-pixel laptop
+    // screen, and egui cannot wrap a field together with its buttons.
+    ui.horizontal_wrapped(|ui| {
         ui.horizontal(|ui| {
             labelled(ui, "OBJ file", |ui| {
                 ui.add(
