@@ -332,6 +332,15 @@ fn a_broken_obj_shows_its_error_and_changes_nothing() {
     h.get_by_label_contains("cannot import");
     assert_eq!(h.state().state.scene(), Some(&before));
     assert!(!h.state().state.is_dirty());
+    // An OBJ that parses but whose triangles are unusable (zero area) is
+    // caught by tessellating the part before it is added.
+    let degenerate = work.path().join("degenerate.obj");
+    std::fs::write(&degenerate, "v 0 0 0\nv 0 0 0\nv 0 0 0\nf 1 2 3\n").unwrap();
+    import_through_the_field(&mut h, &degenerate);
+    let error = h.state().state.file_error().expect("an error").to_owned();
+    assert!(error.contains("degenerate.obj"), "{error}");
+    assert!(error.contains("unusable mesh"), "{error}");
+    assert_eq!(h.state().state.scene(), Some(&before));
     // No undo step was added either.
     h.get_by_label("Undo").click();
     steps(&mut h, 2);
