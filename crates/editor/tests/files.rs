@@ -221,6 +221,37 @@ fn quitting_with_unsaved_changes_asks_first() {
     assert!(!config.path().join("recovery.toml").exists());
 }
 
+/// The window manager's close button, as winit reports it.
+fn close_window(h: &mut Harness<'_, EditorApp>) {
+    h.input_mut()
+        .viewports
+        .entry(egui::ViewportId::ROOT)
+        .or_default()
+        .events
+        .push(egui::ViewportEvent::Close);
+    steps(h, 2);
+}
+
+#[test]
+fn the_close_button_asks_with_unsaved_changes_and_closes_without() {
+    let config = tempfile::tempdir().unwrap();
+    let mut h = editor(Some(example()), config.path());
+    steps(&mut h, 2);
+    h.get_by_label("Add disk").click();
+    steps(&mut h, 2);
+    close_window(&mut h);
+    assert_eq!(h.state().state.pending(), Some(&PendingAction::Quit));
+    assert!(!h.state().state.quit_requested());
+    h.get_by_label("Keep editing").click();
+    steps(&mut h, 2);
+    h.get_by_label("Undo").click();
+    steps(&mut h, 2);
+    assert!(!h.state().state.is_dirty());
+    close_window(&mut h);
+    assert_eq!(h.state().state.pending(), None);
+    assert!(h.state().state.quit_requested());
+}
+
 #[test]
 fn recent_files_follow_open_and_save_and_persist() {
     let work = tempfile::tempdir().unwrap();
