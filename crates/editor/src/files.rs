@@ -267,6 +267,59 @@ fn relative_path(dir: &Path, file: &Path) -> Option<PathBuf> {
     Some(relative)
 }
 
+/// The scene with its relative file paths (OBJ meshes, emitter profiles)
+/// rewritten to name the same files from `new_path`'s folder; `None` when
+/// nothing changes. Missing files are left as written. The undo history
+/// keeps the old paths: undoing across a "Save as" to another folder gives
+/// paths the simulation reports as missing, and redo brings them back.
+pub(crate) fn rebased_for(scene: &Scene, scene_dir: &Path, new_path: &Path) -> Option<Scene> {
+    let to_dir = match new_path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let same_dir = match (
+        std::fs::canonicalize(scene_dir),
+        std::fs::canonicalize(to_dir),
+    ) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    };
+    if same_dir {
+        return None;
+    }
+    let mut out = scene.clone();
+    let mut changed = false;
+    let mut rebase = |path: &mut String| {
+        let old = Path::new(path.as_str());
+        if old.is_absolute() {
+            return;
+        }
+        let target = scene_dir.join(old);
+        if !target.exists() {
+            return;
+        }
+        let new = relative_path(to_dir, &target)
+            .unwrap_or_else(|| std::fs::canonicalize(&target).unwrap_or(target));
+        if let Some(text) = new.to_str()
+            && text != path
+        {
+            *path = text.to_owned();
+            changed = true;
+        }
+    };
+    for part in &mut out.parts {
+        if let Shape::Mesh(mesh) = &mut part.shape {
+            rebase(&mut mesh.path);
+        }
+    }
+    for emitter in &mut out.emitters {
+        if let Emission::Profile(file) = &mut emitter.emission {
+            rebase(file);
+        }
+    }
+    changed.then_some(out)
+}
+
 /// What a file dropped on the window asks for, by its extension.
 pub fn dropped_file_command(path: &Path) -> Result<Command, String> {
     let ext = path

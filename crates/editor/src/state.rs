@@ -486,9 +486,16 @@ impl EditorState {
             self.file_error = Some("no scene to save".to_owned());
             return;
         };
+        // Saved elsewhere, relative mesh and profile paths keep naming the
+        // same files (files.rs).
+        let rebased = crate::files::rebased_for(scene, &self.scene_dir(), &path);
+        let scene = rebased.as_ref().unwrap_or(scene);
         match save_scene(scene, &path) {
             Ok(()) => {
                 self.saved = Some(scene.clone());
+                if let Some(rebased) = rebased {
+                    self.scene = Some(rebased);
+                }
                 self.file_error = None;
                 self.files_saved(&path);
                 if self.path.as_deref() != Some(&path) {

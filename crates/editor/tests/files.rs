@@ -302,6 +302,32 @@ fn recent_files_follow_open_and_save_and_persist() {
     );
 }
 
+#[test]
+fn save_as_elsewhere_keeps_relative_mesh_paths_pointing_at_the_same_file() {
+    let work = tempfile::tempdir().unwrap();
+    let scene_path = copy_obj_cone(work.path());
+    let moved = work.path().join("elsewhere/deeper/cone.toml");
+    std::fs::create_dir_all(moved.parent().unwrap()).unwrap();
+    let mut h = editor(Some(scene_path), &work.path().join("config"));
+    steps(&mut h, 2);
+    h.get_by_label("Save as path")
+        .set_text_value_accesskit(&moved.display().to_string());
+    steps(&mut h, 1);
+    h.get_by_label("Save as").click();
+    steps(&mut h, 2);
+    assert_eq!(h.state().state.file_error(), None);
+    assert!(!h.state().state.is_dirty());
+    let saved = lucerna_scene::load_scene(&moved).unwrap();
+    match &saved.parts[0].shape {
+        Shape::Mesh(mesh) => assert_eq!(mesh.path, "../../meshes/cone_reflector.obj"),
+        other => panic!("expected a mesh, got {other:?}"),
+    }
+    assert_eq!(h.state().state.scene(), Some(&saved));
+    // The saved file works on its own.
+    let mut again = editor(Some(moved), &work.path().join("config"));
+    wait_for_snapshot(&mut again);
+}
+
 fn import_through_the_field(h: &mut Harness<'_, EditorApp>, obj: &Path) {
     h.get_by_label("OBJ file")
         .set_text_value_accesskit(&obj.display().to_string());
