@@ -66,6 +66,10 @@ impl From<ThemeChoice> for egui::ThemePreference {
 pub(crate) struct EditorConfig {
     #[serde(default)]
     pub theme: ThemeChoice,
+    /// The UI zoom (egui's zoom factor, on top of the screen's own scale)
+    /// last chosen with Ctrl+Plus / Ctrl+Minus; absent is 1.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub zoom: Option<f32>,
     /// Most recent first; paths as UTF-8 text (others are not remembered).
     #[serde(default)]
     pub recent: Vec<String>,

@@ -393,7 +393,20 @@ impl EditorState {
     pub(crate) fn files_begin_frame(&mut self, ctx: &egui::Context) {
         if !self.files.theme_applied {
             ctx.set_theme(self.files.config.theme);
+            if let Some(zoom) = self.files.config.zoom
+                && zoom.is_finite()
+            {
+                ctx.set_zoom_factor(zoom.clamp(0.2, 5.0));
+            }
             self.files.theme_applied = true;
+        } else {
+            // egui applies Ctrl+Plus / Ctrl+Minus at the end of a frame:
+            // remembered here, the frame after.
+            let zoom = ctx.zoom_factor();
+            if self.files.config.zoom.unwrap_or(1.0) != zoom {
+                self.files.config.zoom = Some(zoom);
+                self.files.save_config();
+            }
         }
         let dropped: Vec<PathBuf> = ctx.input(|i| {
             i.raw

@@ -96,6 +96,12 @@ pub fn files_bar_ui(ui: &mut Ui, state: &mut EditorState) {
         ui.separator();
         ui.label(state.title());
     });
+    if ui.ctx().input(|i| !i.raw.hovered_files.is_empty()) {
+        ui.colored_label(
+            ui.visuals().hyperlink_color,
+            "Drop a scene (.toml) to open it or an OBJ mesh (.obj) to import it",
+        );
+    }
     recovery_banner_ui(ui, state, &mut commands);
     pending_banner_ui(ui, state, &mut commands);
     if let Some(error) = &state.file_error {

@@ -481,7 +481,7 @@ fn the_theme_switch_changes_the_theme_and_is_remembered() {
 }
 
 #[test]
-fn keyboard_zoom_is_on() {
+fn keyboard_zoom_is_on_and_remembered() {
     let config = tempfile::tempdir().unwrap();
     let mut h = editor(Some(example()), config.path());
     steps(&mut h, 2);
@@ -490,7 +490,17 @@ fn keyboard_zoom_is_on() {
     h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Plus);
     steps(&mut h, 2);
     assert!(h.ctx.zoom_factor() > before, "{}", h.ctx.zoom_factor());
-    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Num0);
-    steps(&mut h, 2);
-    assert_eq!(h.ctx.zoom_factor(), 1.0);
+    let zoomed = h.ctx.zoom_factor();
+    drop(h);
+    // The next start keeps the zoom.
+    let mut again = editor(None, config.path());
+    steps(&mut again, 2);
+    assert_eq!(again.ctx.zoom_factor(), zoomed);
+    again.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Num0);
+    steps(&mut again, 2);
+    assert_eq!(again.ctx.zoom_factor(), 1.0);
+    drop(again);
+    let mut third = editor(None, config.path());
+    steps(&mut third, 2);
+    assert_eq!(third.ctx.zoom_factor(), 1.0);
 }
