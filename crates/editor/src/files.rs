@@ -200,7 +200,7 @@ pub fn mesh_part(
     } else {
         (1.0, None)
     };
-    let scene_dir = scene_path.and_then(Path::parent);
+    let scene_dir = scene_path.map(folder_of);
     let stored = scene_dir
         .and_then(|dir| relative_path(dir, &absolute))
         .unwrap_or(absolute);
@@ -245,6 +245,14 @@ pub fn mesh_part(
     Ok((part, notice))
 }
 
+/// The folder a file is in: "." for a bare file name, whose parent is "".
+fn folder_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    }
+}
+
 /// `file` relative to `dir` (both made canonical), through `..` where
 /// needed; `None` when they share no more than the root, where an
 /// absolute path says more.
@@ -273,9 +281,11 @@ fn relative_path(dir: &Path, file: &Path) -> Option<PathBuf> {
 /// keeps the old paths: undoing across a "Save as" to another folder gives
 /// paths the simulation reports as missing, and redo brings them back.
 pub(crate) fn rebased_for(scene: &Scene, scene_dir: &Path, new_path: &Path) -> Option<Scene> {
-    let to_dir = match new_path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
+    let to_dir = folder_of(new_path);
+    let scene_dir = if scene_dir.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        scene_dir
     };
     let same_dir = match (
         std::fs::canonicalize(scene_dir),
@@ -442,7 +452,9 @@ impl EditorState {
             Command::New if self.is_dirty() => self.files.pending = Some(PendingAction::New),
             Command::New | Command::NewDiscarding => {
                 self.files.pending = None;
-                self.forget_recovery();
+                if self.files.recovery.is_none() {
+                    self.forget_recovery();
+                }
                 // Clean until edited: nothing to lose yet.
                 let scene = starter_scene();
                 self.replace_document(scene.clone(), None, Some(scene));
@@ -518,8 +530,11 @@ impl EditorState {
     }
 
     fn quit_now(&mut self, ctx: &egui::Context) {
-        // A clean exit, or changes the user chose to drop.
-        self.forget_recovery();
+        // A clean exit, or changes the user chose to drop; an offer not
+        // yet answered stays for the next start.
+        if self.files.recovery.is_none() {
+            self.forget_recovery();
+        }
         self.files.quitting = true;
         ctx.send_viewport_cmd(egui::ViewportCommand::Close);
     }

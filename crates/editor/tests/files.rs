@@ -150,6 +150,28 @@ fn an_edit_is_autosaved_and_a_new_editor_recovers_it_with_the_original_path() {
 }
 
 #[test]
+fn an_unanswered_recovery_offer_survives_quitting_and_new() {
+    let work = tempfile::tempdir().unwrap();
+    let config = work.path().join("config");
+    let mut h = editor(Some(example()), &config);
+    steps(&mut h, 2);
+    h.get_by_label("Add plate").click();
+    steps(&mut h, 2);
+    drop(h);
+    let mut again = editor(None, &config);
+    steps(&mut again, 2);
+    again.get_by_label("New").click();
+    steps(&mut again, 2);
+    again.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Q);
+    steps(&mut again, 2);
+    assert!(again.state().state.quit_requested());
+    drop(again);
+    let mut third = editor(None, &config);
+    steps(&mut third, 2);
+    assert!(third.state().state.recovery_offer().is_some());
+}
+
+#[test]
 fn discarding_the_recovery_removes_it() {
     let work = tempfile::tempdir().unwrap();
     let config = work.path().join("config");
