@@ -209,7 +209,10 @@ impl EditorState {
     /// The window title: file name and an unsaved-changes marker.
     pub fn title(&self) -> String {
         let name = self.path.as_deref().and_then(Path::file_name).map_or_else(
-            || "no scene".to_owned(),
+            || match self.scene {
+                Some(_) => "unsaved new scene".to_owned(),
+                None => "no scene".to_owned(),
+            },
             |n| n.to_string_lossy().into_owned(),
         );
         let marker = if self.is_dirty() { " •" } else { "" };

@@ -217,6 +217,11 @@ fn new_starts_a_valid_scene_and_asks_before_dropping_unsaved_changes() {
     assert_eq!(state.path(), None);
     assert!(!state.is_dirty());
     assert!(state.problems().is_empty(), "{:?}", state.problems());
+    assert!(
+        state.title().starts_with("unsaved new scene"),
+        "{}",
+        state.title()
+    );
     wait_for_snapshot(&mut h);
     // Unsaved and pathless: Save asks for a path.
     h.get_by_label("Save").click();
