@@ -8,7 +8,11 @@
 mod app;
 mod benchmark;
 mod colour;
+mod config;
+mod dialogs;
+mod files;
 mod files_bar;
+mod recovery;
 mod scene_panel;
 mod simulation_panel;
 mod state;
@@ -19,6 +23,10 @@ mod widgets;
 use std::path::PathBuf;
 
 pub use app::EditorApp;
+pub use config::{EditorPaths, MAX_RECENT, ThemeChoice};
+pub use dialogs::DialogKind;
+pub use files::{ImportMeshError, PendingAction, starter_scene};
+pub use recovery::RecoveryOffer;
 pub use state::{Command, EditorState, NewPart, Selection, View};
 pub use viewport::{Bounds, CubeShown, GpuTarget, OrbitCamera, StandardView, Viewport, pick};
 
@@ -76,7 +84,7 @@ pub fn run(
         resolution: 64,
         ..lucerna_simulation::SimulationSettings::default()
     };
-    let state = EditorState::new(scene, settings);
+    let state = EditorState::with_paths(scene, settings, EditorPaths::user());
     eframe::run_native(
         "Lucerna editor",
         options,

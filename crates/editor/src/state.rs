@@ -11,6 +11,10 @@ use lucerna_scene::shapes::{Disk, Paraboloid, Plate};
 use lucerna_scene::{Material, Part, Scene, Shape, Transform, load_scene, save_scene, validate};
 use lucerna_simulation::{Simulation, SimulationSettings, Snapshot};
 
+use crate::config::{EditorPaths, ThemeChoice};
+use crate::dialogs::DialogKind;
+use crate::files::FileState;
+
 /// What is selected in the scene panel.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Selection {
@@ -35,8 +39,8 @@ pub enum Command {
     Open(PathBuf),
     /// Opens a file, dropping unsaved changes.
     OpenDiscarding(PathBuf),
-    /// Keeps the unsaved changes: the pending open is dropped.
-    CancelOpen,
+    /// Keeps the unsaved changes: the pending New, Open or Quit is dropped.
+    CancelPending,
     Save,
     SaveAs(PathBuf),
     Undo,
@@ -48,6 +52,25 @@ pub enum Command {
     Pause,
     Resume,
     SetSettings(SimulationSettings),
+    // File handling (files.rs).
+    /// Starts the starter scene; with unsaved changes it asks first.
+    New,
+    /// Starts the starter scene, dropping unsaved changes.
+    NewDiscarding,
+    /// Closes the editor; with unsaved changes it asks first.
+    Quit,
+    /// Closes the editor, dropping unsaved changes.
+    QuitDiscarding,
+    /// Takes the offered recovery file as the (unsaved) document.
+    Recover,
+    /// Drops the offered recovery file.
+    DiscardRecovery,
+    /// Adds an OBJ file as a mesh part (one undo step).
+    ImportMesh(PathBuf),
+    /// Opens a native file dialog; the chosen path comes back as a command.
+    FileDialog(DialogKind),
+    SetTheme(ThemeChoice),
+    ClearRecent,
 }
 
 /// Which view the central panel shows.
@@ -72,8 +95,8 @@ pub struct EditorState {
     pub(crate) open_path: String,
     pub(crate) save_as_path: String,
     pub(crate) view: View,
-    /// A file whose opening waits for the user to drop unsaved changes.
-    pub(crate) pending_open: Option<PathBuf>,
+    /// New, recent files, autosave and recovery, dialogs (files.rs).
+    pub(crate) files: FileState,
     undoer: Undoer<Scene>,
     /// A pointer drag or text entry is changing the scene: one undo step.
     gesture: bool,
@@ -87,7 +110,7 @@ pub struct EditorState {
     commands: Vec<Command>,
     /// The context the simulation's worker asks to repaint; known from the
     /// first frame on.
-    ctx: Option<egui::Context>,
+    pub(crate) ctx: Option<egui::Context>,
     title: String,
 }
 
@@ -102,8 +125,19 @@ impl std::fmt::Debug for EditorState {
 }
 
 impl EditorState {
-    /// An editor with no scene; `open` is loaded in the first frame.
+    /// An editor with no scene that remembers nothing (no config
+    /// directory); `open` is loaded in the first frame.
     pub fn new(open: Option<PathBuf>, settings: SimulationSettings) -> Self {
+        Self::with_paths(open, settings, EditorPaths::default())
+    }
+
+    /// An editor that keeps its recent files, theme and recovery file in
+    /// `paths` ([`EditorPaths::user`] for the real one).
+    pub fn with_paths(
+        open: Option<PathBuf>,
+        settings: SimulationSettings,
+        paths: EditorPaths,
+    ) -> Self {
         let mut state = EditorState {
             scene: None,
             path: None,
@@ -114,7 +148,7 @@ impl EditorState {
             open_path: String::new(),
             save_as_path: String::new(),
             view: View::default(),
-            pending_open: None,
+            files: FileState::new(paths),
             undoer: Undoer::with_settings(UndoSettings {
                 max_undos: 200,
                 ..UndoSettings::default()
@@ -154,11 +188,6 @@ impl EditorState {
         &self.problems
     }
 
-    /// The file waiting to be opened until unsaved changes are dropped.
-    pub fn pending_open(&self) -> Option<&Path> {
-        self.pending_open.as_deref()
-    }
-
     /// What the scene panel edits and the 3D view highlights.
     pub fn selection(&self) -> Option<&Selection> {
         self.selection.as_ref()
@@ -185,7 +214,10 @@ impl EditorState {
     /// The window title: file name and an unsaved-changes marker.
     pub fn title(&self) -> String {
         let name = self.path.as_deref().and_then(Path::file_name).map_or_else(
-            || "no scene".to_owned(),
+            || match self.scene {
+                Some(_) => "unsaved new scene".to_owned(),
+                None => "no scene".to_owned(),
+            },
             |n| n.to_string_lossy().into_owned(),
         );
         let marker = if self.is_dirty() { " •" } else { "" };
@@ -204,6 +236,7 @@ impl EditorState {
         if self.ctx.is_none() {
             self.ctx = Some(ctx.clone());
         }
+        self.files_begin_frame(ctx);
         self.apply_commands();
         self.shortcuts(ctx);
         if let Some(sim) = &self.sim {
@@ -236,6 +269,7 @@ impl EditorState {
             self.gesture = false;
         }
         self.apply_commands();
+        self.autosave(ctx);
         let title = self.title();
         if title != self.title {
             ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
@@ -257,10 +291,14 @@ impl EditorState {
         if ctx.input_mut(|i| i.consume_shortcut(&save)) {
             self.push(Command::Save);
         }
+        let new = KeyboardShortcut::new(Modifiers::COMMAND, Key::N);
+        if ctx.input_mut(|i| i.consume_shortcut(&new)) {
+            self.push(Command::New);
+        }
         // A clean way out even without a window manager (Xvfb in CI).
         let quit = KeyboardShortcut::new(Modifiers::COMMAND, Key::Q);
         if ctx.input_mut(|i| i.consume_shortcut(&quit)) {
-            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+            self.push(Command::Quit);
         }
         self.apply_commands();
     }
@@ -273,12 +311,14 @@ impl EditorState {
 
     fn apply(&mut self, command: Command) {
         match command {
-            Command::Open(path) if self.is_dirty() => self.pending_open = Some(path),
+            Command::Open(path) if self.is_dirty() => {
+                self.files.pending = Some(crate::files::PendingAction::Open(path));
+            }
             Command::Open(path) | Command::OpenDiscarding(path) => {
-                self.pending_open = None;
+                self.files.pending = None;
                 self.open(path);
             }
-            Command::CancelOpen => self.pending_open = None,
+            Command::CancelPending => self.files.pending = None,
             Command::Save => match self.path.clone() {
                 Some(path) => self.save(path),
                 None => self.file_error = Some("no file to save to: use Save as".to_owned()),
@@ -344,15 +384,26 @@ impl EditorState {
                     Err(e) => self.sim_error = Some(error_chain(&e)),
                 }
             }
+            command @ (Command::New
+            | Command::NewDiscarding
+            | Command::Quit
+            | Command::QuitDiscarding
+            | Command::Recover
+            | Command::DiscardRecovery
+            | Command::ImportMesh(_)
+            | Command::FileDialog(_)
+            | Command::SetTheme(_)
+            | Command::ClearRecent) => self.apply_file_command(command),
         }
     }
 
     /// A structural edit: its own undo step, then validation.
-    fn structural(&mut self, edit: impl FnOnce(&mut Scene, &mut Option<Selection>)) {
+    pub(crate) fn structural(&mut self, edit: impl FnOnce(&mut Scene, &mut Option<Selection>)) {
         let Some(scene) = &mut self.scene else { return };
         self.undoer.add_undo(scene);
         edit(scene, &mut self.selection);
         self.gesture = false;
+        self.files.autosave_now = true;
         self.scene_changed();
     }
 
@@ -404,25 +455,38 @@ impl EditorState {
     fn open(&mut self, path: PathBuf) {
         match load_scene(&path) {
             Ok(scene) => {
-                self.path = Some(path);
-                self.saved = Some(scene.clone());
-                self.scene = Some(scene.clone());
-                self.undoer = Undoer::with_settings(UndoSettings {
-                    max_undos: 200,
-                    ..UndoSettings::default()
-                });
-                self.selection = None;
-                self.problems.clear();
-                self.file_error = None;
-                self.gesture = false;
-                // A new document gets a fresh run (generation 0).
-                self.sim = None;
-                self.sent = Some(scene.clone());
-                let dir = self.scene_dir();
-                self.start_simulation(scene, &dir);
+                self.files_opened(&path);
+                self.replace_document(scene.clone(), Some(path), Some(scene));
             }
             Err(e) => self.file_error = Some(error_chain(&e)),
         }
+    }
+
+    /// A new document (opened, new or recovered): fresh undo history and a
+    /// fresh run (generation 0) if it is valid. `saved` is what is on disk,
+    /// for the unsaved-changes marker.
+    pub(crate) fn replace_document(
+        &mut self,
+        scene: Scene,
+        path: Option<PathBuf>,
+        saved: Option<Scene>,
+    ) {
+        self.path = path;
+        self.saved = saved;
+        self.scene = Some(scene);
+        self.undoer = Undoer::with_settings(UndoSettings {
+            max_undos: 200,
+            ..UndoSettings::default()
+        });
+        self.selection = None;
+        self.problems.clear();
+        self.file_error = None;
+        self.gesture = false;
+        self.sim = None;
+        self.sent = None;
+        self.snapshot = None;
+        self.sim_error = None;
+        self.scene_changed();
     }
 
     fn save(&mut self, path: PathBuf) {
@@ -430,10 +494,18 @@ impl EditorState {
             self.file_error = Some("no scene to save".to_owned());
             return;
         };
+        // Saved elsewhere, relative mesh and profile paths keep naming the
+        // same files (files.rs).
+        let rebased = crate::files::rebased_for(scene, &self.scene_dir(), &path);
+        let scene = rebased.as_ref().unwrap_or(scene);
         match save_scene(scene, &path) {
             Ok(()) => {
                 self.saved = Some(scene.clone());
+                if let Some(rebased) = rebased {
+                    self.scene = Some(rebased);
+                }
                 self.file_error = None;
+                self.files_saved(&path);
                 if self.path.as_deref() != Some(&path) {
                     self.path = Some(path);
                     // Relative paths in the scene now resolve from here.
@@ -458,7 +530,7 @@ pub(crate) fn error_chain(e: &dyn std::error::Error) -> String {
 }
 
 /// `base` or `base 2`, `base 3`, … whichever no part is called yet.
-fn unique_name(scene: &Scene, base: &str) -> String {
+pub(crate) fn unique_name(scene: &Scene, base: &str) -> String {
     let taken = |n: &str| scene.parts.iter().any(|p| p.name == n);
     if !taken(base) {
         return base.to_owned();
