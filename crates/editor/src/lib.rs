@@ -7,6 +7,8 @@
 
 mod app;
 mod files_bar;
+mod modelling;
+mod profile_editor;
 mod scene_panel;
 mod simulation_panel;
 mod state;
@@ -16,7 +18,7 @@ mod widgets;
 use std::path::PathBuf;
 
 pub use app::EditorApp;
-pub use state::{Command, EditorState, NewPart, Selection, View};
+pub use state::{Command, EditorState, NewPart, SceneEdit, Selection, View};
 
 /// Why the editor could not run.
 #[derive(Debug, thiserror::Error)]
