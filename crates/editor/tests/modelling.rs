@@ -36,8 +36,11 @@ fn settings(resolution: u32, photons: Option<u64>) -> SimulationSettings {
 }
 
 fn editor_with(settings: SimulationSettings) -> Harness<'static, EditorApp> {
+    // Frames a sixtieth of a second apart, so that two clicks in
+    // successive frames make a double-click.
     let mut h = Harness::builder()
         .with_size([1366.0, 1400.0])
+        .with_step_dt(1.0 / 60.0)
         .build_ui_state(
             |ui, app: &mut EditorApp| app.ui(ui),
             EditorApp::new(EditorState::new(Some(example()), settings)),
@@ -277,7 +280,9 @@ fn profile_points_are_added_and_deleted_each_in_one_undo_step() {
     let p3 = h.get_by_label("Profile point 3").rect().center();
     let mid = p2 + 0.5 * (p3 - p2);
     h.event(Event::PointerMoved(mid));
-    h.step();
+    // Half a second after the last click, so that these two are a
+    // double-click, not the end of a triple one.
+    steps(&mut h, 30);
     for _ in 0..2 {
         h.event(button(mid, PointerButton::Primary, true));
         h.step();
