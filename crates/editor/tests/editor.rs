@@ -268,6 +268,7 @@ fn parts_are_added_duplicated_and_deleted_each_as_one_undo_step() {
     h.step();
     h.get_by_label("Add part").click();
     h.step();
+    h.step();
     h.get_by_label("Add disk").click();
     h.step();
     h.step();
@@ -436,6 +437,7 @@ fn settings_restart_the_run_and_pause_pauses_it() {
     assert!(!sim.settings().pool_symmetry);
     assert_eq!(sim.generation(), 1);
     h.get_by_label("Filter").click();
+    h.step();
     h.step();
     h.get_by_label("Automatic").click();
     h.step();
