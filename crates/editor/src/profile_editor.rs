@@ -66,7 +66,7 @@ impl Frame {
         }
     }
 
-    fn to_screen(&self, [x, z]: [f64; 2]) -> Pos2 {
+    fn screen_from_mm(&self, [x, z]: [f64; 2]) -> Pos2 {
         let c = self.plot.center();
         pos2(
             c.x + ((x - self.centre_mm[0]) * self.scale) as f32,
@@ -74,7 +74,7 @@ impl Frame {
         )
     }
 
-    fn to_mm(&self, p: Pos2) -> [f64; 2] {
+    fn mm_from_screen(&self, p: Pos2) -> [f64; 2] {
         let c = self.plot.center();
         [
             self.centre_mm[0] + f64::from(p.x - c.x) / self.scale,
@@ -84,8 +84,8 @@ impl Frame {
 
     /// The data rectangle visible in the plot (mm): x0, z0, x1, z1.
     fn visible_mm(&self) -> [f64; 4] {
-        let [x0, z1] = self.to_mm(self.plot.left_top());
-        let [x1, z0] = self.to_mm(self.plot.right_bottom());
+        let [x0, z1] = self.mm_from_screen(self.plot.left_top());
+        let [x1, z0] = self.mm_from_screen(self.plot.right_bottom());
         [x0, z0, x1, z1]
     }
 }
@@ -406,12 +406,12 @@ fn drawing_ui(
         for strip in sample_profile(points_m, interpolation, segments_per_span.clamp(1, 64)) {
             let line: Vec<Pos2> = strip
                 .iter()
-                .map(|s| frame.to_screen([s.point.x * 1000.0, s.point.y * 1000.0]))
+                .map(|s| frame.screen_from_mm([s.point.x * 1000.0, s.point.y * 1000.0]))
                 .collect();
             plot_painter.line(line, curve_stroke);
         }
     }
-    let screen: Vec<Pos2> = points_mm.iter().map(|&p| frame.to_screen(p)).collect();
+    let screen: Vec<Pos2> = points_mm.iter().map(|&p| frame.screen_from_mm(p)).collect();
     // The control polygon, faint: the curve passes through the points.
     plot_painter.line(screen.clone(), Stroke::new(1.0, visuals.weak_text_color()));
 
@@ -434,7 +434,7 @@ fn drawing_ui(
         if handle.dragged() {
             ui.ctx().set_cursor_icon(CursorIcon::Grabbing);
             if let Some(pointer) = handle.interact_pointer_pos() {
-                let [x, z] = frame.to_mm(pointer.clamp(plot.min, plot.max));
+                let [x, z] = frame.mm_from_screen(pointer.clamp(plot.min, plot.max));
                 let mm = [
                     round_to(x, DRAG_RESOLUTION_MM).clamp(-MAX_MM, MAX_MM),
                     round_to(z, DRAG_RESOLUTION_MM).clamp(-MAX_MM, MAX_MM),
@@ -460,7 +460,7 @@ fn drawing_ui(
         && let Some(pointer) = area.interact_pointer_pos()
     {
         let index = insertion_index(&screen, pointer);
-        let [x, z] = frame.to_mm(pointer);
+        let [x, z] = frame.mm_from_screen(pointer);
         commands.push(Command::Edit(SceneEdit::InsertProfilePoint {
             part,
             index,
@@ -526,7 +526,7 @@ fn drawing_ui(
             points_m[k][1] * 1000.0
         )),
         None => area.hover_pos().map(|p| {
-            let [x, z] = frame.to_mm(p);
+            let [x, z] = frame.mm_from_screen(p);
             format!("{h} {x:.2} mm, z {z:.2} mm")
         }),
     };
@@ -562,7 +562,7 @@ fn grid_ui(
     let number = visuals.weak_text_color();
     let mut x = (x0 / step).ceil() * step;
     while x <= x1 {
-        let sx = frame.to_screen([x, 0.0]).x;
+        let sx = frame.screen_from_mm([x, 0.0]).x;
         plot_painter.line_segment([pos2(sx, plot.top()), pos2(sx, plot.bottom())], grid);
         painter.text(
             pos2(sx, plot.bottom() + 2.0),
@@ -575,7 +575,7 @@ fn grid_ui(
     }
     let mut z = (z0 / step).ceil() * step;
     while z <= z1 {
-        let sz = frame.to_screen([0.0, z]).y;
+        let sz = frame.screen_from_mm([0.0, z]).y;
         plot_painter.line_segment([pos2(plot.left(), sz), pos2(plot.right(), sz)], grid);
         painter.text(
             pos2(plot.left() - 4.0, sz),
@@ -587,7 +587,7 @@ fn grid_ui(
         z += step;
     }
     let axis_stroke = Stroke::new(1.0, visuals.text_color().gamma_multiply(0.6));
-    let origin = frame.to_screen([0.0, 0.0]);
+    let origin = frame.screen_from_mm([0.0, 0.0]);
     if (z0..=z1).contains(&0.0) {
         plot_painter.line_segment(
             [pos2(plot.left(), origin.y), pos2(plot.right(), origin.y)],
@@ -676,7 +676,7 @@ mod tests {
         let frame = Frame::new(plot, [-10.0, -10.0, 10.0, 10.0]);
         assert_eq!(frame.scale, 5.0);
         let p = [3.0, -4.0];
-        let back = frame.to_mm(frame.to_screen(p));
+        let back = frame.mm_from_screen(frame.screen_from_mm(p));
         assert!((back[0] - p[0]).abs() < 1e-4 && (back[1] - p[1]).abs() < 1e-4);
     }
 }
