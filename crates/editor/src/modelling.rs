@@ -3,6 +3,8 @@
 //! emitters, materials and profiles, each refused with a message before
 //! anything changes when it would break the scene's references.
 
+use std::path::Path;
+
 use lucerna_scene::shapes::{
     BoxShape, Cylinder, Disk, Dome, Ellipsoid, Extruded, Louvre, Paraboloid, Plate, Revolved,
 };
@@ -443,6 +445,49 @@ pub fn emitter_shape_as(shape: &EmitterShape, kind: &str) -> EmitterShape {
     }
 }
 
+/// Most files the profile chooser lists: a folder of thousands is typed.
+const MAX_LISTED_PROFILES: usize = 500;
+
+/// The measured distributions (IES, LDT) an emitter of a scene in
+/// `scene_dir` can name: files in the scene's folder, in a `profiles`
+/// folder inside or beside it, and one folder below those, as paths
+/// relative to the scene's folder (how the scene file stores them).
+pub fn profile_files_near(scene_dir: &Path) -> Vec<String> {
+    let is_profile = |p: &Path| {
+        p.extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| e.eq_ignore_ascii_case("ies") || e.eq_ignore_ascii_case("ldt"))
+    };
+    let mut folders: Vec<String> = vec![
+        String::new(),
+        "profiles/".to_owned(),
+        "../profiles/".to_owned(),
+    ];
+    let mut found = Vec::new();
+    let mut k = 0;
+    while k < folders.len() && found.len() < MAX_LISTED_PROFILES {
+        let folder = folders[k].clone();
+        let top_level = k < 3;
+        k += 1;
+        let Ok(entries) = std::fs::read_dir(scene_dir.join(&folder)) else {
+            continue;
+        };
+        let mut entries: Vec<_> = entries.filter_map(Result::ok).map(|e| e.path()).collect();
+        entries.sort();
+        for path in entries {
+            let Some(name) = path.file_name().and_then(|n| n.to_str()) else {
+                continue;
+            };
+            if path.is_dir() && top_level && !folder.is_empty() {
+                folders.push(format!("{folder}{name}/"));
+            } else if path.is_file() && is_profile(&path) && found.len() < MAX_LISTED_PROFILES {
+                found.push(format!("{folder}{name}"));
+            }
+        }
+    }
+    found
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -493,6 +538,19 @@ mod tests {
                 disk
             );
         }
+    }
+
+    #[test]
+    fn the_example_profiles_are_found_beside_the_example_scenes() {
+        let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/luminaires");
+        let found = profile_files_near(&scenes);
+        assert!(
+            found.contains(&"../profiles/samples/bega_50975_1995_single_h.ies".to_owned()),
+            "{found:?}"
+        );
+        assert!(found.iter().any(|f| f.ends_with(".ldt")), "{found:?}");
+        assert!(found.iter().all(|f| scenes.join(f).is_file()));
+        assert!(profile_files_near(Path::new("/no/such/folder")).is_empty());
     }
 
     #[test]

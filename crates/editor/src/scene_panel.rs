@@ -10,7 +10,7 @@ use lucerna_scene::{
 
 use crate::modelling::{
     EMITTER_SHAPES, NewPart, SceneEdit, emitter_shape_as, emitter_shape_kind, material_users,
-    profile_mut,
+    profile_files_near, profile_mut,
 };
 use crate::profile_editor::{Profile, profile_editor_ui};
 use crate::state::{Command, EditorState, Selection};
@@ -334,7 +334,9 @@ fn committed_text(ui: &mut Ui, id: Id, label: &str, value: &str) -> Option<Strin
     let response: Response = labelled(ui, label, |ui| ui.text_edit_singleline(&mut buffer));
     if response.lost_focus() {
         ui.data_mut(|d| d.remove::<String>(id));
-        Some(buffer.trim().to_owned())
+        // Escape leaves the field as it was.
+        let cancelled = ui.input(|i| i.key_pressed(egui::Key::Escape));
+        (!cancelled).then(|| buffer.trim().to_owned())
     } else {
         if response.has_focus() {
             ui.data_mut(|d| {
@@ -441,6 +443,21 @@ fn emission_ui(ui: &mut Ui, index: usize, emission: &mut Emission, scene_dir: &P
         ) {
             *file = path;
         }
+        ui.menu_button("Choose profile file", |ui| {
+            let found = profile_files_near(scene_dir);
+            if found.is_empty() {
+                ui.label("No IES or LDT files in or beside the scene's folder.");
+            }
+            egui::ScrollArea::vertical()
+                .max_height(320.0)
+                .show(ui, |ui| {
+                    for f in found {
+                        if ui.button(&f).clicked() {
+                            *file = f;
+                        }
+                    }
+                });
+        });
         let resolved = scene_dir.join(file.as_str());
         if file.trim().is_empty() {
             ui.label("Name an IES or LDT file, relative to the scene's folder.");

@@ -459,8 +459,9 @@ fn a_measured_emitter_profile_is_simulated_and_a_missing_one_is_an_error() {
         "{:?}",
         problems(&h)
     );
+    // The chooser lists the profiles beside the scene's folder.
     let file = "../profiles/samples/bega_50975_1995_single_h.ies";
-    type_into(&mut h, "Profile file", file);
+    choose(&mut h, "Choose profile file", file);
     assert_eq!(
         state(&h).scene().unwrap().emitters[0].emission,
         Emission::Profile(file.to_owned())
