@@ -140,7 +140,12 @@ fn tree_ui(ui: &mut Ui, scene: &Scene, selected: Option<&Selection>, commands: &
         .default_open(true)
         .show(ui, |ui| {
             for (i, e) in scene.emitters.iter().enumerate() {
-                item(ui, Selection::Emitter(i), format!("Emitter {}", e.name));
+                let off = if e.enabled { "" } else { " (off)" };
+                item(
+                    ui,
+                    Selection::Emitter(i),
+                    format!("Emitter {}{off}", e.name),
+                );
             }
         });
     egui::CollapsingHeader::new("Parts")

@@ -369,6 +369,15 @@ fn renaming_a_material_renames_it_in_the_parts_in_one_undo_step() {
     assert!(scene.materials.contains_key("polished_alu"));
     assert_eq!(scene.parts[0].material, "polished_alu");
     assert!(!state(&h).is_dirty());
+
+    // A name taken already is refused, and nothing changes.
+    click(&mut h, "Add material");
+    type_into(&mut h, "Material name", "polished_alu");
+    let refusal = state(&h).edit_error().expect("a refusal").to_owned();
+    assert!(refusal.contains("exists already"), "{refusal}");
+    let scene = state(&h).scene().unwrap();
+    assert_eq!(scene.materials.len(), 2);
+    assert!(scene.materials.contains_key("material"));
 }
 
 #[test]
@@ -434,6 +443,7 @@ fn emitters_are_added_duplicated_switched_disabled_and_deleted() {
     );
     click(&mut h, "Enabled");
     assert!(!state(&h).scene().unwrap().emitters[2].enabled);
+    h.get_by_label("Emitter LED 3 (off)");
     assert!(problems(&h).is_empty(), "{:?}", problems(&h));
     click(&mut h, "Delete emitter");
     assert_eq!(state(&h).scene().unwrap().emitters.len(), 2);
