@@ -327,7 +327,11 @@ impl EditorState {
                     self.scene_changed();
                 }
             }
-            Command::Select(selection) => self.selection = selection,
+            Command::Select(selection) => {
+                self.selection = selection;
+                // A refusal is about the item it was asked of.
+                self.edit_error = None;
+            }
             Command::AddPart(kind) => self.structural(|scene, selection| {
                 let part = new_part(scene, kind);
                 scene.parts.push(part);
