@@ -243,6 +243,29 @@ fn dragging_a_profile_point_moves_it_in_one_undo_step() {
 }
 
 #[test]
+fn a_point_dragged_past_the_optical_axis_stops_on_it() {
+    let mut h = with_revolved_part();
+    let original = profile(&h, 1);
+    let start = h.get_by_label("Profile point 1").rect().center();
+    h.event(Event::PointerMoved(start));
+    h.step();
+    h.event(button(start, PointerButton::Primary, true));
+    h.step();
+    let mut pos = start;
+    for _ in 0..8 {
+        pos += vec2(-20.0, 0.0);
+        h.event(Event::PointerMoved(pos));
+        h.step();
+    }
+    h.event(button(pos, PointerButton::Primary, false));
+    steps(&mut h, 2);
+    let dragged = profile(&h, 1);
+    assert_eq!(dragged[0][0], 0.0, "{dragged:?}");
+    assert!((dragged[0][1] - original[0][1]).abs() < 1e-3, "{dragged:?}");
+    assert!(problems(&h).is_empty(), "{:?}", problems(&h));
+}
+
+#[test]
 fn the_profile_table_edits_points_in_millimetres_and_refuses_a_negative_radius() {
     let mut h = with_revolved_part();
     set(&mut h, "Point 2 z", 40.0);
