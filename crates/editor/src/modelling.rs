@@ -200,6 +200,38 @@ pub fn profile_mut(shape: &mut Shape) -> Option<(&mut Vec<[f64; 2]>, ProfilePlan
     }
 }
 
+/// Where the enabled emitters sit in the profile plane of part `index`,
+/// with their names (mm): the lamp a reflector is drawn around. Only for
+/// a part placed by translation alone, whose frame is the luminaire's
+/// shifted; a rotated or scaled part gets none rather than wrong ones.
+pub fn lamps_in_profile_plane(scene: &Scene, index: usize) -> Vec<(String, [f64; 2])> {
+    let Some(part) = scene.parts.get(index) else {
+        return Vec::new();
+    };
+    let t = &part.transform;
+    let plane = match part.shape {
+        Shape::Revolved(_) => ProfilePlane::RadiusHeight,
+        Shape::Extruded(_) => ProfilePlane::WidthHeight,
+        _ => return Vec::new(),
+    };
+    if t.rotate_deg != [0.0; 3] || t.scale != [1.0; 3] {
+        return Vec::new();
+    }
+    scene
+        .emitters
+        .iter()
+        .filter(|e| e.enabled)
+        .map(|e| {
+            let [x, y, z] = [0, 1, 2].map(|k| e.transform.translate[k] - t.translate[k]);
+            let h = match plane {
+                ProfilePlane::RadiusHeight => x.hypot(y),
+                ProfilePlane::WidthHeight => x,
+            };
+            (e.name.clone(), [h * 1000.0, z * 1000.0])
+        })
+        .collect()
+}
+
 /// Fewest control points a profile keeps: one span.
 pub const MIN_PROFILE_POINTS: usize = 2;
 
@@ -551,6 +583,21 @@ mod tests {
         assert!(found.iter().any(|f| f.ends_with(".ldt")), "{found:?}");
         assert!(found.iter().all(|f| scenes.join(f).is_file()));
         assert!(profile_files_near(Path::new("/no/such/folder")).is_empty());
+    }
+
+    #[test]
+    fn lamps_are_placed_in_the_part_frame_of_a_translated_part() {
+        let mut s = scene();
+        SceneEdit::AddEmitter.apply(&mut s, &mut None);
+        s.emitters[0].transform.translate = [0.003, 0.004, 0.01];
+        let mut part = new_part(&mut s, NewPart::Revolved);
+        part.transform.translate = [0.0, 0.0, 0.02];
+        s.parts.push(part);
+        let lamps = lamps_in_profile_plane(&s, 0);
+        assert_eq!(lamps.len(), 1);
+        assert!((lamps[0].1[0] - 5.0).abs() < 1e-9 && (lamps[0].1[1] + 10.0).abs() < 1e-9);
+        s.parts[0].transform.rotate_deg = [90.0, 0.0, 0.0];
+        assert!(lamps_in_profile_plane(&s, 0).is_empty());
     }
 
     #[test]

@@ -43,6 +43,9 @@ pub struct Profile<'a> {
     pub points_m: &'a mut Vec<[f64; 2]>,
     pub interpolation: Interpolation,
     pub segments_per_span: u32,
+    /// The emitters' names and positions in this plane (mm), drawn so the
+    /// profile is shaped around its lamp.
+    pub lamps_mm: &'a [(String, [f64; 2])],
 }
 
 /// The part of the data plane (mm) the drawing shows and how it maps to
@@ -214,6 +217,7 @@ pub fn profile_editor_ui(
         points_m,
         interpolation,
         segments_per_span,
+        lamps_mm,
     } = profile;
     let id = Id::unique(("profile editor", part));
     let selected_id = id.with("selected");
@@ -229,11 +233,14 @@ pub fn profile_editor_ui(
     drawing_ui(
         ui,
         id,
-        part,
-        plane,
-        points_m,
-        interpolation,
-        segments_per_span,
+        Profile {
+            part,
+            plane,
+            points_m: &mut *points_m,
+            interpolation,
+            segments_per_span,
+            lamps_mm,
+        },
         &found,
         &mut selected,
         commands,
@@ -349,19 +356,22 @@ fn table_ui(
         });
 }
 
-#[expect(clippy::too_many_arguments, reason = "one drawing's inputs, used once")]
 fn drawing_ui(
     ui: &mut Ui,
     id: Id,
-    part: usize,
-    plane: ProfilePlane,
-    points_m: &mut [[f64; 2]],
-    interpolation: Interpolation,
-    segments_per_span: u32,
+    profile: Profile<'_>,
     problems: &[(Option<usize>, String)],
     selected: &mut Option<usize>,
     commands: &mut Vec<Command>,
 ) {
+    let Profile {
+        part,
+        plane,
+        points_m,
+        interpolation,
+        segments_per_span,
+        lamps_mm,
+    } = profile;
     let (total, _) = ui.allocate_exact_size(
         vec2(ui.available_width().max(200.0), DRAWING_HEIGHT),
         Sense::hover(),
@@ -381,7 +391,12 @@ fn drawing_ui(
     let view_mm = match ui.data(|d| d.get_temp::<[f64; 4]>(view_id)) {
         Some(view) if held => view,
         _ => {
-            let view = fitted_view_mm(&points_mm, plane);
+            let shown: Vec<[f64; 2]> = points_mm
+                .iter()
+                .copied()
+                .chain(lamps_mm.iter().map(|(_, p)| *p))
+                .collect();
+            let view = fitted_view_mm(&shown, plane);
             ui.data_mut(|d| {
                 d.insert_temp(view_id, view);
             });
@@ -481,6 +496,27 @@ fn drawing_ui(
             index: k,
         }));
         *selected = None;
+    }
+
+    // The lamps, as suns: the reflector is shaped around them.
+    for (name, at_mm) in lamps_mm {
+        let at = frame.screen_from_mm(*at_mm);
+        let sun = visuals.warn_fg_color;
+        plot_painter.circle_filled(at, 3.5, sun);
+        for k in 0..8 {
+            let direction = egui::Vec2::angled(k as f32 * std::f32::consts::FRAC_PI_4);
+            plot_painter.line_segment(
+                [at + 5.0 * direction, at + 8.0 * direction],
+                Stroke::new(1.0, sun),
+            );
+        }
+        plot_painter.text(
+            at + vec2(9.0, 9.0),
+            Align2::LEFT_TOP,
+            name,
+            FontId::proportional(11.0),
+            sun,
+        );
     }
 
     // The points over everything, the invalid ones in the error colour.

@@ -9,8 +9,8 @@ use lucerna_scene::{
 };
 
 use crate::modelling::{
-    EMITTER_SHAPES, NewPart, SceneEdit, emitter_shape_as, emitter_shape_kind, material_users,
-    profile_files_near, profile_mut,
+    EMITTER_SHAPES, NewPart, SceneEdit, emitter_shape_as, emitter_shape_kind,
+    lamps_in_profile_plane, material_users, profile_files_near, profile_mut,
 };
 use crate::profile_editor::{Profile, profile_editor_ui};
 use crate::state::{Command, EditorState, Selection};
@@ -51,8 +51,17 @@ pub fn scene_panel_ui(ui: &mut Ui, state: &mut EditorState) {
     let materials: Vec<String> = scene.materials.keys().cloned().collect();
     match state.selection.clone() {
         Some(Selection::Part(i)) => {
+            let lamps_mm = lamps_in_profile_plane(scene, i);
             if let Some(part) = scene.parts.get_mut(i) {
-                part_ui(ui, i, part, &materials, &state.problems, &mut commands);
+                part_ui(
+                    ui,
+                    i,
+                    part,
+                    &materials,
+                    &state.problems,
+                    &lamps_mm,
+                    &mut commands,
+                );
                 ui.horizontal(|ui| {
                     if ui.button("Duplicate part").clicked() {
                         commands.push(Command::DuplicatePart(i));
@@ -179,6 +188,7 @@ fn part_ui(
     part: &mut Part,
     materials: &[String],
     problems: &[String],
+    lamps_mm: &[(String, [f64; 2])],
     commands: &mut Vec<Command>,
 ) {
     ui.strong(format!("Part ({})", part.shape.generator().kind()));
@@ -195,7 +205,7 @@ fn part_ui(
             .response
     });
     ui.label("Shape");
-    shape_ui(ui, index, &mut part.shape, problems, commands);
+    shape_ui(ui, index, &mut part.shape, problems, lamps_mm, commands);
     transform_ui(ui, &mut part.transform);
 }
 
@@ -206,6 +216,7 @@ fn shape_ui(
     index: usize,
     shape: &mut Shape,
     problems: &[String],
+    lamps_mm: &[(String, [f64; 2])],
     commands: &mut Vec<Command>,
 ) {
     match shape {
@@ -302,6 +313,7 @@ fn shape_ui(
                 points_m,
                 interpolation,
                 segments_per_span,
+                lamps_mm,
             },
             problems,
             commands,
