@@ -201,10 +201,14 @@ fn the_louvre_and_extrusion_parameters_are_edited_in_millimetres_and_degrees() {
         Shape::Extruded(e) => assert!((e.length - 0.5).abs() < 1e-12),
         other => panic!("{other:?}"),
     }
-    h.get_by_label("Point 1 x");
+    // An extrusion's x may be negative.
+    set(&mut h, "Point 1 x", -60.0);
+    assert!((profile(&h, 2)[0][0] + 0.06).abs() < 1e-12);
+    assert!(problems(&h).is_empty(), "{:?}", problems(&h));
     h.get_by_label("Reverse points").click();
     steps(&mut h, 2);
     assert_eq!(profile(&h, 2)[0], [0.05, -0.01]);
+    assert!((profile(&h, 2)[4][0] + 0.06).abs() < 1e-12);
 }
 
 #[test]
