@@ -181,6 +181,24 @@ fn insertion_index(points: &[Pos2], p: Pos2) -> usize {
     }
 }
 
+/// The point halfway along span `k` of the curve the generator builds, so
+/// that a point added there leaves the shape as it was (the chord's
+/// midpoint would pull a spline towards it).
+fn span_midpoint_m(points_m: &[[f64; 2]], interpolation: Interpolation, k: usize) -> [f64; 2] {
+    let (a, b) = (points_m[k], points_m[k + 1]);
+    let chord = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+    if !points_m.iter().flatten().all(|v| v.is_finite()) {
+        return chord;
+    }
+    // Two segments per span: sample 1 of a span is its middle.
+    let strips = sample_profile(points_m, interpolation, 2);
+    let middle = match interpolation {
+        Interpolation::Linear => strips.get(k).and_then(|s| s.get(1)),
+        Interpolation::CatmullRom => strips.first().and_then(|s| s.get(2 * k + 1)),
+    };
+    middle.map_or(chord, |m| [m.point.x, m.point.y])
+}
+
 fn round_to(v: f64, step: f64) -> f64 {
     (v / step).round() * step
 }
@@ -256,11 +274,10 @@ pub fn profile_editor_ui(
             let k = selected
                 .unwrap_or(points_m.len() - 1)
                 .min(points_m.len() - 2);
-            let (a, b) = (points_m[k], points_m[k + 1]);
             commands.push(Command::Edit(SceneEdit::InsertProfilePoint {
                 part,
                 index: k + 1,
-                point_m: [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])],
+                point_m: span_midpoint_m(points_m, interpolation, k),
             }));
             selected = Some(k + 1);
         }
@@ -688,6 +705,26 @@ mod tests {
         assert_eq!(insertion_index(&points, pos2(4.0, 1.0)), 1);
         assert_eq!(insertion_index(&points, pos2(14.0, -1.0)), 2);
         assert_eq!(insertion_index(&points, pos2(30.0, 0.0)), 3);
+    }
+
+    #[test]
+    fn a_point_added_mid_span_lies_on_the_curve() {
+        let points = [[0.0, 0.0], [1.0, 1.0], [2.0, 0.0], [3.0, 1.0]];
+        assert_eq!(
+            span_midpoint_m(&points, Interpolation::Linear, 1),
+            [1.5, 0.5]
+        );
+        let on_spline = span_midpoint_m(&points, Interpolation::CatmullRom, 1);
+        // By symmetry the spline's middle of span 1 is at x = 1.5, and it
+        // bulges past the chord's midpoint (0.5) neither up nor down there.
+        assert!((on_spline[0] - 1.5).abs() < 1e-12, "{on_spline:?}");
+        assert!((on_spline[1] - 0.5).abs() < 1e-12, "{on_spline:?}");
+        let curved = [[0.0, 0.0], [1.0, 1.0], [2.0, 1.0], [3.0, 0.0]];
+        let on_arch = span_midpoint_m(&curved, Interpolation::CatmullRom, 1);
+        assert!(
+            on_arch[1] > 1.0,
+            "the arch's top lies above its chord: {on_arch:?}"
+        );
     }
 
     #[test]

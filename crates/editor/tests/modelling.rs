@@ -297,8 +297,15 @@ fn profile_points_are_added_and_deleted_each_in_one_undo_step() {
     click(&mut h, "Add point");
     let added = profile(&h, 1);
     assert_eq!(added.len(), 5);
-    let (a, b) = (original[2], original[3]);
-    assert_eq!(added[3], [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])]);
+    assert_eq!(added[..3], original[..3]);
+    assert_eq!(added[4], original[3]);
+    // On the curve between the two, not on their chord.
+    let (a, b, m) = (original[2], original[3], added[3]);
+    assert!(
+        m[0] > a[0] && m[0] < b[0] && m[1] < a[1] && m[1] > b[1],
+        "{m:?}"
+    );
+    assert_ne!(m, [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])]);
     click(&mut h, "Undo");
     assert_eq!(profile(&h, 1), original);
 
