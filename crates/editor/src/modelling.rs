@@ -9,7 +9,8 @@ use lucerna_scene::shapes::{
     BoxShape, Cylinder, Disk, Dome, Ellipsoid, Extruded, Louvre, Paraboloid, Plate, Revolved,
 };
 use lucerna_scene::{
-    Emission, Emitter, EmitterShape, Interpolation, Material, Part, Scene, Shape, Transform,
+    Emission, Emitter, EmitterShape, Interpolation, LuminousOpening, Material, Part, Scene, Shape,
+    Transform,
 };
 
 use crate::state::Selection;
@@ -149,6 +150,11 @@ pub enum SceneEdit {
         from: String,
         to: String,
     },
+    /// Renames a part, and the luminous opening that names it.
+    RenamePart {
+        part: usize,
+        to: String,
+    },
     /// Inserts a control point (m) before `index` of a revolved or
     /// extruded part's profile.
     InsertProfilePoint {
@@ -259,6 +265,21 @@ impl SceneEdit {
                     None
                 }
             }
+            SceneEdit::RenamePart { part, to } => {
+                let to = to.trim();
+                if to.is_empty() {
+                    Some("A part's name cannot be empty.".to_owned())
+                } else if scene
+                    .parts
+                    .iter()
+                    .enumerate()
+                    .any(|(i, p)| i != *part && p.name == to)
+                {
+                    Some(format!("A part called {to} exists already."))
+                } else {
+                    None
+                }
+            }
             SceneEdit::RemoveProfilePoint { part, .. } => {
                 let points = scene.parts.get(*part).and_then(|p| match &p.shape {
                     Shape::Revolved(s) => Some(s.profile.len()),
@@ -335,6 +356,17 @@ impl SceneEdit {
                     scene.materials.insert(to.clone(), material);
                     rename_material_references(scene, &from, &to);
                     *selection = Some(Selection::Material(to));
+                }
+            }
+            SceneEdit::RenamePart { part, to } => {
+                let to = to.trim().to_owned();
+                if let Some(p) = scene.parts.get_mut(part) {
+                    let from = std::mem::replace(&mut p.name, to.clone());
+                    if let Some(LuminousOpening::PartAperture { part: named }) = &mut scene.opening
+                        && *named == from
+                    {
+                        *named = to;
+                    }
                 }
             }
             SceneEdit::InsertProfilePoint {

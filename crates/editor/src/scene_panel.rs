@@ -192,7 +192,13 @@ fn part_ui(
     commands: &mut Vec<Command>,
 ) {
     ui.strong(format!("Part ({})", part.shape.generator().kind()));
-    text(ui, "Name", &mut part.name);
+    // Committed whole: the luminous opening may name the part.
+    let id = Id::unique(("part name", index));
+    if let Some(to) = committed_text(ui, id, "Name", &part.name)
+        && to != part.name
+    {
+        commands.push(Command::Edit(SceneEdit::RenamePart { part: index, to }));
+    }
     flag(ui, "Enabled", &mut part.enabled);
     crate::widgets::labelled(ui, "Material", |ui| {
         egui::ComboBox::from_id_salt("part material")

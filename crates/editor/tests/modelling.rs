@@ -415,6 +415,30 @@ fn renaming_a_material_renames_it_in_the_parts_in_one_undo_step() {
 }
 
 #[test]
+fn renaming_a_part_renames_the_opening_that_names_it() {
+    let mut h = editor();
+    click(&mut h, "Part reflector (paraboloid)");
+    type_into(&mut h, "Name", "spun reflector");
+    let scene = state(&h).scene().unwrap();
+    assert_eq!(scene.parts[0].name, "spun reflector");
+    assert_eq!(
+        scene.opening,
+        Some(lucerna_scene::LuminousOpening::PartAperture {
+            part: "spun reflector".to_owned()
+        })
+    );
+    assert!(problems(&h).is_empty(), "{:?}", problems(&h));
+    click(&mut h, "Undo");
+    assert_eq!(state(&h).scene().unwrap().parts[0].name, "reflector");
+    assert!(!state(&h).is_dirty());
+    // An empty name is refused.
+    click(&mut h, "Part reflector (paraboloid)");
+    type_into(&mut h, "Name", " ");
+    assert!(state(&h).edit_error().is_some_and(|e| e.contains("empty")));
+    assert_eq!(state(&h).scene().unwrap().parts[0].name, "reflector");
+}
+
+#[test]
 fn a_material_in_use_is_not_deleted_and_one_unused_is() {
     let mut h = editor();
     click(&mut h, "Material polished_alu (mirror)");
