@@ -16,8 +16,9 @@ use lucerna_scene::{
 
 use crate::config::{EditorConfig, EditorPaths, ThemeChoice};
 use crate::dialogs::{DialogKind, Dialogs};
+use crate::modelling::unique_name;
 use crate::recovery::{RecoveryOffer, read_recovery, remove_recovery, write_recovery};
-use crate::state::{Command, EditorState, Selection, error_chain, unique_name};
+use crate::state::{Command, EditorState, Selection, error_chain};
 
 /// How often unsaved changes are written to the recovery file.
 pub const DEFAULT_AUTOSAVE_INTERVAL: Duration = Duration::from_secs(20);
@@ -222,7 +223,7 @@ pub fn mesh_part(
     }
     let material = alone.materials.keys().next().cloned().unwrap_or_default();
     let part = Part {
-        name: unique_name(scene, &stem),
+        name: unique_name(&stem, |n| scene.parts.iter().any(|p| p.name == n)),
         shape: Shape::Mesh(Mesh {
             path: stored_text,
             group_materials: Default::default(),

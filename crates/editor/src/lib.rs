@@ -12,6 +12,8 @@ mod config;
 mod dialogs;
 mod files;
 mod files_bar;
+mod modelling;
+mod profile_editor;
 mod recovery;
 mod scene_panel;
 mod simulation_panel;
@@ -27,7 +29,7 @@ pub use config::{EditorPaths, MAX_RECENT, ThemeChoice};
 pub use dialogs::DialogKind;
 pub use files::{ImportMeshError, PendingAction, starter_scene};
 pub use recovery::RecoveryOffer;
-pub use state::{Command, EditorState, NewPart, Selection, View};
+pub use state::{Command, EditorState, NewPart, SceneEdit, Selection, View};
 pub use viewport::{Bounds, CubeShown, GpuTarget, OrbitCamera, StandardView, Viewport, pick};
 
 /// Why the editor could not run.

@@ -1,17 +1,27 @@
 //! The scene panel: emitters, parts and materials; the selected item's
 //! properties; validation problems.
 
-use egui::Ui;
-use lucerna_scene::{Emitter, EmitterShape, Material, Part, Scene, Shape, Transform};
+use std::path::Path;
 
-use crate::state::{Command, EditorState, NewPart, Selection};
-use crate::widgets::{degrees, flag, length_mm, number, offset_mm, segments, text};
+use egui::{Id, Response, Ui};
+use lucerna_scene::{
+    Emission, Emitter, EmitterShape, Interpolation, Material, Part, Scene, Shape, Transform,
+};
+
+use crate::modelling::{
+    EMITTER_SHAPES, NewPart, SceneEdit, emitter_shape_as, emitter_shape_kind,
+    lamps_in_profile_plane, material_users, profile_files_near, profile_mut,
+};
+use crate::profile_editor::{Profile, profile_editor_ui};
+use crate::state::{Command, EditorState, Selection};
+use crate::widgets::{degrees, flag, labelled, length_mm, number, offset_mm, segments, text};
 
 /// Longest length a field accepts (mm): a luminaire, not a building.
 const MAX_MM: f64 = 10_000.0;
 
 pub fn scene_panel_ui(ui: &mut Ui, state: &mut EditorState) {
     let mut commands = Vec::new();
+    let scene_dir = state.scene_dir();
     let Some(scene) = &mut state.scene else {
         ui.label("No scene loaded: open a scene file.");
         return;
@@ -20,22 +30,38 @@ pub fn scene_panel_ui(ui: &mut Ui, state: &mut EditorState) {
     tree_ui(ui, scene, state.selection.as_ref(), &mut commands);
     ui.separator();
     ui.horizontal_wrapped(|ui| {
-        for (kind, label) in [
-            (NewPart::Paraboloid, "Add paraboloid"),
-            (NewPart::Disk, "Add disk"),
-            (NewPart::Plate, "Add plate"),
-        ] {
-            if ui.button(label).clicked() {
-                commands.push(Command::AddPart(kind));
+        ui.menu_button("Add part", |ui| {
+            for kind in NewPart::ALL {
+                if ui.button(format!("Add {}", kind.kind())).clicked() {
+                    commands.push(Command::AddPart(kind));
+                }
             }
+        });
+        if ui.button("Add emitter").clicked() {
+            commands.push(Command::Edit(SceneEdit::AddEmitter));
+        }
+        if ui.button("Add material").clicked() {
+            commands.push(Command::Edit(SceneEdit::AddMaterial));
         }
     });
+    if let Some(error) = &state.edit_error {
+        ui.colored_label(ui.visuals().error_fg_color, error);
+    }
     ui.separator();
+    let materials: Vec<String> = scene.materials.keys().cloned().collect();
     match state.selection.clone() {
         Some(Selection::Part(i)) => {
-            let materials: Vec<String> = scene.materials.keys().cloned().collect();
+            let lamps_mm = lamps_in_profile_plane(scene, i);
             if let Some(part) = scene.parts.get_mut(i) {
-                part_ui(ui, part, &materials);
+                part_ui(
+                    ui,
+                    i,
+                    part,
+                    &materials,
+                    &state.problems,
+                    &lamps_mm,
+                    &mut commands,
+                );
                 ui.horizontal(|ui| {
                     if ui.button("Duplicate part").clicked() {
                         commands.push(Command::DuplicatePart(i));
@@ -48,13 +74,49 @@ pub fn scene_panel_ui(ui: &mut Ui, state: &mut EditorState) {
         }
         Some(Selection::Emitter(i)) => {
             if let Some(emitter) = scene.emitters.get_mut(i) {
-                emitter_ui(ui, emitter);
+                emitter_ui(ui, i, emitter, &materials, &scene_dir);
+                ui.horizontal(|ui| {
+                    if ui.button("Duplicate emitter").clicked() {
+                        commands.push(Command::Edit(SceneEdit::DuplicateEmitter(i)));
+                    }
+                    if ui.button("Delete emitter").clicked() {
+                        commands.push(Command::Edit(SceneEdit::DeleteEmitter(i)));
+                    }
+                });
             }
         }
         Some(Selection::Material(name)) => {
+            let users = material_users(scene, &name);
             if let Some(material) = scene.materials.get_mut(&name) {
                 ui.strong(format!("Material {name}"));
+                let renamed = committed_text(
+                    ui,
+                    Id::unique(("material name", &name)),
+                    "Material name",
+                    &name,
+                );
+                if let Some(to) = renamed
+                    && to != name
+                {
+                    commands.push(Command::Edit(SceneEdit::RenameMaterial {
+                        from: name.clone(),
+                        to,
+                    }));
+                }
                 material_ui(ui, material);
+                if users.is_empty() {
+                    ui.label("Used by nothing yet.");
+                } else {
+                    ui.label(format!("Used by {}.", users.join(", ")));
+                }
+                ui.horizontal(|ui| {
+                    if ui.button("Duplicate material").clicked() {
+                        commands.push(Command::Edit(SceneEdit::DuplicateMaterial(name.clone())));
+                    }
+                    if ui.button("Delete material").clicked() {
+                        commands.push(Command::Edit(SceneEdit::DeleteMaterial(name.clone())));
+                    }
+                });
             }
         }
         None => {
@@ -87,7 +149,12 @@ fn tree_ui(ui: &mut Ui, scene: &Scene, selected: Option<&Selection>, commands: &
         .default_open(true)
         .show(ui, |ui| {
             for (i, e) in scene.emitters.iter().enumerate() {
-                item(ui, Selection::Emitter(i), format!("Emitter {}", e.name));
+                let off = if e.enabled { "" } else { " (off)" };
+                item(
+                    ui,
+                    Selection::Emitter(i),
+                    format!("Emitter {}{off}", e.name),
+                );
             }
         });
     egui::CollapsingHeader::new("Parts")
@@ -115,9 +182,23 @@ fn tree_ui(ui: &mut Ui, scene: &Scene, selected: Option<&Selection>, commands: &
         });
 }
 
-fn part_ui(ui: &mut Ui, part: &mut Part, materials: &[String]) {
+fn part_ui(
+    ui: &mut Ui,
+    index: usize,
+    part: &mut Part,
+    materials: &[String],
+    problems: &[String],
+    lamps_mm: &[(String, [f64; 2])],
+    commands: &mut Vec<Command>,
+) {
     ui.strong(format!("Part ({})", part.shape.generator().kind()));
-    text(ui, "Name", &mut part.name);
+    // Committed whole: the luminous opening may name the part.
+    let id = Id::unique(("part name", index));
+    if let Some(to) = committed_text(ui, id, "Name", &part.name)
+        && to != part.name
+    {
+        commands.push(Command::Edit(SceneEdit::RenamePart { part: index, to }));
+    }
     flag(ui, "Enabled", &mut part.enabled);
     crate::widgets::labelled(ui, "Material", |ui| {
         egui::ComboBox::from_id_salt("part material")
@@ -130,13 +211,20 @@ fn part_ui(ui: &mut Ui, part: &mut Part, materials: &[String]) {
             .response
     });
     ui.label("Shape");
-    shape_ui(ui, &mut part.shape);
+    shape_ui(ui, index, &mut part.shape, problems, lamps_mm, commands);
     transform_ui(ui, &mut part.transform);
 }
 
-/// Every generator parameter with its unit; shapes drawn from curves or
-/// files are edited in the scene file for now.
-fn shape_ui(ui: &mut Ui, shape: &mut Shape) {
+/// Every generator parameter with its unit; the profile shapes get the
+/// profile editor.
+fn shape_ui(
+    ui: &mut Ui,
+    index: usize,
+    shape: &mut Shape,
+    problems: &[String],
+    lamps_mm: &[(String, [f64; 2])],
+    commands: &mut Vec<Command>,
+) {
     match shape {
         Shape::Paraboloid(s) => {
             length_mm(ui, "Focal length", &mut s.focal_length, MAX_MM);
@@ -182,9 +270,105 @@ fn shape_ui(ui: &mut Ui, shape: &mut Shape) {
             length_mm(ui, "Size z", &mut s.size[2], MAX_MM);
             flag(ui, "Open bottom", &mut s.open_bottom);
         }
-        Shape::Revolved(_) | Shape::Extruded(_) | Shape::Louvre(_) | Shape::Mesh(_) => {
-            ui.label("This shape's parameters are edited in the scene file.");
+        Shape::Revolved(s) => {
+            interpolation_ui(ui, &mut s.interpolation);
+            segments(ui, "Segments around", &mut s.segments_around, 3);
+            segments(ui, "Segments per span", &mut s.segments_per_span, 1);
+            flag(ui, "Faceted", &mut s.faceted);
         }
+        Shape::Extruded(s) => {
+            length_mm(ui, "Length", &mut s.length, MAX_MM);
+            interpolation_ui(ui, &mut s.interpolation);
+            segments(ui, "Segments per span", &mut s.segments_per_span, 1);
+            flag(ui, "End caps", &mut s.end_caps);
+        }
+        Shape::Louvre(s) => {
+            segments(ui, "Blade count", &mut s.blade_count, 1);
+            length_mm(ui, "Blade spacing", &mut s.spacing, MAX_MM);
+            length_mm(ui, "Blade height", &mut s.blade_height, MAX_MM);
+            length_mm(ui, "Blade length", &mut s.blade_length, MAX_MM);
+            // The validator refuses ±89° and beyond (blades edge-on).
+            number(ui, "Blade tilt", &mut s.tilt_deg, -88.9..=88.9, 0.5, "°");
+            segments(ui, "Cross blade count", &mut s.cross_blade_count, 0);
+            if s.cross_blade_count > 0 {
+                if s.cross_spacing <= 0.0 {
+                    s.cross_spacing = s.spacing;
+                }
+                length_mm(ui, "Cross blade spacing", &mut s.cross_spacing, MAX_MM);
+            }
+        }
+        Shape::Mesh(m) => {
+            ui.label(format!("Triangles from the OBJ file {}", m.path));
+            for (group, material) in &m.group_materials {
+                ui.label(format!("Group {group}: material {material}"));
+            }
+        }
+    }
+    let (interpolation, segments_per_span) = match shape {
+        Shape::Revolved(s) => (s.interpolation, s.segments_per_span),
+        Shape::Extruded(s) => (s.interpolation, s.segments_per_span),
+        _ => return,
+    };
+    if let Some((points_m, plane)) = profile_mut(shape) {
+        ui.separator();
+        profile_editor_ui(
+            ui,
+            Profile {
+                part: index,
+                plane,
+                points_m,
+                interpolation,
+                segments_per_span,
+                lamps_mm,
+            },
+            problems,
+            commands,
+        );
+    }
+}
+
+fn interpolation_ui(ui: &mut Ui, interpolation: &mut Interpolation) {
+    labelled(ui, "Interpolation", |ui| {
+        egui::ComboBox::from_id_salt("interpolation")
+            .selected_text(match interpolation {
+                Interpolation::Linear => "Straight segments",
+                Interpolation::CatmullRom => "Smooth (Catmull-Rom)",
+            })
+            .show_ui(ui, |ui| {
+                ui.selectable_value(
+                    interpolation,
+                    Interpolation::CatmullRom,
+                    "Smooth (Catmull-Rom)",
+                );
+                ui.selectable_value(interpolation, Interpolation::Linear, "Straight segments");
+            })
+            .response
+    });
+}
+
+/// A text field whose value is taken only when the user is done with it
+/// (Enter or leaving the field): names and file paths that mean something
+/// only once complete. While the field has focus its text lives in the
+/// UI's memory under `id`; returns the text when committed.
+fn committed_text(ui: &mut Ui, id: Id, label: &str, value: &str) -> Option<String> {
+    let mut buffer: String = ui
+        .data(|d| d.get_temp(id))
+        .unwrap_or_else(|| value.to_owned());
+    let response: Response = labelled(ui, label, |ui| ui.text_edit_singleline(&mut buffer));
+    if response.lost_focus() {
+        ui.data_mut(|d| d.remove::<String>(id));
+        // Escape leaves the field as it was.
+        let cancelled = ui.input(|i| i.key_pressed(egui::Key::Escape));
+        (!cancelled).then(|| buffer.trim().to_owned())
+    } else {
+        if response.has_focus() {
+            ui.data_mut(|d| {
+                d.insert_temp(id, buffer);
+            });
+        } else {
+            ui.data_mut(|d| d.remove::<String>(id));
+        }
+        None
     }
 }
 
@@ -201,11 +385,25 @@ fn transform_ui(ui: &mut Ui, t: &mut Transform) {
     }
 }
 
-fn emitter_ui(ui: &mut Ui, e: &mut Emitter) {
+fn emitter_ui(ui: &mut Ui, index: usize, e: &mut Emitter, materials: &[String], scene_dir: &Path) {
     ui.strong("Emitter");
     text(ui, "Name", &mut e.name);
     flag(ui, "Enabled", &mut e.enabled);
     number(ui, "Flux", &mut e.flux_lm, 0.0..=1e7, 1.0, " lm");
+    let mut kind = emitter_shape_kind(&e.shape);
+    labelled(ui, "Emitter shape", |ui| {
+        egui::ComboBox::from_id_salt("emitter shape")
+            .selected_text(kind)
+            .show_ui(ui, |ui| {
+                for k in EMITTER_SHAPES {
+                    ui.selectable_value(&mut kind, k, k);
+                }
+            })
+            .response
+    });
+    if kind != emitter_shape_kind(&e.shape) {
+        e.shape = emitter_shape_as(&e.shape, kind);
+    }
     match &mut e.shape {
         EmitterShape::Disk { radius } | EmitterShape::Sphere { radius } => {
             length_mm(ui, "Emitter radius", radius, MAX_MM);
@@ -219,7 +417,82 @@ fn emitter_ui(ui: &mut Ui, e: &mut Emitter) {
             length_mm(ui, "Emitter height", height, MAX_MM);
         }
     }
+    emission_ui(ui, index, &mut e.emission, scene_dir);
+    labelled(ui, "Emitter material", |ui| {
+        egui::ComboBox::from_id_salt("emitter material")
+            .selected_text(e.material.as_deref().unwrap_or("absorbing (none)"))
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut e.material, None, "absorbing (none)");
+                for m in materials {
+                    ui.selectable_value(&mut e.material, Some(m.clone()), m);
+                }
+            })
+            .response
+    });
     transform_ui(ui, &mut e.transform);
+}
+
+/// Lambertian emission or a measured IES/LDT distribution from a file
+/// relative to the scene's folder, with whether that file is there.
+fn emission_ui(ui: &mut Ui, index: usize, emission: &mut Emission, scene_dir: &Path) {
+    let measured = matches!(emission, Emission::Profile(_));
+    let mut choice = measured;
+    labelled(ui, "Emission", |ui| {
+        egui::ComboBox::from_id_salt("emission")
+            .selected_text(if choice {
+                "Measured (IES/LDT file)"
+            } else {
+                "Lambertian"
+            })
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut choice, false, "Lambertian");
+                ui.selectable_value(&mut choice, true, "Measured (IES/LDT file)");
+            })
+            .response
+    });
+    if choice != measured {
+        *emission = if choice {
+            Emission::Profile(String::new())
+        } else {
+            Emission::Lambertian
+        };
+    }
+    if let Emission::Profile(file) = emission {
+        if let Some(path) = committed_text(
+            ui,
+            Id::unique(("profile file", index)),
+            "Profile file",
+            file,
+        ) {
+            *file = path;
+        }
+        ui.menu_button("Choose profile file", |ui| {
+            let found = profile_files_near(scene_dir);
+            if found.is_empty() {
+                ui.label("No IES or LDT files in or beside the scene's folder.");
+            }
+            egui::ScrollArea::vertical()
+                .max_height(320.0)
+                .show(ui, |ui| {
+                    for f in found {
+                        if ui.button(&f).clicked() {
+                            *file = f;
+                        }
+                    }
+                });
+        });
+        let resolved = scene_dir.join(file.as_str());
+        if file.trim().is_empty() {
+            ui.label("Name an IES or LDT file, relative to the scene's folder.");
+        } else if resolved.is_file() {
+            ui.label(format!("Reads {}", resolved.display()));
+        } else {
+            ui.colored_label(
+                ui.visuals().error_fg_color,
+                format!("No such file: {}", resolved.display()),
+            );
+        }
+    }
 }
 
 /// The material kinds in the order the kind menu lists them, each with

@@ -2,12 +2,18 @@
 //! newest snapshot, and the run's controls.
 
 use egui::Ui;
-use lucerna_simulation::{FilterChoice, Snapshot};
+use lucerna_simulation::{BackendRequest, FilterChoice, Snapshot};
 
 use crate::state::{Command, EditorState};
 
 /// Cube-map resolutions offered (texels per face edge).
 const RESOLUTIONS: [u32; 5] = [32, 64, 128, 256, 512];
+/// The photon threshold a manual filter starts from: the paper's fixed
+/// rule, which the automatic filter also weighs.
+const DEFAULT_THRESHOLD_PHOTONS: f64 = 100.0;
+/// The peak noise a new stopping rule aims at (%): a figure that no
+/// longer moves in a datasheet's precision.
+const DEFAULT_PEAK_NOISE_PERCENT: f64 = 1.0;
 
 pub fn simulation_panel_ui(ui: &mut Ui, state: &mut EditorState) {
     ui.heading("Simulation");
@@ -40,6 +46,20 @@ fn controls_ui(ui: &mut Ui, state: &EditorState, commands: &mut Vec<Command>) {
         }
     });
     let mut settings = state.settings;
+    crate::widgets::labelled(ui, "Backend", |ui| {
+        egui::ComboBox::from_id_salt("backend")
+            .selected_text(backend_name(settings.backend))
+            .show_ui(ui, |ui| {
+                for b in [
+                    BackendRequest::Auto,
+                    BackendRequest::Cpu,
+                    BackendRequest::Gpu,
+                ] {
+                    ui.selectable_value(&mut settings.backend, b, backend_name(b));
+                }
+            })
+            .response
+    });
     crate::widgets::labelled(ui, "Resolution", |ui| {
         egui::ComboBox::from_id_salt("resolution")
             .selected_text(format!("{} per face", settings.resolution))
@@ -50,17 +70,97 @@ fn controls_ui(ui: &mut Ui, state: &EditorState, commands: &mut Vec<Command>) {
             })
             .response
     });
-    let mut automatic = settings.filter != FilterChoice::Raw;
-    if ui.checkbox(&mut automatic, "Filter (automatic)").changed() {
-        settings.filter = if automatic {
-            FilterChoice::Automatic
-        } else {
-            FilterChoice::Raw
-        };
+    if state.is_coarse_preview()
+        && let Some(s) = &state.snapshot
+    {
+        ui.label(format!(
+            "Coarse preview while dragging ({} per face)",
+            s.map.layout.resolution
+        ));
     }
+    filter_ui(ui, &mut settings.filter);
     ui.checkbox(&mut settings.pool_symmetry, "Symmetry pooling");
+    let mut stop_at_noise = settings.stop.peak_relative_error.is_some();
+    ui.horizontal(|ui| {
+        ui.checkbox(&mut stop_at_noise, "Stop at peak noise");
+        if let Some(error) = &mut settings.stop.peak_relative_error {
+            let mut percent = *error * 100.0;
+            let response = ui
+                .add(
+                    egui::DragValue::new(&mut percent)
+                        .speed(0.05)
+                        .range(0.05..=50.0)
+                        .max_decimals(2)
+                        .suffix(" %"),
+                )
+                .accessible_name("Target peak noise");
+            if response.changed() {
+                *error = percent / 100.0;
+            }
+        }
+    });
+    if stop_at_noise != settings.stop.peak_relative_error.is_some() {
+        settings.stop.peak_relative_error =
+            stop_at_noise.then_some(DEFAULT_PEAK_NOISE_PERCENT / 100.0);
+    }
+    crate::widgets::labelled(ui, "Max bounces", |ui| {
+        ui.add(
+            egui::DragValue::new(&mut settings.max_bounces)
+                .speed(0.2)
+                .range(1..=100_000),
+        )
+    });
     if settings != state.settings {
         commands.push(Command::SetSettings(settings));
+    }
+}
+
+fn backend_name(backend: BackendRequest) -> &'static str {
+    match backend {
+        BackendRequest::Auto => "Automatic",
+        BackendRequest::Cpu => "CPU",
+        BackendRequest::Gpu => "GPU",
+    }
+}
+
+/// Off, automatic, or a manual photon threshold with its field.
+fn filter_ui(ui: &mut Ui, filter: &mut FilterChoice) {
+    #[derive(Clone, Copy, PartialEq)]
+    enum Mode {
+        Off,
+        Automatic,
+        Manual,
+    }
+    let current = match filter {
+        FilterChoice::Raw => Mode::Off,
+        FilterChoice::Automatic => Mode::Automatic,
+        FilterChoice::Threshold(_) => Mode::Manual,
+    };
+    let name = |m: Mode| match m {
+        Mode::Off => "Off (raw counts)",
+        Mode::Automatic => "Automatic",
+        Mode::Manual => "Manual threshold",
+    };
+    let mut mode = current;
+    crate::widgets::labelled(ui, "Filter", |ui| {
+        egui::ComboBox::from_id_salt("filter")
+            .selected_text(name(mode))
+            .show_ui(ui, |ui| {
+                for m in [Mode::Off, Mode::Automatic, Mode::Manual] {
+                    ui.selectable_value(&mut mode, m, name(m));
+                }
+            })
+            .response
+    });
+    if mode != current {
+        *filter = match mode {
+            Mode::Off => FilterChoice::Raw,
+            Mode::Automatic => FilterChoice::Automatic,
+            Mode::Manual => FilterChoice::Threshold(DEFAULT_THRESHOLD_PHOTONS),
+        };
+    }
+    if let FilterChoice::Threshold(photons) = filter {
+        crate::widgets::number(ui, "Photon threshold", photons, 1.0..=1e9, 1.0, " photons");
     }
 }
 
@@ -108,7 +208,7 @@ fn figures_ui(ui: &mut Ui, s: &Snapshot) {
             row("Field C0-C180", angle(f.field_angle_deg[0]));
             row("Field C90-C270", angle(f.field_angle_deg[1]));
             if let Some(filter) = &s.filter {
-                row("Filter", filter.rule.clone());
+                row("Filter rule", filter.rule.clone());
             }
         });
     for w in &s.warnings {

@@ -7,13 +7,14 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use egui::util::undoer::{Settings as UndoSettings, Undoer};
-use lucerna_scene::shapes::{Disk, Paraboloid, Plate};
-use lucerna_scene::{Material, Part, Scene, Shape, Transform, load_scene, save_scene, validate};
+use lucerna_scene::{Scene, load_scene, save_scene, validate};
 use lucerna_simulation::{Simulation, SimulationSettings, Snapshot};
 
 use crate::config::{EditorPaths, ThemeChoice};
 use crate::dialogs::DialogKind;
 use crate::files::FileState;
+pub use crate::modelling::{NewPart, SceneEdit};
+use crate::modelling::{new_part, unique_name};
 
 /// What is selected in the scene panel.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -21,14 +22,6 @@ pub enum Selection {
     Emitter(usize),
     Part(usize),
     Material(String),
-}
-
-/// The part shapes the "Add" buttons create.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum NewPart {
-    Paraboloid,
-    Disk,
-    Plate,
 }
 
 /// A UI action, queued by a panel and applied after the panels are drawn
@@ -49,6 +42,8 @@ pub enum Command {
     AddPart(NewPart),
     DuplicatePart(usize),
     DeletePart(usize),
+    /// An emitter, material or profile edit (one undo step), or its refusal.
+    Edit(SceneEdit),
     Pause,
     Resume,
     SetSettings(SimulationSettings),
@@ -97,6 +92,8 @@ pub struct EditorState {
     pub(crate) view: View,
     /// New, recent files, autosave and recovery, dialogs (files.rs).
     pub(crate) files: FileState,
+    /// Why the last structural edit was refused, until the next one.
+    pub(crate) edit_error: Option<String>,
     undoer: Undoer<Scene>,
     /// A pointer drag or text entry is changing the scene: one undo step.
     gesture: bool,
@@ -104,6 +101,9 @@ pub struct EditorState {
     sent: Option<Scene>,
     sim: Option<Simulation>,
     pub(crate) settings: SimulationSettings,
+    /// The simulation runs at [`coarse_preview`] of `settings` while a
+    /// pointer drag edits the scene, and returns to them when it ends.
+    coarse: bool,
     pub(crate) paused: bool,
     pub(crate) snapshot: Option<Arc<Snapshot>>,
     pub(crate) sim_error: Option<String>,
@@ -149,6 +149,7 @@ impl EditorState {
             save_as_path: String::new(),
             view: View::default(),
             files: FileState::new(paths),
+            edit_error: None,
             undoer: Undoer::with_settings(UndoSettings {
                 max_undos: 200,
                 ..UndoSettings::default()
@@ -157,6 +158,7 @@ impl EditorState {
             sent: None,
             sim: None,
             settings,
+            coarse: false,
             paused: false,
             snapshot: None,
             sim_error: None,
@@ -197,6 +199,28 @@ impl EditorState {
         self.file_error.as_deref()
     }
 
+    /// Why the simulation of the newest scene or settings failed, if it did.
+    pub fn simulation_error(&self) -> Option<&str> {
+        self.sim_error.as_deref()
+    }
+
+    /// Why the last emitter, material or profile edit was refused.
+    pub fn edit_error(&self) -> Option<&str> {
+        self.edit_error.as_deref()
+    }
+
+    /// The settings chosen in the simulation panel (the simulation runs
+    /// coarser while a drag previews an edit).
+    pub fn settings(&self) -> &SimulationSettings {
+        &self.settings
+    }
+
+    /// Whether the simulation runs at the coarse preview resolution of a
+    /// drag.
+    pub fn is_coarse_preview(&self) -> bool {
+        self.coarse
+    }
+
     pub fn simulation(&self) -> Option<&Simulation> {
         self.sim.as_ref()
     }
@@ -224,7 +248,8 @@ impl EditorState {
         format!("{name}{marker} — Lucerna editor")
     }
 
-    fn scene_dir(&self) -> PathBuf {
+    /// The folder the scene's relative paths (profiles, OBJ files) start from.
+    pub(crate) fn scene_dir(&self) -> PathBuf {
         self.path
             .as_deref()
             .and_then(Path::parent)
@@ -256,7 +281,8 @@ impl EditorState {
     /// edit opens an undo step unless a gesture already holds one, and a
     /// valid scene goes to the simulation at once.
     pub(crate) fn end_frame(&mut self, ctx: &egui::Context, before: Option<Scene>) {
-        let held = ctx.input(|i| i.pointer.any_down()) || ctx.egui_wants_keyboard_input();
+        let dragging = ctx.input(|i| i.pointer.any_down());
+        let held = dragging || ctx.egui_wants_keyboard_input();
         if self.scene != before {
             if let Some(before) = &before
                 && !self.gesture
@@ -264,9 +290,12 @@ impl EditorState {
                 self.undoer.add_undo(before);
             }
             self.gesture = held;
-            self.scene_changed();
+            self.validate_and_send(dragging);
         } else if !held {
             self.gesture = false;
+        }
+        if !dragging {
+            self.end_coarse_preview();
         }
         self.apply_commands();
         self.autosave(ctx);
@@ -342,7 +371,11 @@ impl EditorState {
                     self.scene_changed();
                 }
             }
-            Command::Select(selection) => self.selection = selection,
+            Command::Select(selection) => {
+                self.selection = selection;
+                // A refusal is about the item it was asked of.
+                self.edit_error = None;
+            }
             Command::AddPart(kind) => self.structural(|scene, selection| {
                 let part = new_part(scene, kind);
                 scene.parts.push(part);
@@ -351,7 +384,8 @@ impl EditorState {
             Command::DuplicatePart(i) => self.structural(|scene, selection| {
                 if let Some(part) = scene.parts.get(i) {
                     let mut copy = part.clone();
-                    copy.name = unique_name(scene, &part.name);
+                    copy.name =
+                        unique_name(&part.name, |n| scene.parts.iter().any(|p| p.name == n));
                     scene.parts.insert(i + 1, copy);
                     *selection = Some(Selection::Part(i + 1));
                 }
@@ -362,6 +396,13 @@ impl EditorState {
                     *selection = None;
                 }
             }),
+            Command::Edit(edit) => {
+                let Some(scene) = &self.scene else { return };
+                match edit.refusal(scene) {
+                    Some(why) => self.edit_error = Some(why),
+                    None => self.structural(|scene, selection| edit.apply(scene, selection)),
+                }
+            }
             Command::Pause => {
                 if let Some(sim) = &self.sim {
                     sim.pause();
@@ -375,8 +416,13 @@ impl EditorState {
                 self.paused = false;
             }
             Command::SetSettings(settings) => {
+                let running = if self.coarse {
+                    coarse_preview(settings)
+                } else {
+                    settings
+                };
                 let result = match &mut self.sim {
-                    Some(sim) => sim.set_settings(settings).map(|_| ()),
+                    Some(sim) => sim.set_settings(running).map(|_| ()),
                     None => settings.validate().map_err(Into::into),
                 };
                 match result {
@@ -402,6 +448,7 @@ impl EditorState {
         let Some(scene) = &mut self.scene else { return };
         self.undoer.add_undo(scene);
         edit(scene, &mut self.selection);
+        self.edit_error = None;
         self.gesture = false;
         self.files.autosave_now = true;
         self.scene_changed();
@@ -410,6 +457,13 @@ impl EditorState {
     /// Validates the edited scene; a valid one restarts the simulation, an
     /// invalid one is only reported (the last valid one keeps running).
     fn scene_changed(&mut self) {
+        self.validate_and_send(false);
+    }
+
+    /// [`Self::scene_changed`], for an edit made by a pointer drag when
+    /// `dragging`: the simulation then runs at the coarse preview
+    /// resolution until the drag ends, so that the preview keeps up.
+    fn validate_and_send(&mut self, dragging: bool) {
         let Some(scene) = &self.scene else { return };
         let problems = validate(scene);
         self.problems = problems
@@ -424,9 +478,29 @@ impl EditorState {
         self.sent = Some(scene.clone());
         match &mut self.sim {
             Some(sim) => {
+                let coarse = coarse_preview(self.settings);
+                if dragging && !self.coarse && coarse != self.settings {
+                    match sim.set_settings(coarse) {
+                        Ok(_) => self.coarse = true,
+                        Err(e) => self.sim_error = Some(error_chain(&e)),
+                    }
+                }
                 sim.edit(scene, &dir);
             }
             None => self.start_simulation(scene, &dir),
+        }
+    }
+
+    /// Back to the chosen resolution once the drag that previewed at the
+    /// coarse one has ended.
+    fn end_coarse_preview(&mut self) {
+        if !std::mem::take(&mut self.coarse) {
+            return;
+        }
+        if let Some(sim) = &mut self.sim
+            && let Err(e) = sim.set_settings(self.settings)
+        {
+            self.sim_error = Some(error_chain(&e));
         }
     }
 
@@ -482,7 +556,10 @@ impl EditorState {
         self.problems.clear();
         self.file_error = None;
         self.gesture = false;
+        self.edit_error = None;
+        // A new document gets a fresh run (generation 0).
         self.sim = None;
+        self.coarse = false;
         self.sent = None;
         self.snapshot = None;
         self.sim_error = None;
@@ -529,63 +606,20 @@ pub(crate) fn error_chain(e: &dyn std::error::Error) -> String {
     text
 }
 
-/// `base` or `base 2`, `base 3`, … whichever no part is called yet.
-pub(crate) fn unique_name(scene: &Scene, base: &str) -> String {
-    let taken = |n: &str| scene.parts.iter().any(|p| p.name == n);
-    if !taken(base) {
-        return base.to_owned();
-    }
-    (2..)
-        .map(|k| format!("{base} {k}"))
-        .find(|n| !taken(n))
-        .unwrap_or_else(|| base.to_owned())
-}
+/// Texels per cube-face edge of the coarsest preview.
+const MIN_PREVIEW_RESOLUTION: u32 = 16;
+/// Texels per cube-face edge of the finest preview: enough to see a beam
+/// move, few enough (6 × 32² texels) to snapshot every frame.
+const MAX_PREVIEW_RESOLUTION: u32 = 32;
 
-/// A new part of `kind` in the scene's first material (white paint added
-/// when it has none), so that it validates at once.
-fn new_part(scene: &mut Scene, kind: NewPart) -> Part {
-    let material = match scene.materials.keys().next() {
-        Some(name) => name.clone(),
-        None => {
-            scene.materials.insert(
-                "white_paint".to_owned(),
-                Material::Lambertian { albedo: 0.8 },
-            );
-            "white_paint".to_owned()
-        }
-    };
-    let (name, shape) = match kind {
-        NewPart::Paraboloid => (
-            "paraboloid",
-            Shape::Paraboloid(Paraboloid {
-                focal_length: 0.025,
-                aperture_diameter: 0.1,
-                neck_diameter: 0.0,
-                segments_around: 64,
-                segments_along: 32,
-                faceted: false,
-            }),
-        ),
-        NewPart::Disk => (
-            "disk",
-            Shape::Disk(Disk {
-                radius: 0.05,
-                segments_around: 64,
-            }),
-        ),
-        NewPart::Plate => (
-            "plate",
-            Shape::Plate(Plate {
-                width: 0.1,
-                depth: 0.1,
-            }),
-        ),
-    };
-    Part {
-        name: unique_name(scene, name),
-        shape,
-        material,
-        enabled: true,
-        transform: Transform::default(),
+/// `settings` for previewing a drag: half the chosen resolution, between
+/// 16 and 32 per face, never above the chosen one.
+pub(crate) fn coarse_preview(settings: SimulationSettings) -> SimulationSettings {
+    let resolution = (settings.resolution / 2)
+        .clamp(MIN_PREVIEW_RESOLUTION, MAX_PREVIEW_RESOLUTION)
+        .min(settings.resolution);
+    SimulationSettings {
+        resolution,
+        ..settings
     }
 }

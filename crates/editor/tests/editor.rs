@@ -266,6 +266,9 @@ fn a_broken_scene_file_shows_its_error_and_the_editor_keeps_running() {
 fn parts_are_added_duplicated_and_deleted_each_as_one_undo_step() {
     let mut h = editor(Some(example()));
     h.step();
+    h.get_by_label("Add part").click();
+    h.step();
+    h.step();
     h.get_by_label("Add disk").click();
     h.step();
     h.step();
@@ -433,7 +436,10 @@ fn settings_restart_the_run_and_pause_pauses_it() {
     let sim = h.state().state.simulation().unwrap();
     assert!(!sim.settings().pool_symmetry);
     assert_eq!(sim.generation(), 1);
-    h.get_by_label("Filter (automatic)").click();
+    h.get_by_label("Filter").click();
+    h.step();
+    h.step();
+    h.get_by_label("Automatic").click();
     h.step();
     h.step();
     let sim = h.state().state.simulation().unwrap();

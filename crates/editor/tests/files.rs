@@ -98,6 +98,8 @@ fn an_edit_is_autosaved_and_a_new_editor_recovers_it_with_the_original_path() {
     steps(&mut h, 2);
     assert!(!recovery.exists(), "nothing unsaved yet");
     // A structural edit is written at once, whatever the interval.
+    h.get_by_label("Add part").click();
+    steps(&mut h, 2);
     h.get_by_label("Add disk").click();
     steps(&mut h, 2);
     assert_eq!(parts(&h), 2);
@@ -155,6 +157,8 @@ fn an_unanswered_recovery_offer_survives_quitting_and_new() {
     let config = work.path().join("config");
     let mut h = editor(Some(example()), &config);
     steps(&mut h, 2);
+    h.get_by_label("Add part").click();
+    steps(&mut h, 2);
     h.get_by_label("Add plate").click();
     steps(&mut h, 2);
     drop(h);
@@ -177,6 +181,8 @@ fn discarding_the_recovery_removes_it() {
     let config = work.path().join("config");
     let mut h = editor(Some(example()), &config);
     steps(&mut h, 2);
+    h.get_by_label("Add part").click();
+    steps(&mut h, 2);
     h.get_by_label("Add plate").click();
     steps(&mut h, 2);
     drop(h);
@@ -193,6 +199,8 @@ fn discarding_the_recovery_removes_it() {
 fn new_starts_a_valid_scene_and_asks_before_dropping_unsaved_changes() {
     let config = tempfile::tempdir().unwrap();
     let mut h = editor(Some(example()), config.path());
+    steps(&mut h, 2);
+    h.get_by_label("Add part").click();
     steps(&mut h, 2);
     h.get_by_label("Add disk").click();
     steps(&mut h, 2);
@@ -234,6 +242,8 @@ fn quitting_with_unsaved_changes_asks_first() {
     let config = tempfile::tempdir().unwrap();
     let mut h = editor(Some(example()), config.path());
     steps(&mut h, 2);
+    h.get_by_label("Add part").click();
+    steps(&mut h, 2);
     h.get_by_label("Add disk").click();
     steps(&mut h, 2);
     assert!(config.path().join("recovery.toml").exists());
@@ -263,6 +273,8 @@ fn close_window(h: &mut Harness<'_, EditorApp>) {
 fn the_close_button_asks_with_unsaved_changes_and_closes_without() {
     let config = tempfile::tempdir().unwrap();
     let mut h = editor(Some(example()), config.path());
+    steps(&mut h, 2);
+    h.get_by_label("Add part").click();
     steps(&mut h, 2);
     h.get_by_label("Add disk").click();
     steps(&mut h, 2);
