@@ -1,18 +1,20 @@
 //! The window: the panels around the views, one frame at a time.
 
 use crate::benchmark::Benchmark;
+use crate::export_dialog::{ExportDialog, export_dialog_ui};
 use crate::files_bar::files_bar_ui;
 use crate::scene_panel::scene_panel_ui;
 use crate::simulation_panel::simulation_panel_ui;
 use crate::state::EditorState;
 use crate::viewport::{GpuTarget, Viewport, viewport_ui};
-use crate::views::{CubeTexture, views_ui};
+use crate::views::{ViewsState, views_ui};
 
 /// The editor: its state and the textures only drawing needs.
 #[derive(Debug)]
 pub struct EditorApp {
     pub state: EditorState,
-    cube: CubeTexture,
+    views: ViewsState,
+    export: ExportDialog,
     viewport: Viewport,
     benchmark: Option<Benchmark>,
 }
@@ -27,7 +29,8 @@ impl EditorApp {
     pub fn with_gpu_target(state: EditorState, target: Option<GpuTarget>) -> Self {
         EditorApp {
             state,
-            cube: CubeTexture::default(),
+            views: ViewsState::default(),
+            export: ExportDialog::default(),
             viewport: Viewport::new(target),
             benchmark: None,
         }
@@ -77,7 +80,8 @@ impl EditorApp {
                 ctx.request_repaint();
             }
         }
-        egui::Panel::top("files").show(ui, |ui| files_bar_ui(ui, &mut self.state));
+        egui::Panel::top("files")
+            .show(ui, |ui| files_bar_ui(ui, &mut self.state, &mut self.export));
         egui::Panel::left("scene")
             .resizable(true)
             .default_size(300.0)
@@ -99,11 +103,12 @@ impl EditorApp {
                 .resizable(true)
                 .default_size(half)
                 .size_range(200.0..=(ui.available_width() - 200.0).max(200.0))
-                .show(ui, |ui| views_ui(ui, &mut self.state, &mut self.cube));
+                .show(ui, |ui| views_ui(ui, &mut self.state, &mut self.views));
             egui::CentralPanel::default().show(ui, |ui| {
                 viewport_ui(ui, &mut self.state, &mut self.viewport)
             });
         });
+        export_dialog_ui(&ctx, &mut self.state, &mut self.export);
         self.state.end_frame(&ctx, before);
         if let Some(b) = &mut self.benchmark {
             b.end_frame(frame_start.elapsed());

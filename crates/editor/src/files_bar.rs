@@ -8,11 +8,12 @@ use egui::Ui;
 
 use crate::config::ThemeChoice;
 use crate::dialogs::DialogKind;
+use crate::export_dialog::ExportDialog;
 use crate::files::PendingAction;
 use crate::state::{Command, EditorState};
 use crate::widgets::labelled;
 
-pub fn files_bar_ui(ui: &mut Ui, state: &mut EditorState) {
+pub fn files_bar_ui(ui: &mut Ui, state: &mut EditorState, export: &mut ExportDialog) {
     let mut commands = Vec::new();
     let dialog_open = state.files.dialogs.is_open();
     ui.horizontal_wrapped(|ui| {
@@ -56,6 +57,14 @@ pub fn files_bar_ui(ui: &mut Ui, state: &mut EditorState) {
                 commands.push(Command::FileDialog(DialogKind::SaveAs));
             }
         });
+        ui.separator();
+        if ui
+            .button("Export…")
+            .on_hover_text("IES, EULUMDAT, EXR and PNGs of the current result")
+            .clicked()
+        {
+            export.open = true;
+        }
     });
     // A second row: on one row the bar is wider than a 1366-pixel laptop
     // screen, and egui cannot wrap a field together with its buttons.

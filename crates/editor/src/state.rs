@@ -74,6 +74,8 @@ pub enum View {
     #[default]
     Polar,
     CubeMap,
+    /// The preview room lit by the current distribution.
+    Room,
 }
 
 /// Everything the editor knows; the panels draw it and queue commands.
