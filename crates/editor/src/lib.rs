@@ -16,6 +16,7 @@ mod files_bar;
 mod modelling;
 mod profile_editor;
 mod recovery;
+mod reference;
 mod room_view;
 mod scene_panel;
 mod simulation_panel;

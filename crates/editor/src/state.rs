@@ -73,7 +73,13 @@ pub enum Command {
 pub enum View {
     #[default]
     Polar,
+    /// I(γ) per C-plane, linear or log.
+    Cartesian,
+    /// The C-γ map with lines of equal intensity.
+    Isocandela,
     CubeMap,
+    /// Every figure with its noise, copyable as text.
+    Figures,
     /// The preview room lit by the current distribution.
     Room,
 }

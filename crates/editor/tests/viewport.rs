@@ -3,6 +3,8 @@
 //! tracer's BVH finds under it, a drag orbits, the wheel zooms; and one
 //! snapshot of the main window with the view drawn by wgpu.
 
+mod common;
+
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
@@ -134,26 +136,10 @@ fn a_drag_orbits_the_camera_and_the_wheel_zooms() {
 /// photons/s) and the checkout's path are masked; the rest must match within the threshold.
 #[test]
 fn the_main_window_with_a_converged_example_matches_its_snapshot() {
-    let render_state = egui_kittest::wgpu::create_render_state(
-        egui_kittest::wgpu::default_wgpu_setup(),
-        eframe::egui_wgpu::RendererOptions::PREDICTABLE,
+    let mut h = common::wgpu_editor(
+        EditorState::new(Some(example()), settings(400_000)),
+        [1366.0, 768.0],
     );
-    let target = lucerna_editor::GpuTarget {
-        format: render_state.target_format,
-        samples: 1,
-    };
-    let mut h = Harness::builder()
-        .with_size([1366.0, 768.0])
-        .renderer(egui_kittest::wgpu::WgpuTestRenderer::from_render_state(
-            render_state,
-        ))
-        .build_ui_state(
-            |ui, app: &mut EditorApp| app.ui(ui),
-            EditorApp::with_gpu_target(
-                EditorState::new(Some(example()), settings(400_000)),
-                Some(target),
-            ),
-        );
     wait_for_snapshot(&mut h, |app| {
         app.state
             .snapshot()
@@ -161,21 +147,8 @@ fn the_main_window_with_a_converged_example_matches_its_snapshot() {
     });
     h.get_by_label("Photon paths").click();
     h.run_steps(3);
-    // The scene path differs between checkouts.
-    h.mask(h.get_by_label("Scene file").rect());
-    for row in ["Iteration", "Photons/s"] {
-        let label = h.get_by_label(row).rect();
-        let wide = egui::Rect::from_min_max(label.min, egui::pos2(1366.0, label.max.y));
-        h.mask(wide);
-    }
-    h.remove_cursor();
-    h.run_steps(2);
-    h.snapshot_options(
-        "main_window_converged",
-        &egui_kittest::SnapshotOptions::new()
-            .threshold(1.5)
-            .max_failed_pixels(2500),
-    );
+    common::mask_time_dependent(&mut h);
+    common::snapshot(&mut h, "main_window_converged");
 }
 
 /// The `--benchmark` mode's scripted edits restart the run, each one's

@@ -1,28 +1,126 @@
 //! The photometric views beside the 3D view, one file each, redrawn from
-//! each snapshot; the tab row picks one.
+//! each snapshot; the tab row picks one. The polar and cartesian plots
+//! share the options row: unit, raw or exported table, an extra C-plane,
+//! and a reference to compare with.
 
+mod cartesian;
 mod cube_map;
+mod figures;
+mod isocandela;
 mod polar;
 
+use std::path::PathBuf;
+use std::sync::Arc;
+
 use egui::Ui;
+use lucerna_photometry::CandelaTable;
+use lucerna_simulation::Snapshot;
 
 pub use cube_map::CubeTexture;
 
+use crate::reference::Reference;
 use crate::room_view::{RoomView, room_ui};
 use crate::state::{EditorState, View};
+use crate::widgets::labelled;
 
-/// What only drawing the views needs (textures, the room's renderer).
-#[derive(Debug, Default)]
+/// How intensities are drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum IntensityUnit {
+    /// Absolute candela, as the simulation gives them.
+    #[default]
+    Candela,
+    /// Candela per 1000 lm of lamp (emitter) flux, as datasheets draw them.
+    CandelaPerKilolumen,
+}
+
+impl IntensityUnit {
+    pub fn label(self) -> &'static str {
+        match self {
+            IntensityUnit::Candela => "cd",
+            IntensityUnit::CandelaPerKilolumen => "cd/klm",
+        }
+    }
+
+    /// The factor from candela for a lamp flux of `lamp_flux_lm`.
+    pub fn factor(self, lamp_flux_lm: f64) -> f64 {
+        match self {
+            IntensityUnit::Candela => 1.0,
+            IntensityUnit::CandelaPerKilolumen if lamp_flux_lm > 0.0 => 1000.0 / lamp_flux_lm,
+            IntensityUnit::CandelaPerKilolumen => 1.0,
+        }
+    }
+}
+
+/// What only drawing the views needs: their options, the reference, and
+/// textures and caches rebuilt per snapshot.
+#[derive(Default)]
 pub struct ViewsState {
     pub cube: CubeTexture,
     pub room: RoomView,
+    pub unit: IntensityUnit,
+    /// Show the unfiltered table (when a filter is on).
+    pub raw: bool,
+    /// A C-plane drawn besides C0-C180 and C90-C270 (degrees).
+    pub extra_plane: Option<f64>,
+    pub cartesian: cartesian::CartesianOptions,
+    pub isocandela: isocandela::IsocandelaCache,
+    pub reference: Option<Reference>,
+    pub reference_path: String,
+    pub reference_error: Option<String>,
+}
+
+impl std::fmt::Debug for ViewsState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ViewsState")
+            .field("unit", &self.unit)
+            .field("raw", &self.raw)
+            .field("extra_plane", &self.extra_plane)
+            .field("reference", &self.reference.as_ref().map(|r| &r.name))
+            .finish_non_exhaustive()
+    }
+}
+
+/// The tables a plot draws, scaled to the chosen unit.
+pub struct PlotTables<'a> {
+    pub current: &'a CandelaTable,
+    pub current_factor: f64,
+    pub reference: Option<(&'a Reference, f64)>,
+    pub extra_plane: Option<f64>,
+    pub unit: IntensityUnit,
+}
+
+impl ViewsState {
+    /// The table shown: exported, or raw when asked and there is one.
+    fn shown_table<'s>(&self, snapshot: &'s Snapshot) -> &'s Arc<CandelaTable> {
+        if self.raw {
+            &snapshot.raw_table
+        } else {
+            &snapshot.table
+        }
+    }
+
+    fn plot_tables<'a>(&'a self, snapshot: &'a Snapshot) -> PlotTables<'a> {
+        PlotTables {
+            current: self.shown_table(snapshot),
+            current_factor: self.unit.factor(snapshot.map.emitter_flux_lm),
+            reference: self
+                .reference
+                .as_ref()
+                .map(|r| (r, self.unit.factor(r.lamp_flux_lm))),
+            extra_plane: self.extra_plane,
+            unit: self.unit,
+        }
+    }
 }
 
 pub fn views_ui(ui: &mut Ui, state: &mut EditorState, views: &mut ViewsState) {
     ui.horizontal_wrapped(|ui| {
         for (view, label) in [
             (View::Polar, "Polar diagram"),
+            (View::Cartesian, "Cartesian"),
+            (View::Isocandela, "Isocandela"),
             (View::CubeMap, "Cube map"),
+            (View::Figures, "Figures"),
             (View::Room, "Room"),
         ] {
             ui.selectable_value(&mut state.view, view, label);
@@ -37,9 +135,109 @@ pub fn views_ui(ui: &mut Ui, state: &mut EditorState, views: &mut ViewsState) {
         ui.label("No light distribution yet.");
         return;
     };
+    if matches!(state.view, View::Polar | View::Cartesian | View::Isocandela) {
+        options_ui(ui, &snapshot, views);
+    }
     match state.view {
-        View::Polar => polar::polar_ui(ui, &snapshot.table),
+        View::Polar => polar::polar_ui(ui, &views.plot_tables(&snapshot), &snapshot),
+        View::Cartesian => {
+            let options = views.cartesian;
+            let tables = views.plot_tables(&snapshot);
+            let mut changed = options;
+            cartesian::cartesian_ui(ui, &tables, &mut changed);
+            views.cartesian = changed;
+        }
+        View::Isocandela => {
+            let table = views.shown_table(&snapshot).clone();
+            let factor = views.unit.factor(snapshot.map.emitter_flux_lm);
+            let unit = views.unit;
+            isocandela::isocandela_ui(ui, &table, factor, unit, &mut views.isocandela);
+        }
         View::CubeMap => cube_map::cube_map_ui(ui, &snapshot, &mut views.cube),
+        View::Figures => figures::figures_ui(ui, &snapshot),
         View::Room => {}
+    }
+}
+
+/// Unit, raw or exported, extra plane, reference.
+fn options_ui(ui: &mut Ui, snapshot: &Arc<Snapshot>, views: &mut ViewsState) {
+    ui.horizontal_wrapped(|ui| {
+        labelled(ui, "Unit", |ui| {
+            egui::ComboBox::from_id_salt("intensity unit")
+                .selected_text(views.unit.label())
+                .show_ui(ui, |ui| {
+                    for u in [IntensityUnit::Candela, IntensityUnit::CandelaPerKilolumen] {
+                        ui.selectable_value(&mut views.unit, u, u.label());
+                    }
+                })
+                .response
+        });
+        let filtered = !Arc::ptr_eq(&snapshot.table, &snapshot.raw_table);
+        ui.add_enabled_ui(filtered, |ui| {
+            ui.checkbox(&mut views.raw, "Raw (unfiltered)")
+                .on_disabled_hover_text("The filter is off: the table is the raw one");
+        });
+        let mut extra = views.extra_plane.is_some();
+        ui.checkbox(&mut extra, "Extra C-plane");
+        match (extra, views.extra_plane) {
+            (true, None) => views.extra_plane = Some(45.0),
+            (false, Some(_)) => views.extra_plane = None,
+            _ => {}
+        }
+        if let Some(c) = &mut views.extra_plane {
+            labelled(ui, "C-plane", |ui| {
+                ui.add(
+                    egui::DragValue::new(c)
+                        .range(0.0..=179.9)
+                        .speed(0.5)
+                        .suffix("°"),
+                )
+            });
+        }
+    });
+    reference_ui(ui, snapshot, views);
+}
+
+fn reference_ui(ui: &mut Ui, snapshot: &Arc<Snapshot>, views: &mut ViewsState) {
+    ui.horizontal_wrapped(|ui| {
+        labelled(ui, "Reference file", |ui| {
+            ui.add(egui::TextEdit::singleline(&mut views.reference_path).desired_width(180.0))
+        });
+        if ui.button("Load reference").clicked() {
+            let path = PathBuf::from(views.reference_path.trim());
+            match Reference::load(&path) {
+                Ok(r) => {
+                    views.reference = Some(r);
+                    views.reference_error = None;
+                }
+                Err(e) => views.reference_error = Some(crate::state::error_chain(&e)),
+            }
+        }
+        if ui
+            .button("Pin as reference")
+            .on_hover_text("Keep this result to compare the next edits with (A/B)")
+            .clicked()
+        {
+            views.reference = Some(Reference::pinned(snapshot));
+            views.reference_error = None;
+        }
+        if views.reference.is_some() && ui.button("Clear reference").clicked() {
+            views.reference = None;
+        }
+    });
+    if let Some(e) = &views.reference_error {
+        ui.colored_label(ui.visuals().error_fg_color, e);
+    }
+    if let Some(r) = &views.reference {
+        // In candela: the design and the reference as they would light a
+        // room, whatever unit the plot uses.
+        let current = views.shown_table(snapshot);
+        let rms = current.rms_difference_cd(&r.table);
+        let peak = current.peak().0.max(r.table.peak().0);
+        ui.label(format!(
+            "Reference {}: RMS difference {rms:.1} cd ({:.1} % of the peak)",
+            r.name,
+            if peak > 0.0 { 100.0 * rms / peak } else { 0.0 }
+        ));
     }
 }

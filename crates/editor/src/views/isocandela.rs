@@ -1,0 +1,224 @@
+//! The isocandela map: intensity over C (across) and γ (down, 0° at the
+//! top) in the cube-map view's false colour, with lines of equal intensity
+//! at fractions of the peak (marching squares, the `contour` crate).
+
+use std::sync::Arc;
+
+use egui::{Color32, ColorImage, TextureHandle, TextureOptions, Ui};
+use egui_plot::{Line, Plot, PlotImage, PlotPoint, Text};
+use lucerna_photometry::CandelaTable;
+
+use super::IntensityUnit;
+use crate::colour::{false_colour, log_scale};
+
+/// Grid of the map: C every 2°, γ every 1°.
+const C_STEP_DEG: f64 = 2.0;
+const GAMMA_STEP_DEG: f64 = 1.0;
+const COLUMNS: usize = 181;
+const ROWS: usize = 181;
+
+/// The lines drawn, as fractions of the peak.
+pub const LEVELS: [f64; 6] = [0.05, 0.1, 0.25, 0.5, 0.75, 0.9];
+
+/// A line of equal intensity: its level (fraction of the peak) and its
+/// polylines in (C, γ) degrees.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Isoline {
+    pub level: f64,
+    pub polylines: Vec<Vec<[f64; 2]>>,
+}
+
+/// The table sampled on the map's grid, row by γ.
+fn sampled(table: &CandelaTable) -> Vec<f64> {
+    let mut values = Vec::with_capacity(COLUMNS * ROWS);
+    for j in 0..ROWS {
+        let gamma = j as f64 * GAMMA_STEP_DEG;
+        for i in 0..COLUMNS {
+            values.push(table.intensity(i as f64 * C_STEP_DEG, gamma));
+        }
+    }
+    values
+}
+
+/// Lines of equal intensity at `LEVELS` of the peak, in (C, γ) degrees.
+pub fn isolines(table: &CandelaTable) -> Vec<Isoline> {
+    let values = sampled(table);
+    let peak = values.iter().copied().fold(0.0, f64::max);
+    if !(peak > 0.0) {
+        return Vec::new();
+    }
+    let thresholds: Vec<f64> = LEVELS.iter().map(|l| l * peak).collect();
+    // The crate puts sample (i, j) at the pixel centre (i + ½, j + ½) and
+    // closes each ring along the grid's border; smoothing interpolates the
+    // crossings linearly between samples.
+    let builder = contour::ContourBuilder::new(COLUMNS, ROWS, true);
+    let Ok(lines) = builder.lines(&values, &thresholds) else {
+        return Vec::new();
+    };
+    let on_border =
+        |x: f64, y: f64| x <= 0.0 || y <= 0.0 || x >= COLUMNS as f64 || y >= ROWS as f64;
+    lines
+        .iter()
+        .map(|line| {
+            let mut polylines = Vec::new();
+            for ring in &line.geometry().0 {
+                // The ring's runs off the border are the isoline itself.
+                let mut run: Vec<[f64; 2]> = Vec::new();
+                for p in &ring.0 {
+                    if on_border(p.x, p.y) {
+                        if run.len() > 1 {
+                            polylines.push(std::mem::take(&mut run));
+                        }
+                        run.clear();
+                    } else {
+                        run.push([(p.x - 0.5) * C_STEP_DEG, (p.y - 0.5) * GAMMA_STEP_DEG]);
+                    }
+                }
+                if run.len() > 1 {
+                    polylines.push(run);
+                }
+            }
+            Isoline {
+                level: line.threshold() / peak,
+                polylines,
+            }
+        })
+        .collect()
+}
+
+/// The map's texture and lines, rebuilt when the table changes.
+#[derive(Default)]
+pub struct IsocandelaCache {
+    shown: Option<Arc<CandelaTable>>,
+    texture: Option<TextureHandle>,
+    lines: Vec<Isoline>,
+}
+
+impl std::fmt::Debug for IsocandelaCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("IsocandelaCache").finish_non_exhaustive()
+    }
+}
+
+pub fn isocandela_ui(
+    ui: &mut Ui,
+    table: &Arc<CandelaTable>,
+    factor: f64,
+    unit: IntensityUnit,
+    cache: &mut IsocandelaCache,
+) {
+    if !cache.shown.as_ref().is_some_and(|t| Arc::ptr_eq(t, table)) || cache.texture.is_none() {
+        let values = sampled(table);
+        let peak = values.iter().copied().fold(0.0, f64::max);
+        let mut image = ColorImage::filled([COLUMNS, ROWS], Color32::BLACK);
+        for (pixel, v) in image.pixels.iter_mut().zip(&values) {
+            *pixel = false_colour(log_scale(*v, peak));
+        }
+        match &mut cache.texture {
+            Some(t) => t.set(image, TextureOptions::LINEAR),
+            None => {
+                cache.texture = Some(ui.ctx().load_texture(
+                    "isocandela",
+                    image,
+                    TextureOptions::LINEAR,
+                ));
+            }
+        }
+        cache.lines = isolines(table);
+        cache.shown = Some(table.clone());
+    }
+    let Some(texture) = &cache.texture else {
+        return;
+    };
+    let peak = factor * table.peak().0;
+    ui.label(format!(
+        "Lines at {} % of the peak ({peak:.0} {}); colour: log scale as on the cube map",
+        LEVELS.map(|l| format!("{:.0}", 100.0 * l)).join(", "),
+        unit.label()
+    ));
+    let unit_label = unit.label().to_owned();
+    let table_for_hover = table.clone();
+    Plot::new("isocandela map")
+        .x_axis_label("C (°)")
+        .y_axis_label("γ (°)")
+        .y_axis_formatter(|mark, _| format!("{:.0}", (-mark.value).max(0.0)))
+        .include_x(0.0)
+        .include_x(360.0)
+        .include_y(0.0)
+        .include_y(-180.0)
+        .label_formatter(move |hover| {
+            let p = match hover {
+                egui_plot::HoverPosition::NearDataPoint { position, .. }
+                | egui_plot::HoverPosition::Elsewhere { position } => *position,
+            };
+            let (c, gamma) = (p.x.rem_euclid(360.0), (-p.y).clamp(0.0, 180.0));
+            Some(format!(
+                "C {c:.1}°, γ {gamma:.1}°: {:.0} {unit_label}",
+                factor * table_for_hover.intensity(c, gamma)
+            ))
+        })
+        .show(ui, |plot| {
+            plot.image(PlotImage::new(
+                "",
+                texture.id(),
+                PlotPoint::new(180.0, -90.0),
+                egui::vec2(
+                    (COLUMNS as f64 * C_STEP_DEG) as f32,
+                    (ROWS as f64 * GAMMA_STEP_DEG) as f32,
+                ),
+            ));
+            for line in &cache.lines {
+                for polyline in &line.polylines {
+                    let points: Vec<[f64; 2]> = polyline.iter().map(|p| [p[0], -p[1]]).collect();
+                    // Labelled mid-way, away from the map's edges.
+                    if let Some(middle) = points.get(points.len() / 2).copied() {
+                        plot.line(Line::new("", points).color(Color32::WHITE).width(1.0));
+                        plot.text(
+                            Text::new(
+                                "",
+                                PlotPoint::new(middle[0], middle[1]),
+                                format!("{:.0} %", 100.0 * line.level),
+                            )
+                            .color(Color32::WHITE),
+                        );
+                    }
+                }
+            }
+        });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// I = 1000 cos γ below the horizon: every isoline of level l lies at
+    /// γ = acos(l) in every C-plane.
+    #[test]
+    fn isolines_of_a_cosine_lie_at_the_arccosine_of_their_level() {
+        let table = CandelaTable::from_fn(5.0, 0.5, |_, g| {
+            if g < 90.0 {
+                1000.0 * g.to_radians().cos()
+            } else {
+                0.0
+            }
+        });
+        let lines = isolines(&table);
+        assert_eq!(lines.len(), LEVELS.len());
+        for line in &lines {
+            let expected = line.level.acos().to_degrees();
+            let points: Vec<&[f64; 2]> = line.polylines.iter().flatten().collect();
+            assert!(!points.is_empty());
+            for p in points {
+                // Linear interpolation between 1° rows of a cosine.
+                assert!(
+                    (p[1] - expected).abs() < 0.05,
+                    "{} % at γ {}: {}",
+                    line.level,
+                    p[1],
+                    expected
+                );
+                assert!((-1e-9..=360.0 + 1e-9).contains(&p[0]), "C {}", p[0]);
+            }
+        }
+    }
+}

@@ -1,0 +1,52 @@
+//! What the picture tests share: an editor drawn by egui's wgpu renderer
+//! (the software adapter here) and the masks over what follows wall time.
+
+#![allow(dead_code)] // reason: each test file uses a part of it
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use lucerna_editor::{EditorApp, EditorState, GpuTarget};
+
+/// An editor whose 3D view and plots are rendered for snapshots.
+pub fn wgpu_editor(state: EditorState, size: [f32; 2]) -> Harness<'static, EditorApp> {
+    let render_state = egui_kittest::wgpu::create_render_state(
+        egui_kittest::wgpu::default_wgpu_setup(),
+        eframe::egui_wgpu::RendererOptions::PREDICTABLE,
+    );
+    let target = GpuTarget {
+        format: render_state.target_format,
+        samples: 1,
+    };
+    Harness::builder()
+        .with_size(size)
+        .renderer(egui_kittest::wgpu::WgpuTestRenderer::from_render_state(
+            render_state,
+        ))
+        .build_ui_state(
+            |ui, app: &mut EditorApp| app.ui(ui),
+            EditorApp::with_gpu_target(state, Some(target)),
+        )
+}
+
+/// Masks the checkout's path and the figures that follow wall time
+/// (iterations, photons/s), then hides the cursor.
+pub fn mask_time_dependent(h: &mut Harness<'_, EditorApp>) {
+    h.mask(h.get_by_label("Scene file").rect());
+    for row in ["Iteration", "Photons/s"] {
+        let label = h.get_by_label(row).rect();
+        let wide = egui::Rect::from_min_max(label.min, egui::pos2(4000.0, label.max.y));
+        h.mask(wide);
+    }
+    h.remove_cursor();
+    h.run_steps(2);
+}
+
+/// A snapshot compared with a threshold, never exact pixels.
+pub fn snapshot(h: &mut Harness<'_, EditorApp>, name: &str) {
+    h.snapshot_options(
+        name,
+        &egui_kittest::SnapshotOptions::new()
+            .threshold(1.5)
+            .max_failed_pixels(2500),
+    );
+}
