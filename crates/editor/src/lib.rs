@@ -67,6 +67,36 @@ fn wgpu_configuration() -> eframe::egui_wgpu::WgpuConfiguration {
     }
 }
 
+/// Tracing and filtering run on rayon's global pool. At idle priority its
+/// threads still take every spare cycle, but a frame (egui's and, on a
+/// machine without a GPU, the software rasteriser's threads) never waits
+/// for them: on 2 cores the UI otherwise got half a core against the
+/// tracer's two threads. A platform that refuses keeps normal priority.
+fn tracer_threads_at_idle_priority() {
+    let _ = rayon::ThreadPoolBuilder::new()
+        .thread_name(|i| format!("lucerna-trace-{i}"))
+        .start_handler(|_| lower_this_threads_priority())
+        .build_global();
+}
+
+#[cfg(target_os = "linux")]
+fn lower_this_threads_priority() {
+    use thread_priority::unix::{
+        NormalThreadSchedulePolicy, ThreadSchedulePolicy, set_thread_priority_and_policy,
+        thread_native_id,
+    };
+    let _ = set_thread_priority_and_policy(
+        thread_native_id(),
+        thread_priority::ThreadPriority::Min,
+        ThreadSchedulePolicy::Normal(NormalThreadSchedulePolicy::Idle),
+    );
+}
+
+#[cfg(not(target_os = "linux"))]
+fn lower_this_threads_priority() {
+    let _ = thread_priority::set_current_thread_priority(thread_priority::ThreadPriority::Min);
+}
+
 /// Opens the editor's window on `scene` (or none) and runs until it closes;
 /// with `benchmark`, for that long under measurement (figures printed on
 /// exit).
@@ -85,6 +115,7 @@ pub fn run(
         wgpu_options: wgpu_configuration(),
         ..eframe::NativeOptions::default()
     };
+    tracer_threads_at_idle_priority();
     let settings = lucerna_simulation::SimulationSettings {
         resolution: 64,
         ..lucerna_simulation::SimulationSettings::default()
