@@ -43,12 +43,21 @@ impl EditorApp {
             // eframe's egui pass is not multisampled unless asked.
             samples: 1,
         });
+        let software = cc
+            .wgpu_render_state
+            .as_ref()
+            .is_some_and(|rs| rs.adapter.get_info().device_type == eframe::wgpu::DeviceType::Cpu);
+        if software {
+            state.pacer.software_rasteriser();
+        }
         Self::with_gpu_target(state, target)
     }
 
     /// Measures frames and scripted edits for `duration`, then closes.
-    pub fn with_benchmark(mut self, duration: std::time::Duration) -> Self {
-        self.benchmark = Some(Benchmark::new(duration));
+    pub fn with_benchmark(mut self, duration: std::time::Duration, continuous: bool) -> Self {
+        let mut benchmark = Benchmark::new(duration);
+        benchmark.continuous = continuous;
+        self.benchmark = Some(benchmark);
         self
     }
 
@@ -75,9 +84,14 @@ impl EditorApp {
         if let Some(b) = &mut self.benchmark {
             b.begin_frame(&mut self.state, frame_start);
             if b.is_finished() {
-                ctx.send_viewport_cmd(egui::ViewportCommand::Close);
-            } else {
+                // Its nudges are no one's unsaved changes: no question,
+                // no recovery file left behind.
+                self.state.push(crate::state::Command::QuitDiscarding);
+            } else if b.continuous {
                 ctx.request_repaint();
+            } else {
+                // Frames come as in use; the next edit is due within 2 s.
+                ctx.request_repaint_after(std::time::Duration::from_millis(250));
             }
         }
         egui::Panel::top("files")
@@ -117,7 +131,13 @@ impl EditorApp {
 }
 
 impl eframe::App for EditorApp {
-    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+    fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+        if let Some(seconds) = frame.info().cpu_usage {
+            self.state.pacer.frame_cost(seconds);
+            if let Some(b) = &mut self.benchmark {
+                b.frame_cost(seconds);
+            }
+        }
         EditorApp::ui(self, ui);
     }
 

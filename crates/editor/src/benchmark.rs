@@ -1,10 +1,13 @@
-//! `lucerna-editor --benchmark SECONDS`: the real window under load,
-//! measured. Frames are repainted continuously; every two seconds a
-//! scripted edit (the first part nudged 0.5 mm up or down, which restarts
-//! the run) is made, and the time until a frame shows the new run's first
-//! snapshot is taken. At the end the window closes and the figures are
-//! printed: frame interval and UI time (median, 95th percentile),
-//! edit-to-preview latency, photons/s while the UI runs.
+//! `lucerna-editor --benchmark SECONDS`: the real window while tracing,
+//! measured. Frames come as they do in use (paced snapshot repaints);
+//! every two seconds a scripted edit (the first part nudged 0.5 mm up or
+//! down, which restarts the run) is made, and the time until a frame shows
+//! the new run's first snapshot is taken. At the end the window closes and
+//! the figures are printed: frame time (eframe's CPU time per frame: ui,
+//! tessellation, paint) and the interval between frames (median, 95th
+//! percentile), edit-to-preview latency, photons/s while the UI runs.
+//! With `--continuous` every frame asks for the next, as while the user
+//! drags: the frame interval is then what a frame takes end to end.
 
 use std::time::{Duration, Instant};
 
@@ -19,9 +22,13 @@ const NUDGE_M: f64 = 0.0005;
 #[derive(Debug)]
 pub struct Benchmark {
     duration: Duration,
+    /// Repaint every frame, as while the user drags: the frame interval
+    /// is then the time a frame takes.
+    pub continuous: bool,
     started: Option<Instant>,
     last_frame: Option<Instant>,
     frame_intervals: Vec<Duration>,
+    frame_costs: Vec<Duration>,
     ui_times: Vec<Duration>,
     last_edit: Option<Instant>,
     /// The edit waiting for its first preview: when, and the generation
@@ -31,6 +38,8 @@ pub struct Benchmark {
     /// Photons/s of the last snapshot of each run segment.
     photons_per_second: Vec<f64>,
     edits: u32,
+    /// The snapshot repaint interval the pacer keeps, as last seen.
+    repaint_interval: Duration,
     finished: bool,
 }
 
@@ -38,15 +47,18 @@ impl Benchmark {
     pub fn new(duration: Duration) -> Self {
         Benchmark {
             duration,
+            continuous: false,
             started: None,
             last_frame: None,
             frame_intervals: Vec::new(),
+            frame_costs: Vec::new(),
             ui_times: Vec::new(),
             last_edit: None,
             waiting: None,
             latencies: Vec::new(),
             photons_per_second: Vec::new(),
             edits: 0,
+            repaint_interval: Duration::ZERO,
             finished: false,
         }
     }
@@ -67,6 +79,7 @@ impl Benchmark {
             return;
         };
         let started = *self.started.get_or_insert(now);
+        self.repaint_interval = state.pacer.interval();
         if let Some(last) = self.last_frame {
             self.frame_intervals.push(now - last);
         }
@@ -101,6 +114,13 @@ impl Benchmark {
         }
     }
 
+    /// The previous frame's cost as eframe measured it.
+    pub fn frame_cost(&mut self, seconds: f32) {
+        if self.started.is_some() && seconds.is_finite() && seconds >= 0.0 {
+            self.frame_costs.push(Duration::from_secs_f32(seconds));
+        }
+    }
+
     pub fn end_frame(&mut self, ui_time: Duration) {
         if self.started.is_some() {
             self.ui_times.push(ui_time);
@@ -130,13 +150,15 @@ impl Benchmark {
         pps.sort_by(f64::total_cmp);
         let median_pps = pps.get(pps.len() / 2).copied().unwrap_or(f64::NAN);
         format!(
-            "frame interval: {}\nUI time per frame: {}\nedit to first preview: {} ({} edits)\nphotons/s while the UI runs: median {:.3e} over {} runs",
+            "frame time (ui, tessellation, paint): {}\nframe interval: {}\nUI time per frame: {}\nedit to first preview: {} ({} edits)\nphotons/s while the UI runs: median {:.3e} over {} runs\nsnapshot repaint interval: {:.0} ms",
+            stats(&self.frame_costs),
             stats(&self.frame_intervals),
             stats(&self.ui_times),
             stats(&self.latencies),
             self.edits,
             median_pps,
-            pps.len()
+            pps.len(),
+            ms(self.repaint_interval)
         )
     }
 }

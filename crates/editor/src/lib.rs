@@ -14,6 +14,7 @@ mod export_dialog;
 mod files;
 mod files_bar;
 mod modelling;
+mod pacer;
 mod profile_editor;
 mod recovery;
 mod reference;
@@ -99,10 +100,10 @@ fn lower_this_threads_priority() {
 
 /// Opens the editor's window on `scene` (or none) and runs until it closes;
 /// with `benchmark`, for that long under measurement (figures printed on
-/// exit).
+/// exit), repainting every frame if its flag says so.
 pub fn run(
     scene: Option<PathBuf>,
-    benchmark: Option<std::time::Duration>,
+    benchmark: Option<(std::time::Duration, bool)>,
 ) -> Result<(), RunEditorError> {
     if std::env::var_os("DISPLAY").is_none() && std::env::var_os("WAYLAND_DISPLAY").is_none() {
         return Err(RunEditorError::NoDisplay);
@@ -127,7 +128,7 @@ pub fn run(
         Box::new(move |cc| {
             let app = EditorApp::from_creation(cc, state);
             Ok(Box::new(match benchmark {
-                Some(d) => app.with_benchmark(d),
+                Some((d, continuous)) => app.with_benchmark(d, continuous),
                 None => app,
             }))
         }),

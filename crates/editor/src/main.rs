@@ -1,4 +1,4 @@
-//! `lucerna-editor [--benchmark SECONDS] [SCENE.toml]`: the editor's window
+//! `lucerna-editor [--benchmark SECONDS [--continuous]] [SCENE.toml]`: the editor's window
 //! (also reached through `lucerna edit`). Prints the error chain as
 //! `lucerna` does.
 
@@ -10,6 +10,7 @@ fn main() -> ExitCode {
     let mut args = std::env::args_os().skip(1);
     let mut scene = None;
     let mut benchmark = None;
+    let mut continuous = false;
     while let Some(arg) = args.next() {
         if arg == "--benchmark" {
             let seconds = args
@@ -23,14 +24,16 @@ fn main() -> ExitCode {
                     return ExitCode::FAILURE;
                 }
             }
+        } else if arg == "--continuous" {
+            continuous = true;
         } else if scene.is_none() {
             scene = Some(PathBuf::from(arg));
         } else {
-            eprintln!("usage: lucerna-editor [--benchmark SECONDS] [SCENE.toml]");
+            eprintln!("usage: lucerna-editor [--benchmark SECONDS [--continuous]] [SCENE.toml]");
             return ExitCode::FAILURE;
         }
     }
-    match lucerna_editor::run(scene, benchmark) {
+    match lucerna_editor::run(scene, benchmark.map(|d| (d, continuous))) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");

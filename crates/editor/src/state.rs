@@ -15,6 +15,7 @@ use crate::dialogs::DialogKind;
 use crate::files::FileState;
 pub use crate::modelling::{NewPart, SceneEdit};
 use crate::modelling::{new_part, unique_name};
+use crate::pacer::RepaintPacer;
 
 /// What is selected in the scene panel.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -119,6 +120,8 @@ pub struct EditorState {
     /// The context the simulation's worker asks to repaint; known from the
     /// first frame on.
     pub(crate) ctx: Option<egui::Context>,
+    /// Paces the repaints the simulation's snapshots ask for.
+    pub(crate) pacer: Arc<RepaintPacer>,
     title: String,
 }
 
@@ -172,6 +175,7 @@ impl EditorState {
             sim_error: None,
             commands: Vec::new(),
             ctx: None,
+            pacer: Arc::new(RepaintPacer::default()),
             title: String::new(),
         };
         if let Some(path) = open {
@@ -514,9 +518,10 @@ impl EditorState {
 
     fn start_simulation(&mut self, scene: Scene, dir: &Path) {
         let ctx = self.ctx.clone();
+        let pacer = self.pacer.clone();
         let repaint = move || {
             if let Some(ctx) = &ctx {
-                ctx.request_repaint();
+                pacer.request(ctx);
             }
         };
         self.snapshot = None;

@@ -160,7 +160,7 @@ fn the_benchmark_mode_times_each_scripted_edit() {
         .with_size([1366.0, 900.0])
         .build_ui_state(
             |ui, app: &mut EditorApp| app.ui(ui),
-            EditorApp::new(state).with_benchmark(Duration::from_secs_f64(4.5)),
+            EditorApp::new(state).with_benchmark(Duration::from_secs_f64(4.5), true),
         );
     wait_for_snapshot(&mut h, |_| true);
     let original = h.state().state.scene().unwrap().parts[0].transform.clone();
