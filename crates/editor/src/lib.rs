@@ -68,12 +68,13 @@ fn wgpu_configuration() -> eframe::egui_wgpu::WgpuConfiguration {
     }
 }
 
-/// Tracing and filtering run on rayon's global pool. At idle priority its
-/// threads still take every spare cycle, but a frame (egui's and, on a
-/// machine without a GPU, the software rasteriser's threads) never waits
-/// for them: on 2 cores the UI otherwise got half a core against the
-/// tracer's two threads. A platform that refuses keeps normal priority.
-fn tracer_threads_at_idle_priority() {
+/// Tracing and filtering run on rayon's global pool, its threads at nice
+/// 10: against them a frame (egui's thread and, on a machine without a GPU,
+/// the software rasteriser's threads) gets the CPU when it needs it, while
+/// other programs still leave the tracer a fair share. On 2 cores the UI
+/// otherwise got half a core against the tracer's two threads. A platform
+/// that refuses keeps normal priority.
+fn tracer_threads_at_low_priority() {
     let _ = rayon::ThreadPoolBuilder::new()
         .thread_name(|i| format!("lucerna-trace-{i}"))
         .start_handler(|_| lower_this_threads_priority())
@@ -86,10 +87,14 @@ fn lower_this_threads_priority() {
         NormalThreadSchedulePolicy, ThreadSchedulePolicy, set_thread_priority_and_policy,
         thread_native_id,
     };
+    // The crate's 0–99 scale maps 22 to nice 10 under the normal policy.
+    let Ok(priority) = thread_priority::ThreadPriorityValue::try_from(22u8) else {
+        return;
+    };
     let _ = set_thread_priority_and_policy(
         thread_native_id(),
-        thread_priority::ThreadPriority::Min,
-        ThreadSchedulePolicy::Normal(NormalThreadSchedulePolicy::Idle),
+        thread_priority::ThreadPriority::Crossplatform(priority),
+        ThreadSchedulePolicy::Normal(NormalThreadSchedulePolicy::Other),
     );
 }
 
@@ -116,7 +121,7 @@ pub fn run(
         wgpu_options: wgpu_configuration(),
         ..eframe::NativeOptions::default()
     };
-    tracer_threads_at_idle_priority();
+    tracer_threads_at_low_priority();
     let settings = lucerna_simulation::SimulationSettings {
         resolution: 64,
         ..lucerna_simulation::SimulationSettings::default()

@@ -86,6 +86,14 @@ impl RepaintPacer {
         due - now
     }
 
+    /// The next snapshot repaints at once: the first preview of an edit
+    /// waits for no pace.
+    pub fn reset(&self) {
+        if let Ok(mut pace) = self.pace.lock() {
+            pace.last_repaint = None;
+        }
+    }
+
     /// Asks `ctx` to repaint when the pace allows.
     pub fn request(&self, ctx: &egui::Context) {
         let delay = self.delay(Instant::now());
@@ -138,5 +146,8 @@ mod tests {
         let t0 = Instant::now();
         assert_eq!(pacer.delay(t0), Duration::ZERO);
         assert_eq!(pacer.delay(t0), SOFTWARE_RASTERISER_INTERVAL);
+        // After an edit the first snapshot waits for nothing.
+        pacer.reset();
+        assert_eq!(pacer.delay(t0), Duration::ZERO);
     }
 }

@@ -497,6 +497,7 @@ impl EditorState {
                         Err(e) => self.sim_error = Some(error_chain(&e)),
                     }
                 }
+                self.pacer.reset();
                 sim.edit(scene, &dir);
             }
             None => self.start_simulation(scene, &dir),

@@ -55,17 +55,25 @@ pub struct Bvh {
     /// The triangles again, in CWBVH slot order, so the CPU traversal reads
     /// them without an indirection (measured ~10 % faster).
     pub cwbvh_slot_triangles: Vec<BvhTriangle>,
-    /// BVH2 nodes for the GPU (leaves index `bvh2_leaf_triangles`).
-    pub nodes: Vec<BvhNode>,
-    /// For each BVH2 leaf slot, the index into `triangles`.
-    pub bvh2_leaf_triangles: Vec<u32>,
+    /// The BVH2 for the GPU, built the first time it is asked for: a run
+    /// on the CPU (every edit on a machine without a GPU) never pays for it.
+    bvh2: std::sync::OnceLock<Bvh2>,
     /// Triangles in the scene's order.
     pub triangles: Vec<BvhTriangle>,
     pub cwbvh_build_time: std::time::Duration,
-    pub bvh2_build_time: std::time::Duration,
     /// How the CPU traverses the CWBVH; the fastest this CPU runs, by
     /// default.
     pub traversal: CpuTraversal,
+}
+
+/// The BVH2 in the GPU layout.
+#[derive(Debug, Clone)]
+pub struct Bvh2 {
+    /// Nodes (leaves index `leaf_triangles`).
+    pub nodes: Vec<BvhNode>,
+    /// For each leaf slot, the index into [`Bvh::triangles`].
+    pub leaf_triangles: Vec<u32>,
+    pub build_time: std::time::Duration,
 }
 
 /// CPU traversal of the CWBVH.
@@ -136,20 +144,6 @@ impl Bvh {
         let start = Instant::now();
         let cwbvh = obvhs::cwbvh::builder::build_cwbvh_from_tris(&tris, params, &mut core);
         let cwbvh_build_time = start.elapsed();
-        let start = Instant::now();
-        let bvh2 = obvhs::bvh2::builder::build_bvh2_from_tris(&tris, params, &mut core);
-        let bvh2_build_time = start.elapsed();
-        let nodes = bvh2
-            .nodes
-            .iter()
-            .map(|n| BvhNode {
-                min: n.aabb().min.to_array(),
-                first: n.first_index,
-                max: n.aabb().max.to_array(),
-                count: n.prim_count,
-            })
-            .collect();
-        let bvh2_leaf_triangles = bvh2.primitive_indices.clone();
         let cwbvh_leaf_triangles = cwbvh.primitive_indices.clone();
         let triangles: Vec<BvhTriangle> = corners
             .iter()
@@ -170,14 +164,54 @@ impl Bvh {
             cwbvh_slot_triangles,
             scale,
             cwbvh,
-            nodes,
-            bvh2_leaf_triangles,
+            bvh2: std::sync::OnceLock::new(),
             cwbvh_leaf_triangles,
             triangles,
             cwbvh_build_time,
-            bvh2_build_time,
             traversal: CpuTraversal::best(),
         }
+    }
+
+    /// The BVH2 for the GPU kernel, built on first use with the same
+    /// preset as the CWBVH.
+    pub fn bvh2(&self) -> &Bvh2 {
+        self.bvh2.get_or_init(|| {
+            use std::time::Instant;
+            let tris: Vec<obvhs::triangle::Triangle> = self
+                .triangles
+                .iter()
+                .map(|t| {
+                    let v0 = Vec3::from_array(t.v0);
+                    obvhs::triangle::Triangle {
+                        v0: v0.into(),
+                        v1: (v0 + Vec3::from_array(t.e1)).into(),
+                        v2: (v0 + Vec3::from_array(t.e2)).into(),
+                    }
+                })
+                .collect();
+            let mut core = std::time::Duration::ZERO;
+            let start = Instant::now();
+            let bvh2 = obvhs::bvh2::builder::build_bvh2_from_tris(
+                &tris,
+                obvhs::BvhBuildParams::very_slow_build(),
+                &mut core,
+            );
+            let nodes = bvh2
+                .nodes
+                .iter()
+                .map(|n| BvhNode {
+                    min: n.aabb().min.to_array(),
+                    first: n.first_index,
+                    max: n.aabb().max.to_array(),
+                    count: n.prim_count,
+                })
+                .collect();
+            Bvh2 {
+                nodes,
+                leaf_triangles: bvh2.primitive_indices.clone(),
+                build_time: start.elapsed(),
+            }
+        })
     }
 
     /// Closest hit along `origin + t·dir` (metres, unit `dir`), t in
@@ -241,7 +275,15 @@ impl Bvh {
     /// Closest hit by the BVH2 in the GPU layout: the same stack traversal
     /// as the WGSL kernel (nearer child first).
     pub fn intersect_bvh2(&self, origin: Vec3A, dir: Vec3A, t_max: f32) -> Option<Hit> {
-        if self.nodes.is_empty() || self.triangles.is_empty() {
+        if self.triangles.is_empty() {
+            return None;
+        }
+        let Bvh2 {
+            nodes,
+            leaf_triangles,
+            ..
+        } = self.bvh2();
+        if nodes.is_empty() {
             return None;
         }
         let origin = origin * self.scale;
@@ -256,12 +298,12 @@ impl Bvh {
         let mut stack = [0u32; 64];
         let mut top = 0usize;
         let mut node = 0u32;
-        slab(&self.nodes[0], origin, inv, best.t)?;
+        slab(&nodes[0], origin, inv, best.t)?;
         loop {
-            let n = &self.nodes[node as usize];
+            let n = &nodes[node as usize];
             if n.count > 0 {
                 for slot in n.first..n.first + n.count {
-                    let i = self.bvh2_leaf_triangles[slot as usize];
+                    let i = leaf_triangles[slot as usize];
                     if let Some((t, u, v)) =
                         intersect_triangle(&self.triangles[i as usize], origin, dir)
                         && t < best.t
@@ -276,8 +318,8 @@ impl Bvh {
                 }
             } else {
                 let (a, b) = (n.first, n.first + 1);
-                let ta = slab(&self.nodes[a as usize], origin, inv, best.t);
-                let tb = slab(&self.nodes[b as usize], origin, inv, best.t);
+                let ta = slab(&nodes[a as usize], origin, inv, best.t);
+                let tb = slab(&nodes[b as usize], origin, inv, best.t);
                 match (ta, tb) {
                     (Some(ta), Some(tb)) => {
                         let (near, far) = if ta <= tb { (a, b) } else { (b, a) };

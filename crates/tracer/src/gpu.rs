@@ -160,10 +160,11 @@ impl GpuTracer {
             })
         };
         let bvh = &scene.bvh;
-        let nodes = storage("bvh nodes", bytemuck::cast_slice(&bvh.nodes));
+        let bvh2 = bvh.bvh2();
+        let nodes = storage("bvh nodes", bytemuck::cast_slice(&bvh2.nodes));
         let leaves = storage(
             "bvh leaf triangles",
-            bytemuck::cast_slice(&bvh.bvh2_leaf_triangles),
+            bytemuck::cast_slice(&bvh2.leaf_triangles),
         );
         let triangles = storage("triangles", bytemuck::cast_slice(&bvh.triangles));
         let shading = storage("shading", bytemuck::cast_slice(&scene.shading));

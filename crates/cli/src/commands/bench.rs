@@ -136,7 +136,7 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
                     .map_or(String::new(), |s| s.to_string_lossy().into_owned()),
                 prepared.triangle_count(),
                 prepared.bvh.cwbvh_build_time.as_secs_f64() * 1e3,
-                prepared.bvh.bvh2_build_time.as_secs_f64() * 1e3,
+                prepared.bvh.bvh2().build_time.as_secs_f64() * 1e3,
                 name.chars().take(34).collect::<String>(),
                 tally.emitted as f64 / seconds / 1e6,
                 tally.rays as f64 / seconds / 1e6,
@@ -166,7 +166,7 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
                 "{:>10} {:>12.1} {:>12.1}",
                 corners.len(),
                 bvh.cwbvh_build_time.as_secs_f64() * 1e3,
-                bvh.bvh2_build_time.as_secs_f64() * 1e3
+                bvh.bvh2().build_time.as_secs_f64() * 1e3
             );
         }
     }
