@@ -176,14 +176,17 @@ fn figures_ui(ui: &mut Ui, s: &Snapshot) {
         .show(ui, |ui| {
             let mut row = |name: &str, value: String| {
                 ui.label(name);
-                ui.label(value);
+                // Values (adapter names) can run long: cut to the panel,
+                // in full on hover.
+                ui.add(egui::Label::new(value.clone()).truncate())
+                    .on_hover_text(value);
                 ui.end_row();
             };
             row("State", format!("{:?}", s.state));
             row("Iteration", s.iteration.to_string());
             row("Photons", format!("{:.3e}", s.photons as f64));
             row("Photons/s", format!("{:.3e}", s.photons_per_second));
-            row("Backend", s.backend.clone());
+            row("Backend", format!("{} ({})", s.backend, s.backend_reason));
             row(
                 "Noise (peak)",
                 format!("{:.2} %", 100.0 * s.noise.peak_relative),

@@ -17,8 +17,9 @@ pub enum BackendRequest {
     Cpu,
     /// The WGSL implementation on a GPU adapter (a software one included).
     Gpu,
-    /// A hardware GPU if there is one; otherwise whichever the job finds
-    /// faster (the tracer measures the software adapter against the CPU).
+    /// A hardware GPU if there is one; otherwise the CPU for the tracer
+    /// (a software adapter runs on the same cores, 5x less efficiently),
+    /// and whichever a renderer finds faster.
     #[default]
     Auto,
 }
