@@ -124,11 +124,15 @@ fn saved_files_are_readable_by_others() {
 /// `same_light` and checked by validation.
 #[test]
 fn export_keywords_round_trip_and_older_files_still_load() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../assets/luminaires/parabolic_spot.toml");
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/luminaires/parabolic_spot.toml");
     let old = load_scene(&path).expect("an example without [export]");
     assert!(old.export.is_empty());
-    assert!(!scene_to_toml(&old).expect("serialises").contains("[export]"));
+    assert!(
+        !scene_to_toml(&old)
+            .expect("serialises")
+            .contains("[export]")
+    );
 
     let mut scene = old.clone();
     scene.export.catalogue_number = "PS-25/100".to_owned();
