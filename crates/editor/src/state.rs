@@ -472,7 +472,9 @@ impl EditorState {
             .iter()
             .map(|p| format!("{}: {}", p.field, p.message))
             .collect();
-        if !problems.is_empty() || self.sent.as_ref() == Some(scene) {
+        // Labels (name, manufacturer, export keywords) are not light: the
+        // run goes on, and an export takes them from the edited scene.
+        if !problems.is_empty() || self.sent.as_ref().is_some_and(|s| s.same_light(scene)) {
             return;
         }
         let scene = scene.clone();
