@@ -44,10 +44,12 @@ fn scene_copy(dir: &Path) -> PathBuf {
 }
 
 fn editor(open: &Path) -> Harness<'static, EditorApp> {
-    Harness::builder().with_size([1366.0, 900.0]).build_ui_state(
-        |ui, app: &mut EditorApp| app.ui(ui),
-        EditorApp::new(EditorState::new(Some(open.to_path_buf()), settings())),
-    )
+    Harness::builder()
+        .with_size([1366.0, 900.0])
+        .build_ui_state(
+            |ui, app: &mut EditorApp| app.ui(ui),
+            EditorApp::new(EditorState::new(Some(open.to_path_buf()), settings())),
+        )
 }
 
 fn steps(h: &mut Harness<'_, EditorApp>, n: usize) {
@@ -226,7 +228,10 @@ fn keywords_typed_in_the_dialog_are_saved_in_the_scene_undoable_and_restart_noth
     assert_eq!(scene.export.catalogue_number, "AC-25/100");
     assert_eq!(scene.manufacturer, "Acme Lighting");
     assert!(state.is_dirty());
-    assert_eq!(state.simulation().unwrap().generation(), snapshot.generation);
+    assert_eq!(
+        state.simulation().unwrap().generation(),
+        snapshot.generation
+    );
     assert!(
         Arc::ptr_eq(state.snapshot().unwrap(), &snapshot),
         "a keyword is not light: the finished run stays"
