@@ -17,7 +17,7 @@ use lucerna_simulation::{
 };
 
 use crate::state::{EditorState, error_chain};
-use crate::widgets::{flag, labelled, number};
+use crate::widgets::{flag, labelled, length_mm, number};
 
 /// The usual γ steps of datasheet files (degrees); `None` is the
 /// automatic grid (2.5° refined until the table holds the flux).
@@ -326,10 +326,94 @@ fn keywords_ui(ui: &mut Ui, state: &mut EditorState) {
             number(ui, "Input power", &mut k.input_watts, 0.0..=1e6, 0.1, " W");
             ui.end_row();
         });
+    opening_ui(ui, scene);
     ui.label(format!(
-        "Luminous opening: {} (the scene's opening; by default the footprint)",
+        "Declared: {}",
         opening.unwrap_or_else(|| "known once the scene is traced".to_owned())
     ));
+}
+
+/// The scene's luminous opening, which the files declare and the preview
+/// room lights through (so changing it restarts the run).
+fn opening_ui(ui: &mut Ui, scene: &mut lucerna_scene::Scene) {
+    use lucerna_scene::LuminousOpening as O;
+    let kind = |o: &Option<O>| match o {
+        None => "Footprint (default)",
+        Some(O::Rectangle { .. }) => "Rectangle",
+        Some(O::Disk { .. }) => "Disk",
+        Some(O::PartAperture { .. }) => "Part aperture",
+        Some(O::None) => "None (point source)",
+    };
+    let first_part = scene.parts.first().map(|p| p.name.clone());
+    let mut chosen = kind(&scene.opening);
+    labelled(ui, "Luminous opening", |ui| {
+        egui::ComboBox::from_id_salt("export opening")
+            .selected_text(chosen)
+            .show_ui(ui, |ui| {
+                for k in [
+                    "Footprint (default)",
+                    "Rectangle",
+                    "Disk",
+                    "Part aperture",
+                    "None (point source)",
+                ] {
+                    ui.selectable_value(&mut chosen, k, k);
+                }
+            })
+            .response
+    });
+    if chosen != kind(&scene.opening) {
+        scene.opening = match chosen {
+            "Rectangle" => Some(O::Rectangle {
+                length_m: 0.1,
+                width_m: 0.1,
+                height_m: 0.0,
+            }),
+            "Disk" => Some(O::Disk {
+                diameter_m: 0.1,
+                height_m: 0.0,
+            }),
+            "Part aperture" => first_part.map(|part| O::PartAperture { part }),
+            "None (point source)" => Some(O::None),
+            _ => None,
+        };
+    }
+    let part_names: Vec<String> = scene.parts.iter().map(|p| p.name.clone()).collect();
+    match &mut scene.opening {
+        Some(O::Rectangle {
+            length_m,
+            width_m,
+            height_m,
+        }) => {
+            ui.horizontal(|ui| {
+                length_mm(ui, "Opening length (C0-C180)", length_m, 50_000.0);
+                length_mm(ui, "Opening width (C90-C270)", width_m, 50_000.0);
+                length_mm(ui, "Opening height", height_m, 50_000.0);
+            });
+        }
+        Some(O::Disk {
+            diameter_m,
+            height_m,
+        }) => {
+            ui.horizontal(|ui| {
+                length_mm(ui, "Opening diameter", diameter_m, 50_000.0);
+                length_mm(ui, "Opening height", height_m, 50_000.0);
+            });
+        }
+        Some(O::PartAperture { part }) => {
+            labelled(ui, "Aperture part", |ui| {
+                egui::ComboBox::from_id_salt("export aperture part")
+                    .selected_text(part.as_str())
+                    .show_ui(ui, |ui| {
+                        for name in &part_names {
+                            ui.selectable_value(part, name.clone(), name);
+                        }
+                    })
+                    .response
+            });
+        }
+        Some(O::None) | None => {}
+    }
 }
 
 fn describe_opening(d: lucerna_photometry::Dimensions) -> String {

@@ -302,3 +302,47 @@ fn an_export_to_an_unwritable_folder_shows_an_error_and_writes_nothing() {
     h.get_by_label_contains("is not a plain file name");
     assert!(names_in(&out).is_empty());
 }
+
+#[test]
+fn the_luminous_opening_chosen_in_the_dialog_is_declared_in_the_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_path = scene_copy(dir.path());
+    let mut h = editor(&scene_path);
+    finished_run(&mut h);
+    let out = dir.path().join("out");
+    open_dialog(&mut h, &out, "spot");
+    choose(&mut h, "Luminous opening", "Disk");
+    h.get_by_label("Opening diameter").set_value_accesskit(80.0);
+    steps(&mut h, 2);
+    assert_eq!(
+        h.state().state.scene().unwrap().opening,
+        Some(lucerna_scene::LuminousOpening::Disk {
+            diameter_m: 0.08,
+            height_m: 0.0
+        })
+    );
+    // The opening is the preview room's too: the run restarts with it.
+    let generation = h.state().state.simulation().unwrap().generation();
+    assert!(generation >= 1);
+    finished_run_of(&mut h, generation);
+    click(&mut h, "Export");
+    h.get_by_label("Wrote 5 files:");
+    let ies = read_photometry(&std::fs::read(out.join("spot.ies")).unwrap()).unwrap();
+    let area = ies.meta.luminous_area;
+    assert!(
+        area.circular && (area.length_m - 0.08).abs() < 1e-9,
+        "{area:?}"
+    );
+}
+
+/// Steps frames until the run of `generation` has finished.
+fn finished_run_of(h: &mut Harness<'_, EditorApp>, generation: u64) -> Arc<Snapshot> {
+    let deadline = Instant::now() + Duration::from_secs(120);
+    loop {
+        let s = finished_run(h);
+        if s.generation >= generation {
+            return s;
+        }
+        assert!(Instant::now() < deadline, "timed out waiting for the run");
+    }
+}
