@@ -16,7 +16,8 @@ use lucerna_simulation::{
     ExportFormats, ExportOptions, ExportRequest, FilterChoice, Labels, Snapshot, TableGrid,
 };
 
-use crate::state::{EditorState, error_chain};
+use crate::dialogs::DialogKind;
+use crate::state::{Command, EditorState, error_chain};
 use crate::widgets::{flag, labelled, length_mm, number};
 
 /// The usual γ steps of datasheet files (degrees); `None` is the
@@ -232,7 +233,22 @@ fn dialog_ui(ui: &mut Ui, state: &mut EditorState, dialog: &mut ExportDialog) {
     ui.separator();
     ui.strong("Output");
     text_field(ui, "Issue date", &mut dialog.date, "");
-    text_field(ui, "Output folder", &mut dialog.folder, "");
+    if let Some(chosen) = state.chosen_export_folder.take() {
+        dialog.folder = chosen.display().to_string();
+    }
+    ui.horizontal(|ui| {
+        text_field(ui, "Output folder", &mut dialog.folder, "");
+        if ui
+            .add_enabled(
+                !state.files.dialogs.is_open(),
+                egui::Button::new("Choose folder…"),
+            )
+            .on_hover_text("Choose the folder in a dialog")
+            .clicked()
+        {
+            state.push(Command::FileDialog(DialogKind::ExportFolder));
+        }
+    });
     text_field(ui, "Base name", &mut dialog.base_name, "");
     if ui
         .button("Export")

@@ -66,6 +66,8 @@ pub enum Command {
     FileDialog(DialogKind),
     SetTheme(ThemeChoice),
     ClearRecent,
+    /// The export dialog's output folder, chosen in a native dialog.
+    SetExportFolder(PathBuf),
 }
 
 /// Which view the central panel shows.
@@ -96,6 +98,8 @@ pub struct EditorState {
     pub(crate) files: FileState,
     /// Why the last structural edit was refused, until the next one.
     pub(crate) edit_error: Option<String>,
+    /// A folder chosen for the export dialog, until it takes it.
+    pub(crate) chosen_export_folder: Option<PathBuf>,
     undoer: Undoer<Scene>,
     /// A pointer drag or text entry is changing the scene: one undo step.
     gesture: bool,
@@ -152,6 +156,7 @@ impl EditorState {
             view: View::default(),
             files: FileState::new(paths),
             edit_error: None,
+            chosen_export_folder: None,
             undoer: Undoer::with_settings(UndoSettings {
                 max_undos: 200,
                 ..UndoSettings::default()
@@ -432,6 +437,7 @@ impl EditorState {
                     Err(e) => self.sim_error = Some(error_chain(&e)),
                 }
             }
+            Command::SetExportFolder(path) => self.chosen_export_folder = Some(path),
             command @ (Command::New
             | Command::NewDiscarding
             | Command::Quit

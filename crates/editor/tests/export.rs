@@ -346,3 +346,23 @@ fn finished_run_of(h: &mut Harness<'_, EditorApp>, generation: u64) -> Arc<Snaps
         assert!(Instant::now() < deadline, "timed out waiting for the run");
     }
 }
+
+#[test]
+fn a_folder_chosen_in_the_native_dialog_fills_the_output_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_path = scene_copy(dir.path());
+    let mut h = editor(&scene_path);
+    steps(&mut h, 2);
+    click(&mut h, "Export…");
+    h.get_by_label("Choose folder…");
+    // What the dialog's thread delivers when a folder is picked.
+    let chosen = dir.path().join("chosen");
+    h.state_mut()
+        .state
+        .push(lucerna_editor::Command::SetExportFolder(chosen.clone()));
+    steps(&mut h, 2);
+    assert_eq!(
+        h.get_by_label("Output folder").value(),
+        Some(chosen.display().to_string())
+    );
+}
