@@ -137,7 +137,14 @@ pub fn export_dialog_ui(ctx: &egui::Context, state: &mut EditorState, dialog: &m
         .open(&mut open)
         .default_pos([330.0, 60.0])
         .resizable(false)
-        .show(ctx, |ui| dialog_ui(ui, state, dialog));
+        .show(ctx, |ui| {
+            // On a 768-pixel screen the whole form is taller than the window.
+            let room = (ctx.content_rect().height() - 140.0).max(200.0);
+            egui::ScrollArea::vertical()
+                .max_height(room)
+                .min_scrolled_height(room)
+                .show(ui, |ui| dialog_ui(ui, state, dialog));
+        });
     dialog.open = open;
 }
 
