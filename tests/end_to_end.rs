@@ -544,3 +544,121 @@ fn edit_without_a_display_points_to_bake() {
     let all = format!("{}{}", text(&out.stdout), text(&out.stderr));
     assert!(all.contains("lucerna bake"), "{all}");
 }
+
+/// Everything the editor's export dialog offers, `bake` offers too: the
+/// files, the IES edition, grid, raw or filtered, the declared symmetry,
+/// the base name and date; the scene's `[export]` keywords are used by
+/// themselves. With the date given, the files are the library's export of
+/// a bake with the same seed and photons, byte for byte.
+#[test]
+fn bake_writes_what_the_export_dialog_offers_with_the_scenes_keywords() {
+    let dir = tempfile::tempdir().unwrap();
+    let original = assets().join("luminaires/parabolic_spot.toml");
+    let mut scene = lucerna_scene::load_scene(&original).unwrap();
+    scene.export.catalogue_number = "PS-25".to_owned();
+    scene.export.test_lab = "Acme photometry".to_owned();
+    let scene_path = dir.path().join("spot.toml");
+    lucerna_scene::save_scene(&scene, &scene_path).unwrap();
+    let out_dir = dir.path().join("out");
+    let out = bake_on_cpu(
+        &scene_path,
+        40_000,
+        32,
+        &out_dir,
+        &[
+            "--formats",
+            "ies,ldt",
+            "--ies-version",
+            "2002",
+            "--c-step",
+            "15",
+            "--gamma-step",
+            "2.5",
+            "--filter",
+            "auto",
+            "--symmetrise",
+            "none",
+            "--name",
+            "catalogue",
+            "--date",
+            "2026-03-04",
+        ],
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let mut written: Vec<String> = std::fs::read_dir(&out_dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    written.sort();
+    assert_eq!(written, ["catalogue.ies", "catalogue.ldt"]);
+    let ies = std::fs::read_to_string(out_dir.join("catalogue.ies")).unwrap();
+    assert!(ies.starts_with("IESNA:LM-63-2002"), "{ies}");
+    for line in [
+        "[LUMCAT] PS-25",
+        "[TESTLAB] Acme photometry",
+        "[ISSUEDATE] 2026-03-04",
+    ] {
+        assert!(ies.contains(line), "{line} missing");
+    }
+    let info = lucerna(&[
+        "info",
+        out_dir.join("catalogue.ies").to_str().unwrap(),
+        "--json",
+    ]);
+    let r: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+    assert_eq!(r["c_planes"].as_u64(), Some(24), "{r}");
+    assert_eq!(r["c_step_deg"].as_f64(), Some(15.0), "{r}");
+    assert_eq!(r["gamma_step_deg"].as_f64(), Some(2.5), "{r}");
+    assert!(r["symmetry"].as_str().unwrap().starts_with("none"), "{r}");
+    assert_eq!(r["catalog_number"].as_str(), Some("PS-25"));
+
+    // The same export from the library.
+    let luminaire = std::sync::Arc::new(lucerna_simulation::Luminaire::load(&scene_path).unwrap());
+    let settings = lucerna_simulation::SimulationSettings {
+        resolution: 32,
+        backend: lucerna_simulation::BackendRequest::Cpu,
+        filter: lucerna_simulation::FilterChoice::Automatic,
+        stop: lucerna_simulation::StoppingRule {
+            photons: Some(40_000),
+            ..Default::default()
+        },
+        table: lucerna_simulation::TableGrid {
+            c_step_deg: 15.0,
+            gamma_step_deg: Some(2.5),
+        },
+        ..Default::default()
+    };
+    let snapshot = lucerna_simulation::bake(luminaire, settings).unwrap();
+    let options = lucerna_simulation::ExportOptions {
+        symmetrise: Some(lucerna_photometry::CPlaneSymmetry::None),
+        date: "2026-03-04".to_owned(),
+        seed: 1,
+        scene_file: "spot.toml".to_owned(),
+        labels: None,
+    };
+    let mut request =
+        lucerna_simulation::ExportRequest::new(&snapshot, options, dir.path(), "catalogue");
+    request.formats.ies = Some(lucerna_photometry::IesVersion::Lm63_2002);
+    let exported = request.render(&snapshot).unwrap();
+    let expected = exported.photometry.figures();
+    for name in ["catalogue.ies", "catalogue.ldt"] {
+        let (flux, peak) = figures(&out_dir.join(name));
+        assert!(
+            (flux / expected.flux_lm - 1.0).abs() < 0.005,
+            "{name}: {flux} lm"
+        );
+        assert!(
+            (peak / expected.peak_cd - 1.0).abs() < 0.005,
+            "{name}: {peak} cd"
+        );
+    }
+    let files = exported.files;
+    for name in ["catalogue.ies", "catalogue.ldt"] {
+        let library = &files.iter().find(|(p, _)| p.ends_with(name)).unwrap().1;
+        let cli = std::fs::read(out_dir.join(name)).unwrap();
+        assert!(cli == *library, "{name}: the CLI and the library differ");
+    }
+
+    let bad = bake_on_cpu(&scene_path, 1000, 16, &out_dir, &["--name", "a/b"]);
+    assert!(!bad.status.success() && text(&bad.stderr).contains("--name"));
+}

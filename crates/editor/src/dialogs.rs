@@ -16,6 +16,8 @@ pub enum DialogKind {
     Open,
     SaveAs,
     ImportMesh,
+    /// The export dialog's output folder.
+    ExportFolder,
 }
 
 /// The dialog open now, if any (one at a time).
@@ -37,6 +39,7 @@ fn field_for(kind: DialogKind) -> &'static str {
         DialogKind::Open => "Scene file",
         DialogKind::SaveAs => "Save as path",
         DialogKind::ImportMesh => "OBJ file",
+        DialogKind::ExportFolder => "Output folder",
     }
 }
 
@@ -87,6 +90,7 @@ impl Dialogs {
             DialogKind::ImportMesh => dialog
                 .set_title("Import an OBJ mesh")
                 .add_filter("Wavefront OBJ", &["obj"]),
+            DialogKind::ExportFolder => dialog.set_title("Choose the export folder"),
         };
         if let Some(name) = file_name {
             dialog = dialog.set_file_name(name);
@@ -97,6 +101,7 @@ impl Dialogs {
                 let path = match kind {
                     DialogKind::SaveAs => dialog.save_file(),
                     DialogKind::Open | DialogKind::ImportMesh => dialog.pick_file(),
+                    DialogKind::ExportFolder => dialog.pick_folder(),
                 };
                 // The editor may have closed meanwhile.
                 let _ = send.send(path);
@@ -122,6 +127,7 @@ impl Dialogs {
                 DialogKind::Open => Command::Open(path),
                 DialogKind::SaveAs => Command::SaveAs(path),
                 DialogKind::ImportMesh => Command::ImportMesh(path),
+                DialogKind::ExportFolder => Command::SetExportFolder(path),
             }),
             // rfd answers "cancelled" also when no dialog could be shown;
             // one that closes at once most likely never appeared.

@@ -105,6 +105,7 @@ pub fn starter_scene() -> Scene {
         name: "New luminaire".to_owned(),
         description: String::new(),
         manufacturer: String::new(),
+        export: Default::default(),
         materials: Default::default(),
         emitters: vec![Emitter {
             name: "LED".to_owned(),

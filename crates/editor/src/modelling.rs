@@ -566,6 +566,7 @@ mod tests {
             emitters: Vec::new(),
             parts: Vec::new(),
             opening: None,
+            export: Default::default(),
         }
     }
 

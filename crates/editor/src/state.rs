@@ -67,6 +67,8 @@ pub enum Command {
     FileDialog(DialogKind),
     SetTheme(ThemeChoice),
     ClearRecent,
+    /// The export dialog's output folder, chosen in a native dialog.
+    SetExportFolder(PathBuf),
 }
 
 /// Which view the central panel shows.
@@ -103,6 +105,8 @@ pub struct EditorState {
     pub(crate) files: FileState,
     /// Why the last structural edit was refused, until the next one.
     pub(crate) edit_error: Option<String>,
+    /// A folder chosen for the export dialog, until it takes it.
+    pub(crate) chosen_export_folder: Option<PathBuf>,
     undoer: Undoer<Scene>,
     /// A pointer drag or text entry is changing the scene: one undo step.
     gesture: bool,
@@ -161,6 +165,7 @@ impl EditorState {
             view: View::default(),
             files: FileState::new(paths),
             edit_error: None,
+            chosen_export_folder: None,
             undoer: Undoer::with_settings(UndoSettings {
                 max_undos: 200,
                 ..UndoSettings::default()
@@ -442,6 +447,7 @@ impl EditorState {
                     Err(e) => self.sim_error = Some(error_chain(&e)),
                 }
             }
+            Command::SetExportFolder(path) => self.chosen_export_folder = Some(path),
             command @ (Command::New
             | Command::NewDiscarding
             | Command::Quit
@@ -482,7 +488,9 @@ impl EditorState {
             .iter()
             .map(|p| format!("{}: {}", p.field, p.message))
             .collect();
-        if !problems.is_empty() || self.sent.as_ref() == Some(scene) {
+        // Labels (name, manufacturer, export keywords) are not light: the
+        // run goes on, and an export takes them from the edited scene.
+        if !problems.is_empty() || self.sent.as_ref().is_some_and(|s| s.same_light(scene)) {
             return;
         }
         let scene = scene.clone();

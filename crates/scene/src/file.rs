@@ -305,6 +305,57 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     Ok(())
 }
 
+/// Writes several files all or none: every file is staged beside its
+/// place first, and only once all are staged are they renamed into place
+/// (an export of five files never leaves two). On failure the staged
+/// files are removed and the path that failed is returned with the error.
+pub fn write_all_atomically(files: &[(PathBuf, Vec<u8>)]) -> Result<(), (PathBuf, std::io::Error)> {
+    let mut staged = Vec::with_capacity(files.len());
+    for (path, bytes) in files {
+        let dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        let mut builder = tempfile::Builder::new();
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            builder.permissions(std::fs::Permissions::from_mode(0o644));
+        }
+        let stage = || -> std::io::Result<tempfile::NamedTempFile> {
+            let mut tmp = builder.tempfile_in(dir)?;
+            tmp.write_all(bytes)?;
+            tmp.as_file().sync_all()?;
+            Ok(tmp)
+        };
+        // A staged file dropped on an early return deletes itself.
+        staged.push(stage().map_err(|e| (path.clone(), e))?);
+    }
+    // What would refuse a rename is found before any file is renamed.
+    for (path, _) in files {
+        if path.is_dir() {
+            let e = std::io::Error::new(std::io::ErrorKind::IsADirectory, "is a folder");
+            return Err((path.clone(), e));
+        }
+    }
+    let mut renamed = Vec::new();
+    for (tmp, (path, _)) in staged.into_iter().zip(files) {
+        let existed = path.exists();
+        if let Err(e) = tmp.persist(path) {
+            // Files this call created are taken back; ones it replaced
+            // cannot be.
+            for created in renamed {
+                let _ = std::fs::remove_file(created);
+            }
+            return Err((path.clone(), e.error));
+        }
+        if !existed {
+            renamed.push(path);
+        }
+    }
+    Ok(())
+}
+
 /// Saves a scene atomically.
 pub fn save_scene(scene: &Scene, path: &Path) -> Result<(), SaveSceneError> {
     let text = scene_to_toml(scene)?;

@@ -19,7 +19,7 @@ pub mod validate;
 
 pub use file::{
     LoadSceneError, ReadFileError, SaveSceneError, load_scene, parse_scene, read_limited,
-    read_limited_text, save_scene, scene_to_toml, write_atomically,
+    read_limited_text, save_scene, scene_to_toml, write_all_atomically, write_atomically,
 };
 pub use mesh::{MeshDefect, TriangleMesh};
 pub use model::*;

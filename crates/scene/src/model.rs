@@ -41,6 +41,81 @@ pub struct Scene {
     /// below.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub opening: Option<LuminousOpening>,
+    /// `[export]`: what exported files say beyond the name and
+    /// manufacturer; absent in older files, and not written while empty.
+    #[serde(default, skip_serializing_if = "ExportKeywords::is_empty")]
+    pub export: ExportKeywords,
+}
+
+impl Scene {
+    /// Whether the two scenes emit the same light: equal but for the
+    /// labels exported files carry (name, description, manufacturer,
+    /// `[export]`), which an editor changes without restarting a run.
+    pub fn same_light(&self, other: &Scene) -> bool {
+        // Destructured whole, so that a new field has to be sorted here.
+        let Scene {
+            format_version,
+            name: _,
+            description: _,
+            manufacturer: _,
+            materials,
+            emitters,
+            parts,
+            opening,
+            export: _,
+        } = self;
+        *format_version == other.format_version
+            && *materials == other.materials
+            && *emitters == other.emitters
+            && *parts == other.parts
+            // Not light, but the luminous opening is the snapshot's: the
+            // preview room lights through it.
+            && *opening == other.opening
+    }
+}
+
+/// The keywords of exported IES and EULUMDAT files (LM-63-2019 section
+/// 5.2; EULUMDAT lines 9-12 and the lamp set). An empty field takes the
+/// bake's default: the scene's name for the luminaire and its catalogue
+/// number, "Lucerna simulation of FILE" for the test report, the photon
+/// tracer for the laboratory, the emitters' names for the lamp.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ExportKeywords {
+    /// IES `[LUMINAIRE]`, EULUMDAT luminaire name.
+    #[serde(skip_serializing_if = "String::is_empty")]
+    pub luminaire: String,
+    /// IES `[LUMCAT]`, EULUMDAT luminaire number.
+    #[serde(skip_serializing_if = "String::is_empty")]
+    pub catalogue_number: String,
+    /// IES `[TEST]`, EULUMDAT measurement report number.
+    #[serde(skip_serializing_if = "String::is_empty")]
+    pub test_report: String,
+    /// IES `[TESTLAB]`.
+    #[serde(skip_serializing_if = "String::is_empty")]
+    pub test_lab: String,
+    /// IES `[LAMP]`, EULUMDAT type of lamps.
+    #[serde(skip_serializing_if = "String::is_empty")]
+    pub lamp: String,
+    /// IES `[LAMPCAT]`.
+    #[serde(skip_serializing_if = "String::is_empty")]
+    pub lamp_catalogue_number: String,
+    /// EULUMDAT colour temperature of the lamps, e.g. "3000 K".
+    #[serde(skip_serializing_if = "String::is_empty")]
+    pub colour_temperature: String,
+    /// EULUMDAT colour rendering index, e.g. "Ra 90".
+    #[serde(skip_serializing_if = "String::is_empty")]
+    pub colour_rendering: String,
+    /// Input power of the luminaire (W): IES input watts, EULUMDAT
+    /// wattage including ballast; 0 when not stated.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub input_watts: f64,
+}
+
+impl ExportKeywords {
+    pub fn is_empty(&self) -> bool {
+        *self == ExportKeywords::default()
+    }
 }
 
 /// The luminous opening (m), in the luminaire's frame: IES width, length

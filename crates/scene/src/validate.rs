@@ -514,5 +514,14 @@ pub fn validation(scene: &Scene) -> Validation {
             }
         }
     }
+    // The writers refuse what their readers would: IES and EULUMDAT
+    // files hold at most 1e9 W (`lucerna_photometry::plausible`).
+    let watts = scene.export.input_watts;
+    if !(watts.is_finite() && (0.0..=1e9).contains(&watts)) {
+        c.fail(
+            root.key("export").key("input_watts"),
+            format!("must be from 0 to 1e9 W, got {watts}"),
+        );
+    }
     c.found
 }

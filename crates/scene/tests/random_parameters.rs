@@ -139,6 +139,7 @@ proptest! {
             emitters: vec![lucerna_scene::Emitter { name: "e".into(), shape: lucerna_scene::EmitterShape::Disk { radius: 0.001 }, flux_lm: 1.0, emission: lucerna_scene::Emission::Lambertian, material: None, enabled: true, transform: Default::default() }],
             parts: vec![lucerna_scene::Part { name: "p".into(), shape: shape.clone(), material: "m".into(), enabled: true, transform: Default::default() }],
             opening: None,
+            export: Default::default(),
         };
         // Only parameters that pass validation are promised a mesh.
         prop_assume!(lucerna_scene::validate(&scene_like).is_empty());

@@ -118,3 +118,47 @@ fn saved_files_are_readable_by_others() {
         & 0o777;
     assert_eq!(mode & 0o044, 0o044, "mode {mode:o}");
 }
+
+/// The `[export]` keywords: absent in older files (an empty section, not
+/// written back), kept whole through save and load, ignored by
+/// `same_light` and checked by validation.
+#[test]
+fn export_keywords_round_trip_and_older_files_still_load() {
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/luminaires/parabolic_spot.toml");
+    let old = load_scene(&path).expect("an example without [export]");
+    assert!(old.export.is_empty());
+    assert!(
+        !scene_to_toml(&old)
+            .expect("serialises")
+            .contains("[export]")
+    );
+
+    let mut scene = old.clone();
+    scene.export.catalogue_number = "PS-25/100".to_owned();
+    scene.export.test_lab = "Lab é".to_owned();
+    scene.export.input_watts = 9.5;
+    let text = scene_to_toml(&scene).expect("serialises");
+    assert!(text.contains("[export]") && text.contains("catalogue_number = \"PS-25/100\""));
+    let dir = tempfile::tempdir().expect("temp dir");
+    let saved = dir.path().join("scene.toml");
+    save_scene(&scene, &saved).expect("saves");
+    let again = load_scene(&saved).expect("loads");
+    assert_eq!(again, scene);
+    assert!(again.same_light(&old), "keywords are not light");
+    let mut moved = old.clone();
+    moved.emitters[0].flux_lm *= 2.0;
+    assert!(!moved.same_light(&old));
+
+    let mut bad = scene.clone();
+    bad.export.input_watts = f64::NAN;
+    assert!(
+        lucerna_scene::validate(&bad)
+            .iter()
+            .any(|p| p.field.to_string() == "export.input_watts"),
+        "{:?}",
+        lucerna_scene::validate(&bad)
+    );
+    let unknown = text.replace("catalogue_number", "catalog_nummer");
+    assert!(parse_scene(&unknown, Path::new("typo.toml")).is_err());
+}

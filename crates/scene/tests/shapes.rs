@@ -93,6 +93,7 @@ fn examples() -> Vec<Shape> {
 fn scene_of(shapes: Vec<Shape>) -> Scene {
     Scene {
         opening: None,
+        export: Default::default(),
         format_version: 1,
         name: "shapes".into(),
         description: String::new(),

@@ -28,6 +28,8 @@ pub enum SimulationError {
     },
     #[error("the photometric file cannot be written")]
     WritePhotometry(#[from] lucerna_photometry::WritePhotometryError),
+    #[error(transparent)]
+    Request(#[from] crate::export::ExportRequestError),
     #[error("cannot draw {what}: {message}")]
     Picture { what: &'static str, message: String },
     #[error("the simulation's worker thread has stopped")]

@@ -1,16 +1,44 @@
 //! From a snapshot to the photometric data set and files a bake writes:
 //! the candela table with its declared symmetry and the metadata of a
-//! simulation, then IES, LDT, EXR and PNGs, each written atomically.
+//! simulation, then IES, LDT, EXR and PNGs, all written or none.
+//! [`ExportRequest`] is the one home of an export: `lucerna bake` and the
+//! editor's export dialog both write through it, so the same snapshot and
+//! request give the same bytes.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
+use lucerna_photometry::resample::TableResampler;
 use lucerna_photometry::{
     CPlaneSymmetry, CandelaTable, Dimensions, Format, IesVersion, LampSet, Metadata, Photometry,
-    to_latin1, write_ies, write_ldt,
+    TexelSymmetry, to_latin1, write_ies, write_ldt,
 };
-use lucerna_scene::{LuminousOpening, Scene, SurfaceKind, TessellatedScene, write_atomically};
+use lucerna_scene::{
+    ExportKeywords, LuminousOpening, Scene, SurfaceKind, TessellatedScene, write_all_atomically,
+};
 
-use crate::{SimulationError, Snapshot};
+use crate::run::{exported_candela, tabulate};
+use crate::{FilterChoice, LiveFilter, RunState, SimulationError, Snapshot, StopReason, TableGrid};
+
+/// What the files say the luminaire is: a scene's name, manufacturer and
+/// `[export]` keywords. An editor passes its newest scene's, which may be
+/// newer than the snapshot's: label edits never restart a run.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Labels {
+    pub name: String,
+    pub manufacturer: String,
+    pub keywords: ExportKeywords,
+}
+
+impl Labels {
+    pub fn of(scene: &Scene) -> Labels {
+        Labels {
+            name: scene.name.clone(),
+            manufacturer: scene.manufacturer.clone(),
+            keywords: scene.export.clone(),
+        }
+    }
+}
 
 /// How the files of a bake are labelled.
 #[derive(Debug, Clone)]
@@ -25,6 +53,8 @@ pub struct ExportOptions {
     pub seed: u32,
     /// The scene file's name, for the file-generation info.
     pub scene_file: String,
+    /// The labels of the files; `None`: the snapshot's scene's.
+    pub labels: Option<Labels>,
 }
 
 /// The x and y extent (m) of triangles `range` (all when `None`) seen
@@ -116,10 +146,23 @@ pub fn luminous_opening(scene: &Scene, tessellated: &TessellatedScene) -> Dimens
 /// Relative photometry of a snapshot: lamp lumens = emitter flux, the
 /// snapshot's table (raw or filtered, pooled) with the symmetry declared.
 pub fn photometry(snapshot: &Snapshot, options: &ExportOptions) -> Photometry {
+    photometry_of(snapshot, &snapshot.table, options)
+}
+
+/// [`photometry`] of `table`, a table of the snapshot's map.
+fn photometry_of(snapshot: &Snapshot, table: &CandelaTable, options: &ExportOptions) -> Photometry {
     let map = &snapshot.map;
     let scene = &snapshot.luminaire.scene;
     let tessellated = &snapshot.luminaire.tessellated;
-    let table: &CandelaTable = &snapshot.table;
+    let labels = options.labels.clone().unwrap_or_else(|| Labels::of(scene));
+    let keywords = &labels.keywords;
+    let or = |given: &str, default: String| {
+        if given.trim().is_empty() {
+            default
+        } else {
+            given.to_owned()
+        }
+    };
     let declared = options
         .symmetrise
         .or(Some(snapshot.symmetry.file_symmetry()).filter(|&s| s != CPlaneSymmetry::None));
@@ -128,50 +171,62 @@ pub fn photometry(snapshot: &Snapshot, options: &ExportOptions) -> Photometry {
         None => (table.clone(), CPlaneSymmetry::None),
     };
     let version = env!("CARGO_PKG_VERSION");
+    let mut extra_keywords = Vec::new();
+    if !keywords.lamp_catalogue_number.trim().is_empty() {
+        extra_keywords.push(("LAMPCAT".to_owned(), keywords.lamp_catalogue_number.clone()));
+    }
+    extra_keywords.push((
+        "_SIMULATION".to_owned(),
+        format!(
+            "{} photons emitted, {} escaped, {} absorbed, {} cut off; LOR {:.4}",
+            map.photons_emitted,
+            map.photons_escaped(),
+            map.photons_absorbed,
+            map.photons_cut_off,
+            map.light_output_ratio()
+        ),
+    ));
+    let emitters = scene
+        .emitters
+        .iter()
+        .filter(|e| e.enabled)
+        .map(|e| e.name.as_str())
+        .collect::<Vec<_>>()
+        .join(" + ");
     Photometry {
         format: Format::Ies(2019),
         symmetry,
         table,
         meta: Metadata {
-            manufacturer: scene.manufacturer.clone(),
-            luminaire: scene.name.clone(),
-            catalog_number: scene.name.clone(),
-            test_report: format!("Lucerna simulation of {}", options.scene_file),
-            test_lab: "Lucerna photon tracer (computer simulation)".to_owned(),
+            manufacturer: labels.manufacturer.clone(),
+            luminaire: or(&keywords.luminaire, labels.name.clone()),
+            catalog_number: or(&keywords.catalogue_number, labels.name.clone()),
+            test_report: or(
+                &keywords.test_report,
+                format!("Lucerna simulation of {}", options.scene_file),
+            ),
+            test_lab: or(
+                &keywords.test_lab,
+                "Lucerna photon tracer (computer simulation)".to_owned(),
+            ),
             issue_date: options.date.clone(),
             file_generation_info: format!(
                 "Lucerna {version}; scene {} ({}); {} photons; seed {}; {}",
-                options.scene_file, scene.name, snapshot.photons, options.seed, options.date
+                options.scene_file, labels.name, snapshot.photons, options.seed, options.date
             ),
             file_generation_type: Some(lucerna_photometry::ies::FILE_GENERATION_SIMULATION),
-            keywords: vec![(
-                "_SIMULATION".to_owned(),
-                format!(
-                    "{} photons emitted, {} escaped, {} absorbed, {} cut off; LOR {:.4}",
-                    map.photons_emitted,
-                    map.photons_escaped(),
-                    map.photons_absorbed,
-                    map.photons_cut_off,
-                    map.light_output_ratio()
-                ),
-            )],
+            keywords: extra_keywords,
             lamps: vec![LampSet {
                 count: 1,
-                kind: scene
-                    .emitters
-                    .iter()
-                    .filter(|e| e.enabled)
-                    .map(|e| e.name.as_str())
-                    .collect::<Vec<_>>()
-                    .join(" + "),
+                kind: or(&keywords.lamp, emitters),
                 flux_lm: map.emitter_flux_lm,
-                colour_temperature: String::new(),
-                colour_rendering: String::new(),
-                watts: 0.0,
+                colour_temperature: keywords.colour_temperature.clone(),
+                colour_rendering: keywords.colour_rendering.clone(),
+                watts: keywords.input_watts,
             }],
             absolute: false,
             ballast_factor: 1.0,
-            input_watts: 0.0,
+            input_watts: keywords.input_watts,
             luminous_area: luminous_opening(scene, tessellated),
             luminaire_dimensions: luminaire_dimensions(tessellated),
             ldt_type: None,
@@ -181,59 +236,228 @@ pub fn photometry(snapshot: &Snapshot, options: &ExportOptions) -> Photometry {
     }
 }
 
+/// Which files an export writes; by default every one a bake writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ExportFormats {
+    /// `STEM.ies` in this LM-63 edition.
+    pub ies: Option<IesVersion>,
+    /// `STEM.ldt` (EULUMDAT).
+    pub ldt: bool,
+    /// `STEM.exr`: the raw map with its photon counts.
+    pub exr: bool,
+    /// `STEM_cube.png`: the false-colour cube map.
+    pub cube_png: bool,
+    /// `STEM_polar.png`: the polar diagram.
+    pub polar_png: bool,
+}
+
+impl Default for ExportFormats {
+    fn default() -> Self {
+        ExportFormats {
+            ies: Some(IesVersion::Lm63_2019),
+            ldt: true,
+            exr: true,
+            cube_png: true,
+            polar_png: true,
+        }
+    }
+}
+
+impl ExportFormats {
+    pub fn is_empty(&self) -> bool {
+        !(self.ies.is_some() || self.ldt || self.exr || self.cube_png || self.polar_png)
+    }
+}
+
+/// One export of a snapshot: which files, of which table, labelled how,
+/// and where. The table is the snapshot's own when the filter and grid
+/// are its run's; otherwise the snapshot's map is filtered and tabulated
+/// afresh exactly as a run with them would have done at its end, so the
+/// files are those `lucerna bake` writes with those settings.
+#[derive(Debug, Clone)]
+pub struct ExportRequest {
+    pub options: ExportOptions,
+    pub formats: ExportFormats,
+    pub filter: FilterChoice,
+    pub grid: TableGrid,
+    pub out_dir: PathBuf,
+    /// The files' base name: `STEM.ies`, `STEM_polar.png`, …
+    pub stem: String,
+}
+
+/// What an export writes before anything is written: the table and its
+/// photometry, and every file's path and bytes.
+#[derive(Debug, Clone)]
+pub struct ExportedFiles {
+    pub photometry: Photometry,
+    pub files: Vec<(PathBuf, Vec<u8>)>,
+}
+
+/// Why a request was refused before anything was drawn or written.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ExportRequestError {
+    #[error("no format is chosen: nothing to export")]
+    NoFormat,
+    #[error("the base name '{0}' is not a plain file name (no folders, not empty, not . or ..)")]
+    BadStem(String),
+}
+
+impl ExportRequest {
+    /// Every format of the snapshot's own table, as `lucerna bake` writes.
+    pub fn new(snapshot: &Snapshot, options: ExportOptions, out_dir: &Path, stem: &str) -> Self {
+        ExportRequest {
+            options,
+            formats: ExportFormats::default(),
+            filter: snapshot.settings.filter,
+            grid: snapshot.settings.table,
+            out_dir: out_dir.to_path_buf(),
+            stem: stem.to_owned(),
+        }
+    }
+
+    /// Candela per texel and the table the files hold.
+    fn candela_and_table(
+        &self,
+        snapshot: &Snapshot,
+    ) -> Result<(Arc<Vec<f64>>, Arc<CandelaTable>), SimulationError> {
+        let run = &snapshot.settings;
+        // A live snapshot's automatic rule may be an older choice; a final
+        // one chose afresh, as a bake does.
+        let final_choice = matches!(
+            snapshot.state,
+            RunState::Finished(r) if r != StopReason::Cancelled
+        );
+        let same_filter =
+            self.filter == run.filter && (self.filter != FilterChoice::Automatic || final_choice);
+        if same_filter && self.grid == run.table {
+            return Ok((snapshot.candela.clone(), snapshot.table.clone()));
+        }
+        // The same checks as a run's settings.
+        crate::SimulationSettings {
+            filter: self.filter,
+            table: self.grid,
+            ..*run
+        }
+        .validate()?;
+        let candela = if same_filter {
+            snapshot.candela.clone()
+        } else {
+            let symmetry = TexelSymmetry::new(snapshot.map.layout, snapshot.symmetry);
+            let (candela, _) = exported_candela(
+                &mut LiveFilter::new(),
+                &snapshot.map,
+                self.filter,
+                &symmetry,
+                false,
+            );
+            Arc::new(candela)
+        };
+        let table = tabulate(
+            &mut TableResampler::new(),
+            &snapshot.map,
+            &candela,
+            self.grid,
+        );
+        Ok((candela, Arc::new(table)))
+    }
+
+    /// The photometry the files would hold.
+    pub fn photometry(&self, snapshot: &Snapshot) -> Result<Photometry, SimulationError> {
+        let (_, table) = self.candela_and_table(snapshot)?;
+        Ok(photometry_of(snapshot, &table, &self.options))
+    }
+
+    /// Every file's path and bytes, drawn and written in memory: any
+    /// failure comes before a file is touched.
+    pub fn render(&self, snapshot: &Snapshot) -> Result<ExportedFiles, SimulationError> {
+        if self.formats.is_empty() {
+            return Err(ExportRequestError::NoFormat.into());
+        }
+        let plain = Path::new(&self.stem)
+            .file_name()
+            .is_some_and(|n| n == self.stem.as_str());
+        if self.stem.trim().is_empty() || !plain || self.stem == "." || self.stem == ".." {
+            return Err(ExportRequestError::BadStem(self.stem.clone()).into());
+        }
+        let (candela, table) = self.candela_and_table(snapshot)?;
+        let photometry = photometry_of(snapshot, &table, &self.options);
+        let map = &snapshot.map;
+        let name = self
+            .options
+            .labels
+            .as_ref()
+            .map_or(&snapshot.luminaire.scene.name, |l| &l.name);
+        // cd/klm of the lamp (emitter) flux, as in the LDT; validation keeps
+        // the flux > 0.
+        let per_klm = 1000.0 / map.emitter_flux_lm;
+        let title = format!("{name} - {} photons", map.photons_emitted);
+        let picture = |what: &'static str| {
+            move |e: &dyn std::fmt::Display| SimulationError::Picture {
+                what,
+                message: e.to_string(),
+            }
+        };
+        let stem = &self.stem;
+        let mut outputs: Vec<(String, Vec<u8>)> = Vec::new();
+        if let Some(version) = self.formats.ies {
+            outputs.push((
+                format!("{stem}.ies"),
+                write_ies(&photometry, version)?.into_bytes(),
+            ));
+        }
+        if self.formats.ldt {
+            outputs.push((format!("{stem}.ldt"), to_latin1(&write_ldt(&photometry)?)));
+        }
+        if self.formats.exr {
+            let exr = lucerna_pictures::intensity_map_exr(
+                map,
+                &[
+                    ("lucernaSeed", self.options.seed.to_string()),
+                    ("lucernaScene", name.clone()),
+                    ("lucernaDate", self.options.date.clone()),
+                ],
+            )
+            .map_err(|e| picture("the EXR map")(&e))?;
+            outputs.push((format!("{stem}.exr"), exr));
+        }
+        if self.formats.cube_png {
+            let cube = lucerna_pictures::cube_map_png(map.layout, &candela, 200, &title)
+                .map_err(|e| picture("the cube map")(&e))?;
+            outputs.push((format!("{stem}_cube.png"), cube));
+        }
+        if self.formats.polar_png {
+            let polar = lucerna_pictures::polar_png(&photometry.table, per_klm, 640, &title)
+                .map_err(|e| picture("the polar diagram")(&e))?;
+            outputs.push((format!("{stem}_polar.png"), polar));
+        }
+        Ok(ExportedFiles {
+            photometry,
+            files: outputs
+                .into_iter()
+                .map(|(name, bytes)| (self.out_dir.join(name), bytes))
+                .collect(),
+        })
+    }
+
+    /// Renders the files and writes them all or none (each atomically);
+    /// returns their paths. The output folder must exist.
+    pub fn write(&self, snapshot: &Snapshot) -> Result<Vec<PathBuf>, SimulationError> {
+        let exported = self.render(snapshot)?;
+        write_all_atomically(&exported.files)
+            .map_err(|(path, source)| SimulationError::Write { path, source })?;
+        Ok(exported.files.into_iter().map(|(path, _)| path).collect())
+    }
+}
+
 /// Writes `STEM.ies` (LM-63-2019), `STEM.ldt`, `STEM.exr` (the raw map
 /// with its photon counts), `STEM_cube.png` and `STEM_polar.png` into
-/// `out_dir`, each atomically; returns their paths.
+/// `out_dir`, all or none; returns their paths.
 pub fn write_bake_files(
     snapshot: &Snapshot,
     options: &ExportOptions,
     out_dir: &Path,
     stem: &str,
 ) -> Result<Vec<PathBuf>, SimulationError> {
-    let photometry = photometry(snapshot, options);
-    let map = &snapshot.map;
-    let scene = &snapshot.luminaire.scene;
-    // cd/klm of the lamp (emitter) flux, as in the LDT; validation keeps
-    // the flux > 0.
-    let per_klm = 1000.0 / map.emitter_flux_lm;
-    let title = format!("{} - {} photons", scene.name, map.photons_emitted);
-    let picture = |what: &'static str| {
-        move |e: &dyn std::fmt::Display| SimulationError::Picture {
-            what,
-            message: e.to_string(),
-        }
-    };
-    let exr = lucerna_pictures::intensity_map_exr(
-        map,
-        &[
-            ("lucernaSeed", options.seed.to_string()),
-            ("lucernaScene", scene.name.clone()),
-            ("lucernaDate", options.date.clone()),
-        ],
-    )
-    .map_err(|e| picture("the EXR map")(&e))?;
-    let cube = lucerna_pictures::cube_map_png(map.layout, &snapshot.candela, 200, &title)
-        .map_err(|e| picture("the cube map")(&e))?;
-    let polar = lucerna_pictures::polar_png(&photometry.table, per_klm, 640, &title)
-        .map_err(|e| picture("the polar diagram")(&e))?;
-    let outputs: Vec<(String, Vec<u8>)> = vec![
-        (
-            format!("{stem}.ies"),
-            write_ies(&photometry, IesVersion::Lm63_2019)?.into_bytes(),
-        ),
-        (format!("{stem}.ldt"), to_latin1(&write_ldt(&photometry)?)),
-        (format!("{stem}.exr"), exr),
-        (format!("{stem}_cube.png"), cube),
-        (format!("{stem}_polar.png"), polar),
-    ];
-    let mut files = Vec::new();
-    for (name, bytes) in outputs {
-        let path = out_dir.join(name);
-        write_atomically(&path, &bytes).map_err(|source| SimulationError::Write {
-            path: path.clone(),
-            source,
-        })?;
-        files.push(path);
-    }
-    Ok(files)
+    ExportRequest::new(snapshot, options.clone(), out_dir, stem).write(snapshot)
 }

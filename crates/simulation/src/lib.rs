@@ -18,7 +18,10 @@ mod snapshot;
 mod worker;
 
 pub use error::SimulationError;
-pub use export::{ExportOptions, photometry, write_bake_files};
+pub use export::{
+    ExportFormats, ExportOptions, ExportRequest, ExportRequestError, ExportedFiles, Labels,
+    photometry, write_bake_files,
+};
 pub use live_filter::LiveFilter;
 pub use lucerna_gpu::BackendRequest;
 pub use luminaire::Luminaire;

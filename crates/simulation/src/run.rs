@@ -8,7 +8,9 @@ use lucerna_gpu::{BackendRequest, GpuContext};
 use lucerna_photometry::figures::ZONES_DEG;
 use lucerna_photometry::resample::{GammaGrid, TableResampler};
 use lucerna_photometry::table::uniform_c_planes;
-use lucerna_photometry::{AxialSymmetry, CubeMapLayout, TexelSymmetry, figures};
+use lucerna_photometry::{
+    AxialSymmetry, CandelaTable, CubeMapLayout, IntensityMap, TexelSymmetry, figures,
+};
 use lucerna_tracer::gpu::GpuTracer;
 use lucerna_tracer::session::{
     flux_relative_error, peak_relative_error, zone_flux_relative_errors,
@@ -18,7 +20,7 @@ use lucerna_tracer::{Backend, IterationReport, Session, TraceSettings, choose_ba
 use crate::snapshot::{
     FilterSummary, Noise, RunState, Snapshot, StopReason, spread_angle_noise_deg,
 };
-use crate::{LiveFilter, Luminaire, SimulationError, SimulationSettings};
+use crate::{FilterChoice, LiveFilter, Luminaire, SimulationError, SimulationSettings, TableGrid};
 
 /// A progressive run: the tracing session and what turns its map into a
 /// snapshot (the pooling symmetry, the cached table binning, the live
@@ -167,41 +169,19 @@ impl Run {
     /// the last choice until the photons double).
     pub fn snapshot(&mut self, generation: u64, state: RunState, final_export: bool) -> Snapshot {
         let map = self.session.snapshot();
-        let (candela, filter) = match self.settings.filter.threshold() {
-            Some(threshold) => {
-                let (candela, report) =
-                    self.filter
-                        .filter(&map, threshold, &self.symmetry, !final_export);
-                let summary = FilterSummary {
-                    rule: report.settings.to_string(),
-                    automatic: report.automatic.is_some(),
-                    replaced_texels: report.replaced.iter().filter(|&&r| r).count(),
-                    renormalisation: report.renormalisation,
-                    estimated_rmse: report
-                        .automatic
-                        .map(|a| (a.estimated_rmse, a.raw_estimated_rmse)),
-                };
-                (candela, Some(summary))
-            }
-            None => (map.symmetrised(&self.symmetry).candela(), None),
-        };
-        let grid = self.settings.table;
-        let gammas = match grid.gamma_step_deg {
-            Some(step) => GammaGrid::Step(step),
-            None => GammaGrid::Automatic {
-                flux_lm: map.escaped_flux_lm(),
-                tolerance: 0.005,
-            },
-        };
-        let c_planes = uniform_c_planes(grid.c_step_deg);
-        let table = Arc::new(
-            self.resampler
-                .table(map.layout, &candela, &c_planes, gammas),
+        let (candela, filter) = exported_candela(
+            &mut self.filter,
+            &map,
+            self.settings.filter,
+            &self.symmetry,
+            !final_export,
         );
+        let grid = self.settings.table;
+        let table = Arc::new(tabulate(&mut self.resampler, &map, &candela, grid));
         // The unfiltered table beside it, so views can show both.
         let raw_table = if filter.is_some() {
             let raw = map.symmetrised(&self.symmetry).candela();
-            Arc::new(self.resampler.table(map.layout, &raw, &c_planes, gammas))
+            Arc::new(tabulate(&mut self.resampler, &map, &raw, grid))
         } else {
             table.clone()
         };
@@ -247,8 +227,63 @@ impl Run {
             figures,
             noise,
             warnings,
+            settings: self.settings,
         }
     }
+}
+
+/// Candela per texel of `map` as exported with `filter`: pooled over
+/// `symmetry`, and filtered if asked (with `live`, an automatic rule may
+/// be the last one chosen; without, it is chosen now, as a final export
+/// does), and what the filter did.
+pub(crate) fn exported_candela(
+    live_filter: &mut LiveFilter,
+    map: &IntensityMap,
+    filter: FilterChoice,
+    symmetry: &TexelSymmetry,
+    live: bool,
+) -> (Vec<f64>, Option<FilterSummary>) {
+    match filter.threshold() {
+        Some(threshold) => {
+            let (candela, report) = live_filter.filter(map, threshold, symmetry, live);
+            let summary = FilterSummary {
+                rule: report.settings.to_string(),
+                automatic: report.automatic.is_some(),
+                replaced_texels: report.replaced.iter().filter(|&&r| r).count(),
+                renormalisation: report.renormalisation,
+                estimated_rmse: report
+                    .automatic
+                    .map(|a| (a.estimated_rmse, a.raw_estimated_rmse)),
+            };
+            (candela, Some(summary))
+        }
+        None => (map.symmetrised(symmetry).candela(), None),
+    }
+}
+
+/// The candela table of `candela` (per texel of `map`) on `grid`: the
+/// automatic γ grid holds the escaped flux within 0.5 %. A run's
+/// snapshots and an export on another grid both tabulate here, so they
+/// agree to the bit.
+pub(crate) fn tabulate(
+    resampler: &mut TableResampler,
+    map: &IntensityMap,
+    candela: &[f64],
+    grid: TableGrid,
+) -> CandelaTable {
+    let gammas = match grid.gamma_step_deg {
+        Some(step) => GammaGrid::Step(step),
+        None => GammaGrid::Automatic {
+            flux_lm: map.escaped_flux_lm(),
+            tolerance: 0.005,
+        },
+    };
+    resampler.table(
+        map.layout,
+        candela,
+        &uniform_c_planes(grid.c_step_deg),
+        gammas,
+    )
 }
 
 fn trace_settings(settings: &SimulationSettings) -> TraceSettings {

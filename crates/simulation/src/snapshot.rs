@@ -176,6 +176,9 @@ pub struct Snapshot {
     /// What looks degenerate about the result (nothing escaped, almost
     /// nothing escaped, photons cut off by the bounce limit), in words.
     pub warnings: Vec<String>,
+    /// The settings of the run (its filter and table grid decide whether
+    /// an export can reuse `table`).
+    pub settings: crate::SimulationSettings,
 }
 
 /// The warnings a map deserves once it holds photons.

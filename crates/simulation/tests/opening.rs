@@ -41,6 +41,7 @@ fn baked_with(name: &str, opening: Option<LuminousOpening>) -> (Dimensions, Dime
             date: String::new(),
             seed: 1,
             scene_file: name.to_owned(),
+            labels: None,
         },
     );
     let ies = read_photometry(

@@ -7,20 +7,64 @@ use std::time::Duration;
 
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
-use lucerna_photometry::CPlaneSymmetry;
+use lucerna_photometry::{CPlaneSymmetry, IesVersion};
 use lucerna_simulation::{
-    BackendRequest, ExportOptions, FilterChoice, Luminaire, RunState, SettingsError, Simulation,
-    SimulationSettings, Snapshot, StopReason, StoppingRule, TableGrid,
+    BackendRequest, ExportFormats, ExportOptions, ExportRequest, FilterChoice, Luminaire, RunState,
+    SettingsError, Simulation, SimulationSettings, Snapshot, StopReason, StoppingRule, TableGrid,
 };
 
-/// C-plane symmetry to impose on the baked table.
+/// The C-plane symmetry the files declare (the table is averaged over it,
+/// so it holds exactly).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum SymmetryArg {
+    /// What the photons were pooled over (found in the geometry), where
+    /// the formats can say it; else none.
+    Auto,
+    /// None: C0-C360 written.
     None,
     Rotational,
+    /// Both mirror planes, C0-C180 and C90-C270.
     Quadrant,
     C0C180,
     C90C270,
+}
+
+impl SymmetryArg {
+    /// The symmetry imposed, `None` for the automatic one.
+    pub fn imposed(self) -> Option<CPlaneSymmetry> {
+        match self {
+            SymmetryArg::Auto => None,
+            SymmetryArg::None => Some(CPlaneSymmetry::None),
+            SymmetryArg::Rotational => Some(CPlaneSymmetry::Rotational),
+            SymmetryArg::Quadrant => Some(CPlaneSymmetry::Quadrant),
+            SymmetryArg::C0C180 => Some(CPlaneSymmetry::AboutC0C180),
+            SymmetryArg::C90C270 => Some(CPlaneSymmetry::AboutC90C270),
+        }
+    }
+}
+
+/// The LM-63 edition of the IES file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum IesVersionArg {
+    #[value(name = "2019")]
+    Lm63_2019,
+    #[value(name = "2002")]
+    Lm63_2002,
+}
+
+/// One of the files a bake writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum FileFormat {
+    /// STEM.ies
+    Ies,
+    /// STEM.ldt (EULUMDAT)
+    Ldt,
+    /// STEM.exr, the raw map with its photon counts
+    Exr,
+    /// STEM_cube.png, the false-colour cube map
+    Cube,
+    /// STEM_polar.png, the polar diagram
+    Polar,
 }
 
 /// Whether photons are pooled over the luminaire's symmetry.
@@ -66,12 +110,11 @@ pub struct BakeArgs {
     /// until the table holds the traced flux within 0.5 % (narrow beams).
     #[arg(long)]
     pub gamma_step: Option<f64>,
-    /// Average the exported table over a symmetry the user imposes (even
-    /// one the geometry lacks, such as rotational), and declare it in the
-    /// files. By default the files declare what the photons were pooled
-    /// over (`--symmetry`): quadrant or one mirror plane, where the formats
-    /// can say it.
-    #[arg(long, value_enum, default_value_t = SymmetryArg::None)]
+    /// The C-plane symmetry the files declare, the table averaged over it
+    /// (even one the geometry lacks, such as rotational): `auto` declares
+    /// what the photons were pooled over (`--symmetry`), quadrant or one
+    /// mirror plane, where the formats can say it; `none` writes C0-C360.
+    #[arg(long, value_enum, default_value_t = SymmetryArg::Auto)]
     pub symmetrise: SymmetryArg,
     /// Pool the photons of every image of a direction under the
     /// luminaire's own symmetry about its axis (quarter turns, mirror
@@ -87,6 +130,20 @@ pub struct BakeArgs {
     /// Output directory (created if needed).
     #[arg(long)]
     pub out: PathBuf,
+    /// The files to write, comma-separated.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [FileFormat::Ies, FileFormat::Ldt, FileFormat::Exr, FileFormat::Cube, FileFormat::Polar])]
+    pub formats: Vec<FileFormat>,
+    /// The LM-63 edition of the IES file.
+    #[arg(long, value_enum, default_value_t = IesVersionArg::Lm63_2019)]
+    pub ies_version: IesVersionArg,
+    /// The files' base name (STEM.ies, STEM_polar.png, …); by default the
+    /// scene file's name without its extension.
+    #[arg(long)]
+    pub name: Option<String>,
+    /// The issue date the files state, e.g. 2026-01-31 (today by
+    /// default): the same date makes a bake reproducible to the byte.
+    #[arg(long)]
+    pub date: Option<String>,
 }
 
 /// "30s", "2m", "1.5h", "500ms", or plain seconds.
@@ -172,6 +229,20 @@ pub fn describe_filter(snapshot: &Snapshot) {
     }
 }
 
+/// The files `--formats` and `--ies-version` ask for.
+pub fn formats(formats: &[FileFormat], version: IesVersionArg) -> ExportFormats {
+    ExportFormats {
+        ies: formats.contains(&FileFormat::Ies).then_some(match version {
+            IesVersionArg::Lm63_2019 => IesVersion::Lm63_2019,
+            IesVersionArg::Lm63_2002 => IesVersion::Lm63_2002,
+        }),
+        ldt: formats.contains(&FileFormat::Ldt),
+        exr: formats.contains(&FileFormat::Exr),
+        cube_png: formats.contains(&FileFormat::Cube),
+        polar_png: formats.contains(&FileFormat::Polar),
+    }
+}
+
 /// The flag a settings error is about.
 fn flag_of(e: &SettingsError) -> &'static str {
     match e {
@@ -192,6 +263,13 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
     settings
         .validate()
         .map_err(|e| anyhow::anyhow!("{}: {e}", flag_of(&e)))?;
+    // Refused before tracing, not after.
+    if let Some(name) = &args.name
+        && (name.trim().is_empty()
+            || std::path::Path::new(name).file_name() != Some(std::ffi::OsStr::new(name)))
+    {
+        anyhow::bail!("--name: '{name}' is not a plain file name (no folders)");
+    }
     let luminaire = Luminaire::load(&args.scene)?;
     if let Some(why) = &luminaire.symmetry.limited_by
         && settings.pool_symmetry
@@ -269,25 +347,27 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
     }
     describe_filter(&snapshot);
     let options = ExportOptions {
-        symmetrise: match args.symmetrise {
-            SymmetryArg::None => None,
-            SymmetryArg::Rotational => Some(CPlaneSymmetry::Rotational),
-            SymmetryArg::Quadrant => Some(CPlaneSymmetry::Quadrant),
-            SymmetryArg::C0C180 => Some(CPlaneSymmetry::AboutC0C180),
-            SymmetryArg::C90C270 => Some(CPlaneSymmetry::AboutC90C270),
-        },
-        date: chrono::Local::now().format("%Y-%m-%d").to_string(),
+        symmetrise: args.symmetrise.imposed(),
+        date: args
+            .date
+            .clone()
+            .unwrap_or_else(|| chrono::Local::now().format("%Y-%m-%d").to_string()),
         seed: args.seed,
         scene_file: args
             .scene
             .file_name()
             .map_or(String::new(), |s| s.to_string_lossy().into_owned()),
+        // The scene's name, manufacturer and [export] keywords.
+        labels: None,
     };
-    let stem = args
-        .scene
-        .file_stem()
-        .map_or("luminaire".to_owned(), |s| s.to_string_lossy().into_owned());
-    let files = lucerna_simulation::write_bake_files(&snapshot, &options, &args.out, &stem)?;
+    let stem = args.name.clone().unwrap_or_else(|| {
+        args.scene
+            .file_stem()
+            .map_or("luminaire".to_owned(), |s| s.to_string_lossy().into_owned())
+    });
+    let mut request = ExportRequest::new(&snapshot, options, &args.out, &stem);
+    request.formats = formats(&args.formats, args.ies_version);
+    let files = request.write(&snapshot)?;
     Ok(BakeSummary {
         files,
         photons: snapshot.photons,

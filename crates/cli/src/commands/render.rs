@@ -86,6 +86,8 @@ fn bake_profile(path: &Path, photons: u64) -> Result<Photometry> {
         date: String::new(),
         seed: settings.seed,
         scene_file: path.display().to_string(),
+
+        labels: None,
     };
     Ok(lucerna_simulation::photometry(&snapshot, &options))
 }

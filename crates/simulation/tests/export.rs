@@ -1,0 +1,182 @@
+#![allow(clippy::unwrap_used, clippy::expect_used)] // reason: tests may panic
+//! `ExportRequest`: a snapshot exported on another grid or filter gives
+//! the files a bake with those settings writes, byte for byte; the
+//! scene's keywords reach both formats; files are written all or none.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use lucerna_photometry::{IesVersion, read_photometry};
+use lucerna_scene::load_scene;
+use lucerna_simulation::{
+    BackendRequest, ExportFormats, ExportOptions, ExportRequest, FilterChoice, Labels, Luminaire,
+    SimulationSettings, Snapshot, StoppingRule, TableGrid, bake,
+};
+
+fn scene_path() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/luminaires/parabolic_spot.toml")
+}
+
+fn settings(filter: FilterChoice, table: TableGrid) -> SimulationSettings {
+    SimulationSettings {
+        resolution: 32,
+        backend: BackendRequest::Cpu,
+        filter,
+        table,
+        stop: StoppingRule {
+            photons: Some(40_000),
+            ..StoppingRule::default()
+        },
+        ..SimulationSettings::default()
+    }
+}
+
+fn baked(settings: SimulationSettings) -> Snapshot {
+    let luminaire = Arc::new(Luminaire::load(&scene_path()).expect("loads"));
+    bake(luminaire, settings).expect("bakes")
+}
+
+fn options() -> ExportOptions {
+    ExportOptions {
+        symmetrise: None,
+        date: "2026-01-02".to_owned(),
+        seed: 1,
+        scene_file: "parabolic_spot.toml".to_owned(),
+        labels: None,
+    }
+}
+
+#[test]
+fn an_export_on_another_grid_and_filter_is_the_bake_with_those_settings() {
+    let coarse = TableGrid {
+        c_step_deg: 15.0,
+        gamma_step_deg: Some(2.5),
+    };
+    let raw_run = baked(settings(FilterChoice::Raw, TableGrid::default()));
+    for filter in [FilterChoice::Raw, FilterChoice::Automatic] {
+        let other = baked(settings(filter, coarse));
+        let dir = tempfile::tempdir().unwrap();
+        let mut from_raw = ExportRequest::new(&raw_run, options(), dir.path(), "a");
+        from_raw.filter = filter;
+        from_raw.grid = coarse;
+        let bake_request = ExportRequest::new(&other, options(), dir.path(), "b");
+        let a = from_raw.render(&raw_run).unwrap();
+        let b = bake_request.render(&other).unwrap();
+        assert_eq!(a.files.len(), 5);
+        for ((pa, ba), (pb, bb)) in a.files.iter().zip(&b.files) {
+            // The EXR holds the raw map, the same in both, but the exr
+            // crate writes its header attributes in hash-map order.
+            if pa.extension().is_some_and(|e| e == "exr") {
+                continue;
+            }
+            assert!(
+                ba == bb,
+                "{filter:?}: {} and {} differ",
+                pa.display(),
+                pb.display()
+            );
+        }
+        assert_eq!(a.photometry.table.c_planes_deg.len(), 24);
+    }
+}
+
+#[test]
+fn keywords_of_the_scene_reach_the_ies_and_ldt_files() {
+    let snapshot = baked(settings(FilterChoice::Raw, TableGrid::default()));
+    let mut scene = load_scene(&scene_path()).unwrap();
+    scene.manufacturer = "Acme Lighting".to_owned();
+    scene.export.catalogue_number = "AC-25".to_owned();
+    scene.export.luminaire = "Spot 25".to_owned();
+    scene.export.test_lab = "Acme photometry lab".to_owned();
+    scene.export.lamp = "LED 800 lm".to_owned();
+    scene.export.lamp_catalogue_number = "LED-800".to_owned();
+    scene.export.colour_temperature = "3000 K".to_owned();
+    scene.export.input_watts = 9.0;
+    let dir = tempfile::tempdir().unwrap();
+    let mut request = ExportRequest::new(
+        &snapshot,
+        ExportOptions {
+            labels: Some(Labels::of(&scene)),
+            ..options()
+        },
+        dir.path(),
+        "spot",
+    );
+    request.formats = ExportFormats {
+        ies: Some(IesVersion::Lm63_2002),
+        ldt: true,
+        exr: false,
+        cube_png: false,
+        polar_png: false,
+    };
+    let written = request.write(&snapshot).unwrap();
+    assert_eq!(written.len(), 2);
+    let ies = std::fs::read_to_string(dir.path().join("spot.ies")).unwrap();
+    assert!(ies.starts_with("IESNA:LM-63-2002"));
+    for line in [
+        "[MANUFAC] Acme Lighting",
+        "[LUMCAT] AC-25",
+        "[LUMINAIRE] Spot 25",
+        "[TESTLAB] Acme photometry lab",
+        "[LAMP] LED 800 lm",
+        "[LAMPCAT] LED-800",
+        "[ISSUEDATE] 2026-01-02",
+    ] {
+        assert!(ies.contains(line), "{line} missing:\n{ies}");
+    }
+    let ldt = read_photometry(&std::fs::read(dir.path().join("spot.ldt")).unwrap()).unwrap();
+    assert_eq!(ldt.meta.manufacturer, "Acme Lighting");
+    assert_eq!(ldt.meta.catalog_number, "AC-25");
+    assert_eq!(ldt.meta.luminaire, "Spot 25");
+    assert_eq!(ldt.meta.lamps[0].colour_temperature, "3000 K");
+    assert_eq!(ldt.meta.lamps[0].watts, 9.0);
+    let read_ies = read_photometry(ies.as_bytes()).unwrap();
+    assert_eq!(read_ies.meta.input_watts, 9.0);
+}
+
+#[test]
+fn files_are_written_all_or_none() {
+    let snapshot = baked(settings(FilterChoice::Raw, TableGrid::default()));
+    let dir = tempfile::tempdir().unwrap();
+    // A folder where the LDT should go: the IES staged before it must not
+    // appear either.
+    std::fs::create_dir(dir.path().join("spot.ldt")).unwrap();
+    std::fs::write(dir.path().join("spot.ldt/keep"), b"x").unwrap();
+    let request = ExportRequest::new(&snapshot, options(), dir.path(), "spot");
+    let e = request.write(&snapshot).unwrap_err();
+    assert!(e.to_string().contains("spot.ldt"), "{e}");
+    let mut left: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    left.sort();
+    assert_eq!(
+        left,
+        ["spot.ldt"],
+        "nothing else written, no temporary files"
+    );
+
+    // A folder under a file cannot be written at all.
+    let file = dir.path().join("plain");
+    std::fs::write(&file, b"x").unwrap();
+    let request = ExportRequest::new(&snapshot, options(), &file.join("sub"), "spot");
+    assert!(request.write(&snapshot).is_err());
+
+    // Nonsense requests are refused before anything is drawn.
+    let mut none = ExportRequest::new(&snapshot, options(), dir.path(), "spot");
+    none.formats = ExportFormats {
+        ies: None,
+        ldt: false,
+        exr: false,
+        cube_png: false,
+        polar_png: false,
+    };
+    assert!(none.render(&snapshot).is_err());
+    for stem in ["", "a/b", ".."] {
+        let bad = ExportRequest::new(&snapshot, options(), dir.path(), stem);
+        assert!(bad.render(&snapshot).is_err(), "{stem:?}");
+    }
+    let mut odd_grid = ExportRequest::new(&snapshot, options(), dir.path(), "spot");
+    odd_grid.grid.c_step_deg = 7.0;
+    assert!(odd_grid.render(&snapshot).is_err());
+}
