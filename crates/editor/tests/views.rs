@@ -186,6 +186,7 @@ fn a_reference_file_is_overlaid_and_a_bad_one_is_refused() {
             date: "2026-12-01".to_owned(),
             seed: 1,
             scene_file: "faceted_downlight.toml".to_owned(),
+            labels: None,
         },
     );
     std::fs::write(
