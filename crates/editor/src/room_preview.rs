@@ -148,6 +148,8 @@ pub enum RoomBackend {
 pub struct RenderRequest {
     pub snapshot: Arc<Snapshot>,
     pub room: Arc<RoomSetup>,
+    /// Counts the room's edits, so a picture names the room it shows.
+    pub room_revision: u64,
     pub size: [u32; 2],
 }
 
@@ -160,6 +162,7 @@ pub struct RoomPicture {
     /// The simulation run and photons of the table it is lit by.
     pub generation: u64,
     pub photons: u64,
+    pub room_revision: u64,
     pub size: [u32; 2],
     /// Tone-mapped sRGB, row-major.
     pub rgb: Vec<u8>,
@@ -272,6 +275,7 @@ impl Renderer {
             serial,
             generation: snapshot.generation,
             photons: snapshot.photons,
+            room_revision: request.room_revision,
             size: request.size,
             rgb: tone_map(&frame),
             illuminance_lx: frame.illuminance,

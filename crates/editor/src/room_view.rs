@@ -161,6 +161,7 @@ fn room_contents_ui(ui: &mut Ui, state: &mut EditorState, view: &mut RoomView) {
             preview.request(RenderRequest {
                 snapshot: snapshot.clone(),
                 room: room.clone(),
+                room_revision: view.revision,
                 size,
             });
         }
@@ -301,8 +302,8 @@ fn status_ui(ui: &mut Ui, view: &RoomView, no_snapshot: bool, now: Instant) {
     match &view.picture {
         Some(p) => {
             ui.label(format!(
-                "Shown: generation {}, {} photons",
-                p.generation, p.photons
+                "Shown: generation {}, {} photons, room revision {}",
+                p.generation, p.photons, p.room_revision
             ));
             ui.label(format!(
                 "{}×{} in {:.0} ms on {}, {:.1} s old",

@@ -1,0 +1,245 @@
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // reason: tests may panic
+//! The Room tab driven through its labelled widgets: the example spot
+//! lights the office, and the room's figures follow the luminaire's flux,
+//! the room's reflectances and the chosen EN 12464-1 target. CPU tracing,
+//! 32² cube faces and a photon limit keep every run short and its table
+//! deterministic (a seed and a photon count fix the map).
+
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use egui::accesskit::Role;
+use egui_kittest::Harness;
+use egui_kittest::kittest::{NodeT, Queryable};
+use lucerna_editor::{EditorApp, EditorState};
+use lucerna_simulation::{BackendRequest, RunState, SimulationSettings, StoppingRule};
+
+const PHOTONS: u64 = 200_000;
+
+fn example() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../assets/luminaires/parabolic_spot.toml")
+}
+
+fn settings(photons: u64, resolution: u32) -> SimulationSettings {
+    SimulationSettings {
+        resolution,
+        backend: BackendRequest::Cpu,
+        stop: StoppingRule {
+            photons: Some(photons),
+            ..StoppingRule::default()
+        },
+        ..SimulationSettings::default()
+    }
+}
+
+fn editor(settings: SimulationSettings) -> Harness<'static, EditorApp> {
+    Harness::builder()
+        .with_size([1366.0, 900.0])
+        .build_ui_state(
+            |ui, app: &mut EditorApp| app.ui(ui),
+            EditorApp::new(EditorState::new(Some(example()), settings)),
+        )
+}
+
+fn steps(h: &mut Harness<'_, EditorApp>, n: usize) {
+    for _ in 0..n {
+        h.step();
+    }
+}
+
+/// The text of the one label starting with `prefix`, if shown.
+fn label_text(h: &Harness<'_, EditorApp>, prefix: &str) -> Option<String> {
+    h.query_all_by_label_contains(prefix)
+        .filter_map(|n| text_of(&n))
+        .find(|l| l.starts_with(prefix))
+}
+
+/// A node's text: AccessKit keeps a `Role::Label`'s in its value.
+fn text_of<'t>(n: &impl NodeT<'t>) -> Option<String> {
+    let node = n.accesskit_node();
+    node.label().or_else(|| node.value())
+}
+
+/// The number after `prefix` in its label ("Eavg 123.4 lx" → 123.4).
+fn figure(h: &Harness<'_, EditorApp>, prefix: &str) -> f64 {
+    let text = label_text(h, prefix).unwrap_or_else(|| panic!("no label {prefix}"));
+    text[prefix.len()..]
+        .split_whitespace()
+        .next()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no number in {text:?}"))
+}
+
+/// What the shown picture says it shows: (generation, photons, room revision).
+fn shown(h: &Harness<'_, EditorApp>) -> Option<(u64, u64, u64)> {
+    let text = label_text(h, "Shown: generation ")?;
+    let numbers: Vec<u64> = text
+        .split(|c: char| !c.is_ascii_digit())
+        .filter_map(|s| s.parse().ok())
+        .collect();
+    Some((numbers[0], numbers[1], numbers[2]))
+}
+
+/// Steps until `done` holds, sleeping between frames (the simulation and
+/// the room renderer run on their own threads).
+fn wait_until(
+    h: &mut Harness<'_, EditorApp>,
+    what: &str,
+    done: impl Fn(&Harness<'_, EditorApp>) -> bool,
+) -> Duration {
+    let start = Instant::now();
+    loop {
+        h.step();
+        if done(h) {
+            return start.elapsed();
+        }
+        if let Some(sim) = h.state().state.simulation()
+            && let Some((_, e)) = sim.published().error
+        {
+            panic!("simulation failed while waiting for {what}: {e}");
+        }
+        if start.elapsed() > Duration::from_secs(120) {
+            let labels: Vec<String> = ["Shown", "rendering", "No picture", "×", "No light", "Eavg"]
+                .iter()
+                .flat_map(|p| h.query_all_by_label_contains(p))
+                .filter_map(|n| text_of(&n))
+                .collect();
+            panic!("timed out waiting for {what}; labels {labels:?}");
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+fn run_finished(h: &Harness<'_, EditorApp>, generation: u64) -> bool {
+    h.state()
+        .state
+        .snapshot()
+        .is_some_and(|s| s.generation == generation && matches!(s.state, RunState::Finished(_)))
+}
+
+/// Waits for the finished run `generation` and the room picture of its
+/// final table and room `revision`.
+fn wait_for_room(h: &mut Harness<'_, EditorApp>, generation: u64, revision: u64) {
+    wait_until(h, "the finished run", |h| run_finished(h, generation));
+    let photons = h.state().state.snapshot().unwrap().photons;
+    wait_until(h, "the room picture of the finished run", |h| {
+        shown(h) == Some((generation, photons, revision))
+    });
+}
+
+fn open_room_tab(h: &mut Harness<'_, EditorApp>) {
+    h.get_by_role_and_label(Role::Button, "Room").click();
+    steps(h, 2);
+}
+
+fn choose(h: &mut Harness<'_, EditorApp>, combo: &str, option: &str) {
+    h.get_by_role_and_label(Role::ComboBox, combo).click();
+    steps(h, 2);
+    h.get_by_label(option).click();
+    steps(h, 2);
+}
+
+fn set(h: &mut Harness<'_, EditorApp>, label: &str, value: f64) {
+    h.get_by_label(label).set_value_accesskit(value);
+    steps(h, 2);
+}
+
+#[test]
+fn the_room_tab_shows_the_office_lit_by_the_example_and_refines_the_picture() {
+    let mut h = editor(settings(PHOTONS, 32));
+    open_room_tab(&mut h);
+    assert!(h.query_by_role_and_label(Role::ComboBox, "Room").is_some());
+    wait_for_room(&mut h, 0, 1);
+    let (e_min, e_avg, e_max, u0) = (
+        figure(&h, "Emin "),
+        figure(&h, "Eavg "),
+        figure(&h, "Emax "),
+        figure(&h, "U0 "),
+    );
+    assert!(
+        0.0 <= e_min && e_min <= e_avg && e_avg <= e_max && e_avg > 1.0,
+        "Emin {e_min}, Eavg {e_avg}, Emax {e_max}"
+    );
+    assert!((u0 - e_min / e_avg).abs() < 0.01, "U0 {u0}");
+    assert!(label_text(&h, "Verdict: ").is_some());
+    // Still for a second, the draft gives way to the fine picture.
+    wait_until(&mut h, "the fine picture", |h| {
+        label_text(h, "800×500 in ").is_some()
+    });
+    // The other two views draw from the same picture.
+    h.get_by_label("False colour (lx)").click();
+    steps(&mut h, 2);
+    assert!(h.query_by_label("0 lx").is_some(), "the lux legend");
+    h.get_by_label("Work plane").click();
+    steps(&mut h, 2);
+    assert!(label_text(&h, "Eavg ").is_some());
+}
+
+#[test]
+fn doubling_the_emitters_flux_doubles_the_rooms_eavg() {
+    let mut h = editor(settings(PHOTONS, 32));
+    open_room_tab(&mut h);
+    wait_for_room(&mut h, 0, 1);
+    let before = figure(&h, "Eavg ");
+    h.get_by_label("Emitter LED").click();
+    steps(&mut h, 2);
+    h.get_by_role_and_label(Role::SpinButton, "Flux")
+        .set_value_accesskit(1600.0);
+    steps(&mut h, 2);
+    wait_for_room(&mut h, 1, 1);
+    let after = figure(&h, "Eavg ");
+    eprintln!("flux 800 → 1600 lm: Eavg {before} → {after} lx");
+    // Photons carry Φ/N and the same seed traces the same photons: the
+    // table doubles exactly, and so does every illuminance, direct and
+    // indirect (both linear in the intensities).
+    assert!(
+        (after / before - 2.0).abs() < 0.02,
+        "Eavg {before} lx at 800 lm, {after} lx at 1600 lm"
+    );
+}
+
+#[test]
+fn brighter_walls_raise_eavg_and_the_verdict_follows_the_target() {
+    let mut h = editor(settings(PHOTONS, 32));
+    open_room_tab(&mut h);
+    wait_for_room(&mut h, 0, 1);
+    let before = figure(&h, "Eavg ");
+    set(&mut h, "Wall reflectance", 0.8);
+    wait_until(&mut h, "the picture of the edited room", |h| {
+        shown(h).is_some_and(|(_, _, revision)| revision == 2)
+    });
+    let after = figure(&h, "Eavg ");
+    // Direct light is the same; the uniform indirect estimate
+    // Φ ρ̄ / (A (1 − ρ̄)) grows with the walls' reflectance.
+    assert!(after > before, "Eavg {before} lx → {after} lx");
+
+    // The spot's narrow beam leaves the work plane far from uniform
+    // (U0 ≈ 0.24 here): even corridors' 100 lx, U0 0.40 fails.
+    let corridors = "Corridors, circulation areas (100 lx, U0 0.40)";
+    let drawing = "Offices: technical drawing (750 lx, U0 0.70)";
+    choose(&mut h, "Task area (EN 12464-1)", corridors);
+    assert_verdict(&h, "fails");
+    // Surfaces of 0.9 make the uniform indirect light (≈ 330 lx by the
+    // formula above) dominate: Eavg ≈ 530 lx, U0 ≈ 0.67.
+    set(&mut h, "Floor reflectance", 0.9);
+    set(&mut h, "Ceiling reflectance", 0.9);
+    set(&mut h, "Wall reflectance", 0.9);
+    wait_until(&mut h, "the picture of the bright room", |h| {
+        shown(h).is_some_and(|(_, _, revision)| revision == 5)
+    });
+    let (e_avg, u0) = (figure(&h, "Eavg "), figure(&h, "U0 "));
+    eprintln!("surfaces 0.9: Eavg {e_avg} lx, U0 {u0}");
+    assert_verdict(&h, "meets");
+    choose(&mut h, "Task area (EN 12464-1)", drawing);
+    assert_verdict(&h, "fails");
+    choose(&mut h, "Task area (EN 12464-1)", corridors);
+    assert_verdict(&h, "meets");
+}
+
+fn assert_verdict(h: &Harness<'_, EditorApp>, expected: &str) {
+    let verdict = label_text(h, "Verdict: ").expect("a verdict");
+    assert!(
+        verdict.starts_with(&format!("Verdict: {expected}")),
+        "{verdict}"
+    );
+}
