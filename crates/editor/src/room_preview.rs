@@ -13,20 +13,23 @@ use std::sync::mpsc::{Receiver, Sender, channel};
 use std::sync::{Arc, Condvar, Mutex, PoisonError};
 use std::time::{Duration, Instant};
 
-use lucerna_photometry::Photometry;
+use glam::DVec3;
 use lucerna_room::gpu::{GpuRoomRenderer, UploadedRoom};
 use lucerna_room::model::{RoomFile, RoomFileError, load_room, validate};
-use lucerna_room::scene::{RoomMesh, load_room_mesh};
+use lucerna_room::render::render_cpu_rows;
+use lucerna_room::scene::{RoomMesh, load_room_mesh, opening_from_dimensions};
 use lucerna_room::{
-    IlluminanceFigures, RoomScene, Shading, WorkPlaneGrid, render_cpu, tone_map, work_plane_cpu,
+    Frame, IlluminanceFigures, Opening, PlacedLight, ProfileGrid, RoomScene, Shading,
+    WorkPlaneGrid, tone_map, work_plane_cpu,
 };
-use lucerna_simulation::{ExportOptions, Snapshot};
+use lucerna_simulation::Snapshot;
+use lucerna_simulation::export::luminous_opening;
 
 /// Picture size while the distribution changes (a converging run, an
 /// edit): small enough to follow a run's snapshots on two CPU cores.
 pub const DRAFT_SIZE: [u32; 2] = [320, 200];
 /// Picture size once the distribution has been still for [`SETTLE`].
-pub const FINE_SIZE: [u32; 2] = [800, 500];
+pub const FINE_SIZE: [u32; 2] = [640, 400];
 /// How long the table and the room must stay unchanged before the fine
 /// picture is rendered.
 pub const SETTLE: Duration = Duration::from_secs(1);
@@ -116,18 +119,78 @@ impl RoomSetup {
         scale(&mut self.file.camera.look_at);
     }
 
-    /// The room lit by `photometry` at every luminaire of the file; the
-    /// opening is the edited luminaire's own (from its scene), not the
-    /// one the file gives its profile.
-    pub fn scene(&self, photometry: &Photometry) -> RoomScene {
-        let mut file = self.file.clone();
-        for l in &mut file.luminaires {
-            l.opening = None;
+    /// The room lit by the edited luminaire at every luminaire of the
+    /// file: `profile(flux_factor)` gives the profile grid scaled by a
+    /// spec's factor (one grid shared by all copies), and the opening is
+    /// the edited luminaire's own, not the one the file gives its profile.
+    pub fn scene(
+        &self,
+        mut profile: impl FnMut(f64) -> Arc<ProfileGrid>,
+        opening: Opening,
+    ) -> RoomScene {
+        let mut shell = self.file.clone();
+        shell.luminaires.clear();
+        let mut scene = RoomScene::new(&shell, &[]);
+        for spec in &self.file.luminaires {
+            let grid = profile(spec.flux_factor);
+            let rotation = PlacedLight::rotation_from_euler_deg(spec.rotation_deg);
+            for p in spec.positions() {
+                scene.lights.push(PlacedLight {
+                    profile: grid.clone(),
+                    opening,
+                    position: DVec3::from_array(p),
+                    rotation,
+                });
+            }
         }
-        let profiles = vec![photometry.clone(); file.luminaires.len()];
-        let mut scene = RoomScene::new(&file, &profiles);
         scene.mesh = self.mesh.as_deref().cloned();
         scene
+    }
+}
+
+/// The profile grids of one snapshot's table (one per flux factor) and
+/// its luminous opening: building a grid's prefiltered levels is the
+/// largest fixed cost of a picture, so the fine picture and room edits
+/// reuse them.
+#[derive(Default)]
+struct ProfileCache {
+    snapshot: Option<Arc<Snapshot>>,
+    grids: Vec<(f64, Arc<ProfileGrid>)>,
+    opening: Option<Opening>,
+}
+
+impl ProfileCache {
+    fn for_snapshot(&mut self, snapshot: &Arc<Snapshot>) -> &mut ProfileCache {
+        if !self
+            .snapshot
+            .as_ref()
+            .is_some_and(|s| Arc::ptr_eq(s, snapshot))
+        {
+            let l = &snapshot.luminaire;
+            *self = ProfileCache {
+                snapshot: Some(snapshot.clone()),
+                grids: Vec::new(),
+                opening: Some(opening_from_dimensions(luminous_opening(
+                    &l.scene,
+                    &l.tessellated,
+                ))),
+            };
+        }
+        self
+    }
+
+    fn grid(&mut self, flux_factor: f64) -> Arc<ProfileGrid> {
+        if let Some((_, g)) = self.grids.iter().find(|(f, _)| *f == flux_factor) {
+            return g.clone();
+        }
+        let table = match &self.snapshot {
+            Some(s) if flux_factor == 1.0 => s.table.as_ref().clone(),
+            Some(s) => s.table.scaled(flux_factor),
+            None => return Arc::new(ProfileGrid::from_fn(true, |_, _| 0.0)),
+        };
+        let grid = Arc::new(ProfileGrid::from_table(&table));
+        self.grids.push((flux_factor, grid.clone()));
+        grid
     }
 }
 
@@ -189,6 +252,7 @@ pub struct RoomPicture {
 pub struct Renderer {
     gpu: Option<GpuRoomRenderer>,
     description: String,
+    profiles: ProfileCache,
 }
 
 impl std::fmt::Debug for Renderer {
@@ -204,6 +268,7 @@ impl Renderer {
         let cpu = |why: String| Renderer {
             gpu: None,
             description: why,
+            profiles: ProfileCache::default(),
         };
         if backend == RoomBackend::Cpu {
             return cpu("CPU".to_owned());
@@ -223,6 +288,7 @@ impl Renderer {
             Ok(gpu) => Renderer {
                 gpu: Some(gpu),
                 description: format!("GPU: {name}"),
+                profiles: ProfileCache::default(),
             },
             Err(e) => cpu(format!("CPU (the GPU renderer failed on {name}: {e})")),
         }
@@ -233,18 +299,20 @@ impl Renderer {
     }
 
     /// Renders one request (on the calling thread). A GPU failure falls
-    /// back to the CPU for good, and the picture says so.
-    pub fn render(&mut self, request: &RenderRequest, serial: u64) -> RoomPicture {
+    /// back to the CPU for good, and the picture says so. A picture larger
+    /// than the draft is rendered on the CPU in bands of rows, and given up
+    /// (`None`) between two when `give_up` says a newer request waits.
+    pub fn render(
+        &mut self,
+        request: &RenderRequest,
+        serial: u64,
+        give_up: &dyn Fn() -> bool,
+    ) -> Option<RoomPicture> {
         let requested_at = Instant::now();
         let snapshot = &request.snapshot;
-        let options = ExportOptions {
-            symmetrise: None,
-            date: String::new(),
-            seed: 0,
-            scene_file: String::new(),
-        };
-        let photometry = lucerna_simulation::photometry(snapshot, &options);
-        let scene = request.room.scene(&photometry);
+        let cache = self.profiles.for_snapshot(snapshot);
+        let opening = cache.opening.unwrap_or(Opening::Point);
+        let scene = request.room.scene(|f| cache.grid(f), opening);
         let [w, h] = request.size;
         let gpu_result = self.gpu.as_ref().map(|gpu| {
             let uploaded: UploadedRoom = gpu.upload(&scene)?;
@@ -259,10 +327,23 @@ impl Renderer {
                     self.gpu = None;
                     self.description = format!("CPU (the GPU render failed: {e})");
                 }
-                (
-                    render_cpu(&scene, w, h, Shading::Cubature),
-                    work_plane_cpu(&scene, Shading::Cubature),
-                )
+                let cancellable = w * h > DRAFT_SIZE[0] * DRAFT_SIZE[1];
+                let band = if cancellable { (h / 10).max(1) } else { h };
+                let mut frame = Frame {
+                    width: w,
+                    height: h,
+                    luminance: Vec::with_capacity((w * h) as usize),
+                    illuminance: Vec::with_capacity((w * h) as usize),
+                };
+                for top in (0..h).step_by(band as usize) {
+                    if cancellable && give_up() {
+                        return None;
+                    }
+                    let rows = render_cpu_rows(&scene, w, h, top..top + band, Shading::Cubature);
+                    frame.luminance.extend(rows.luminance);
+                    frame.illuminance.extend(rows.illuminance);
+                }
+                (frame, work_plane_cpu(&scene, Shading::Cubature))
             }
         };
         let indirect_lux = scene.indirect_lux();
@@ -271,7 +352,7 @@ impl Renderer {
         }
         let figures = grid.figures();
         let finished_at = Instant::now();
-        RoomPicture {
+        Some(RoomPicture {
             serial,
             generation: snapshot.generation,
             photons: snapshot.photons,
@@ -292,7 +373,7 @@ impl Renderer {
             render_time: finished_at - requested_at,
             requested_at,
             finished_at,
-        }
+        })
     }
 }
 
@@ -430,11 +511,21 @@ fn worker_loop(
             }
         };
         let renderer = renderer.get_or_insert_with(|| Renderer::open(backend));
-        let picture = renderer.render(&request, serial);
-        if pictures.send(picture).is_err() {
-            return;
+        let newer_waits = || {
+            let mailbox = shared
+                .mailbox
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner);
+            mailbox.pending.is_some() || mailbox.closed
+        };
+        // A picture given up for a newer request is not sent: that one
+        // is next.
+        if let Some(picture) = renderer.render(&request, serial, &newer_waits) {
+            if pictures.send(picture).is_err() {
+                return;
+            }
+            repaint();
         }
-        repaint();
     }
 }
 

@@ -163,8 +163,9 @@ fn the_room_tab_shows_the_office_lit_by_the_example_and_refines_the_picture() {
     assert!((u0 - e_min / e_avg).abs() < 0.01, "U0 {u0}");
     assert!(label_text(&h, "Verdict: ").is_some());
     // Still for a second, the draft gives way to the fine picture.
+    let [w, h_px] = lucerna_editor::FINE_SIZE;
     wait_until(&mut h, "the fine picture", |h| {
-        label_text(h, "800×500 in ").is_some()
+        label_text(h, &format!("{w}×{h_px} in ")).is_some()
     });
     // The other two views draw from the same picture.
     h.get_by_label("False colour (lx)").click();
@@ -241,5 +242,106 @@ fn assert_verdict(h: &Harness<'_, EditorApp>, expected: &str) {
     assert!(
         verdict.starts_with(&format!("Verdict: {expected}")),
         "{verdict}"
+    );
+}
+
+fn median_and_p95(mut times: Vec<Duration>) -> (f64, f64, f64) {
+    times.sort();
+    let ms = |d: Duration| d.as_secs_f64() * 1e3;
+    let at = |q: f64| ms(times[((times.len() - 1) as f64 * q).round() as usize]);
+    (at(0.5), at(0.95), ms(times[times.len() - 1]))
+}
+
+/// The numbers the issue asks for, printed (`cargo test -p lucerna-editor
+/// --test room -- --ignored --nocapture`): one room render per resolution
+/// and renderer, the UI's frame time with the Room tab shown while the
+/// simulation traces, and the time from an edit to the room's first
+/// picture of the edited luminaire.
+#[test]
+#[ignore = "a benchmark: run by name with --ignored --nocapture"]
+fn benchmark_room_renders_frame_time_and_edit_latency() {
+    use std::sync::Arc;
+
+    use lucerna_editor::{
+        DRAFT_SIZE, FINE_SIZE, RenderRequest, Renderer, RoomBackend, RoomSetup, default_rooms_dir,
+    };
+    use lucerna_simulation::Luminaire;
+
+    let luminaire = Arc::new(Luminaire::load(&example()).unwrap());
+    let snapshot = Arc::new(lucerna_simulation::bake(luminaire, settings(PHOTONS, 32)).unwrap());
+    for backend in [RoomBackend::Cpu, RoomBackend::Gpu] {
+        let mut renderer = Renderer::open(backend);
+        println!("renderer: {}", renderer.description());
+        for room in ["office", "corridor", "meeting_room"] {
+            let setup = RoomSetup::load(&default_rooms_dir().join(format!("{room}.toml"))).unwrap();
+            let setup = Arc::new(setup);
+            for size in [DRAFT_SIZE, FINE_SIZE] {
+                let request = RenderRequest {
+                    snapshot: snapshot.clone(),
+                    room: setup.clone(),
+                    room_revision: 0,
+                    size,
+                };
+                let times: Vec<Duration> = (0..3)
+                    .map(|k| renderer.render(&request, k, &|| false).unwrap().render_time)
+                    .collect();
+                let (median, _, max) = median_and_p95(times);
+                println!(
+                    "  {room:>12} {}×{}: {median:.0} ms median of 3 (max {max:.0} ms)",
+                    size[0], size[1]
+                );
+            }
+        }
+    }
+
+    // The Room tab shown while a long run traces (64² faces, 100 M
+    // photons): UI time per frame (layout and painting into egui's
+    // shapes; no GPU paint in the test harness).
+    let mut h = editor(settings(100_000_000, 64));
+    open_room_tab(&mut h);
+    wait_until(&mut h, "a first room picture", |h| shown(h).is_some());
+    let mut frames = Vec::new();
+    let mut pictures = std::collections::BTreeSet::new();
+    let start = Instant::now();
+    while start.elapsed() < Duration::from_secs(8) {
+        let t = Instant::now();
+        h.step();
+        frames.push(t.elapsed());
+        if let Some(s) = shown(&h) {
+            pictures.insert(s);
+        }
+        std::thread::sleep(Duration::from_millis(16));
+    }
+    let (median, p95, max) = median_and_p95(frames.clone());
+    println!(
+        "UI frame with the Room tab while tracing: median {median:.1} ms, p95 {p95:.1} ms, max {max:.1} ms over {} frames; {} room pictures of new tables in 8 s",
+        frames.len(),
+        pictures.len()
+    );
+
+    // Edits: the emitter's flux, alternately doubled and halved.
+    h.get_by_label("Emitter LED").click();
+    steps(&mut h, 2);
+    let mut latencies = Vec::new();
+    for (k, flux) in [1600.0, 800.0, 1600.0, 800.0].into_iter().enumerate() {
+        let generation = k as u64 + 1;
+        h.get_by_role_and_label(Role::SpinButton, "Flux")
+            .set_value_accesskit(flux);
+        let edited = Instant::now();
+        wait_until(&mut h, "the edited run's first room picture", |h| {
+            shown(h).is_some_and(|(g, _, _)| g == generation)
+        });
+        latencies.push(edited.elapsed());
+        // Let the draft refine and the run go on a little.
+        std::thread::sleep(Duration::from_millis(1500));
+        h.step();
+    }
+    let (median, _, max) = median_and_p95(latencies.clone());
+    println!(
+        "edit → first room picture of the edited luminaire: {:?} ms (median {median:.0} ms, max {max:.0} ms)",
+        latencies
+            .iter()
+            .map(|d| (d.as_secs_f64() * 1e3).round())
+            .collect::<Vec<_>>()
     );
 }
