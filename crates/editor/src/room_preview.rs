@@ -299,9 +299,9 @@ impl Renderer {
     }
 
     /// Renders one request (on the calling thread). A GPU failure falls
-    /// back to the CPU for good, and the picture says so. A picture larger
-    /// than the draft is rendered on the CPU in bands of rows, and given up
-    /// (`None`) between two when `give_up` says a newer request waits.
+    /// back to the CPU for good, and the picture says so. On the CPU the
+    /// view is rendered in bands of rows and given up (`None`) between two
+    /// when `give_up` says so (a newer request that makes it stale waits).
     pub fn render(
         &mut self,
         request: &RenderRequest,
@@ -327,8 +327,7 @@ impl Renderer {
                     self.gpu = None;
                     self.description = format!("CPU (the GPU render failed: {e})");
                 }
-                let cancellable = w * h > DRAFT_SIZE[0] * DRAFT_SIZE[1];
-                let band = if cancellable { (h / 10).max(1) } else { h };
+                let band = (h / 10).max(1);
                 let mut frame = Frame {
                     width: w,
                     height: h,
@@ -336,7 +335,7 @@ impl Renderer {
                     illuminance: Vec::with_capacity((w * h) as usize),
                 };
                 for top in (0..h).step_by(band as usize) {
-                    if cancellable && give_up() {
+                    if give_up() {
                         return None;
                     }
                     let rows = render_cpu_rows(&scene, w, h, top..top + band, Shading::Cubature);
@@ -511,12 +510,22 @@ fn worker_loop(
             }
         };
         let renderer = renderer.get_or_insert_with(|| Renderer::open(backend));
+        // Given up for any newer request when fine (a draft of it comes
+        // next), and a draft for one of a newer run (an edit): never a
+        // draft for the next snapshot of the same run, or a converging
+        // run would show nothing.
+        let fine = request.size != DRAFT_SIZE;
+        let generation = request.snapshot.generation;
         let newer_waits = || {
             let mailbox = shared
                 .mailbox
                 .lock()
                 .unwrap_or_else(PoisonError::into_inner);
-            mailbox.pending.is_some() || mailbox.closed
+            mailbox.closed
+                || mailbox
+                    .pending
+                    .as_ref()
+                    .is_some_and(|(next, _)| fine || next.snapshot.generation != generation)
         };
         // A picture given up for a newer request is not sent: that one
         // is next.
