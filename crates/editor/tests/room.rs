@@ -368,3 +368,26 @@ fn benchmark_room_renders_frame_time_and_edit_latency() {
             .collect::<Vec<_>>()
     );
 }
+
+#[test]
+fn a_broken_room_file_is_refused_with_its_line_and_a_smaller_room_keeps_its_layout_inside() {
+    use lucerna_editor::{RoomSetup, default_rooms_dir};
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("broken.toml");
+    std::fs::write(&path, "version = 1\n[room]\nwidth_m = \"wide\"\n").unwrap();
+    let error = RoomSetup::load(&path).unwrap_err().to_string();
+    assert!(error.contains("line 3"), "{error}");
+
+    let mut office = RoomSetup::load(&default_rooms_dir().join("office.toml")).unwrap();
+    office.resize([3.0, 2.4, 2.8]);
+    assert!(office.problems().is_empty(), "{:?}", office.problems());
+    // The 3 × 2 array halves its spacing with the room: still inside.
+    for l in &office.file.luminaires {
+        for p in l.positions() {
+            assert!(
+                p[0] > 0.0 && p[0] < 3.0 && p[1] > 0.0 && p[1] < 2.4,
+                "{p:?}"
+            );
+        }
+    }
+}
