@@ -238,9 +238,15 @@ fn room_fields_ui(ui: &mut Ui, view: &mut RoomView) -> Vec<String> {
     let Some(draft) = &mut view.draft else {
         return Vec::new();
     };
-    if let Some(name) = Some(&draft.file.name).filter(|n| !n.is_empty()) {
-        ui.label(name.as_str());
-    }
+    let name = &draft.file.name;
+    let name = if name.is_empty() {
+        "The room"
+    } else {
+        name.as_str()
+    };
+    ui.label(format!(
+        "{name}: every luminaire it places is the edited one, with its own opening"
+    ));
     if draft.mesh.is_none() {
         let r = &draft.file.room;
         let mut size = [r.width_m, r.depth_m, r.height_m];

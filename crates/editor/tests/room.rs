@@ -391,3 +391,58 @@ fn a_broken_room_file_is_refused_with_its_line_and_a_smaller_room_keeps_its_layo
         }
     }
 }
+
+/// The main window with the Room tab on the converged example's fine
+/// picture, drawn by egui's wgpu renderer (lavapipe or llvmpipe here),
+/// against the stored picture. What follows wall time (iterations,
+/// photons/s, the picture's render time and age) and the checkout's path
+/// are masked; the rest must match within the threshold.
+#[test]
+fn the_room_tab_with_a_converged_example_matches_its_snapshot() {
+    let render_state = egui_kittest::wgpu::create_render_state(
+        egui_kittest::wgpu::default_wgpu_setup(),
+        eframe::egui_wgpu::RendererOptions::PREDICTABLE,
+    );
+    let target = lucerna_editor::GpuTarget {
+        format: render_state.target_format,
+        samples: 1,
+    };
+    let mut h = Harness::builder()
+        .with_size([1366.0, 768.0])
+        .renderer(egui_kittest::wgpu::WgpuTestRenderer::from_render_state(
+            render_state,
+        ))
+        .build_ui_state(
+            |ui, app: &mut EditorApp| app.ui(ui),
+            EditorApp::with_gpu_target(
+                EditorState::new(Some(example()), settings(PHOTONS, 32)),
+                Some(target),
+            ),
+        );
+    open_room_tab(&mut h);
+    wait_for_room(&mut h, 0, 1);
+    let [w, h_px] = lucerna_editor::FINE_SIZE;
+    let fine = format!("{w}×{h_px} in ");
+    wait_until(&mut h, "the fine picture", |h| {
+        label_text(h, &fine).is_some()
+    });
+    h.mask(h.get_by_label("Scene file").rect());
+    for row in ["Iteration", "Photons/s"] {
+        let label = h.get_by_label(row).rect();
+        let wide = egui::Rect::from_min_max(label.min, egui::pos2(1366.0, label.max.y));
+        h.mask(wide);
+    }
+    let status = h.get_by_label_contains(&fine).rect();
+    h.mask(egui::Rect::from_min_max(
+        status.min,
+        egui::pos2(1366.0, status.max.y),
+    ));
+    h.remove_cursor();
+    h.run_steps(2);
+    h.snapshot_options(
+        "room_tab_converged",
+        &egui_kittest::SnapshotOptions::new()
+            .threshold(1.5)
+            .max_failed_pixels(2500),
+    );
+}
