@@ -319,6 +319,9 @@ fn status_ui(ui: &mut Ui, view: &RoomView, no_snapshot: bool, now: Instant) {
                 p.backend,
                 now.saturating_duration_since(p.finished_at).as_secs_f64()
             ));
+            // Keeps the age true while nothing else repaints.
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_secs(1));
         }
         None if !no_snapshot => {
             ui.label("No picture yet.");

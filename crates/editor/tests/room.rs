@@ -325,6 +325,47 @@ fn benchmark_room_renders_frame_time_and_edit_latency() {
         pictures.len()
     );
 
+    // The same with every frame painted by egui's wgpu renderer (lavapipe
+    // or llvmpipe here: software, sharing the CPU with the tracer and the
+    // room renderer).
+    {
+        let render_state = egui_kittest::wgpu::create_render_state(
+            egui_kittest::wgpu::default_wgpu_setup(),
+            eframe::egui_wgpu::RendererOptions::PREDICTABLE,
+        );
+        let target = lucerna_editor::GpuTarget {
+            format: render_state.target_format,
+            samples: 1,
+        };
+        let mut painted = Harness::builder()
+            .with_size([1366.0, 768.0])
+            .renderer(egui_kittest::wgpu::WgpuTestRenderer::from_render_state(
+                render_state,
+            ))
+            .build_ui_state(
+                |ui, app: &mut EditorApp| app.ui(ui),
+                EditorApp::with_gpu_target(
+                    EditorState::new(Some(example()), settings(100_000_000, 64)),
+                    Some(target),
+                ),
+            );
+        painted.set_render_every_step(true);
+        open_room_tab(&mut painted);
+        wait_until(&mut painted, "a first room picture", |h| shown(h).is_some());
+        let mut frames = Vec::new();
+        let start = Instant::now();
+        while start.elapsed() < Duration::from_secs(5) {
+            let t = Instant::now();
+            painted.step();
+            frames.push(t.elapsed());
+        }
+        let (median, p95, max) = median_and_p95(frames.clone());
+        println!(
+            "frame with the Room tab while tracing, UI and wgpu paint: median {median:.1} ms, p95 {p95:.1} ms, max {max:.1} ms over {} frames",
+            frames.len()
+        );
+    }
+
     // Edits: the emitter's flux, alternately doubled and halved.
     h.get_by_label("Emitter LED").click();
     steps(&mut h, 2);
