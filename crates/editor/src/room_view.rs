@@ -382,7 +382,7 @@ fn picture_ui(ui: &mut Ui, view: &mut RoomView) {
         return;
     }
     let [w, h] = p.size;
-    let (top, step) = lux_scale(p.illuminance_lx.iter().map(|&v| f64::from(v)));
+    let top = lux_top(p.illuminance_lx.iter().map(|&v| f64::from(v)));
     let fresh = view
         .texture
         .as_ref()
@@ -404,7 +404,7 @@ fn picture_ui(ui: &mut Ui, view: &mut RoomView) {
         view.texture = Some((p.serial, view.shown, texture));
     }
     if view.shown == RoomShown::FalseColour {
-        lux_legend_ui(ui, top, step);
+        lux_legend_ui(ui, top);
     }
     if let Some((_, _, texture)) = &view.texture {
         let width = ui.available_width().max(50.0);
@@ -413,24 +413,50 @@ fn picture_ui(ui: &mut Ui, view: &mut RoomView) {
     }
 }
 
-/// Linear false colour from 0 to `top` lx; luminaires (negative) white.
+/// Decades of illuminance below the scale's top the false colour spans:
+/// a spot's pool and the walls a thousand times darker both read.
+const LUX_DECADES: f64 = 3.0;
+
+/// The top of the scale: a round number above the 99th percentile
+/// (`lucerna render`'s rule), so a few bright pixels do not set it.
+fn lux_top(lux: impl Iterator<Item = f64>) -> f64 {
+    let (top, _) = lux_scale(lux);
+    top
+}
+
+/// Logarithmic false colour over [`LUX_DECADES`] below `top` lx (the
+/// cube map's colours); luminaires (negative) white.
 fn lux_colour(lux: f64, top: f64) -> Color32 {
     if lux < 0.0 {
         Color32::WHITE
     } else {
-        false_colour((lux / top) as f32)
+        false_colour(((lux.max(1e-9) / top).log10() / LUX_DECADES + 1.0).clamp(0.0, 1.0) as f32)
     }
 }
 
-/// One swatch per tick of the lux scale, each labelled in lux.
-fn lux_legend_ui(ui: &mut Ui, top: f64, step: f64) {
+/// Swatches at 1, 2 and 5 per decade up to the top, each labelled in lux.
+fn lux_legend_ui(ui: &mut Ui, top: f64) {
     ui.horizontal_wrapped(|ui| {
-        let mut v = 0.0;
-        while v <= top + 1e-9 {
+        let bottom = top / 10f64.powf(LUX_DECADES);
+        let mut ticks = Vec::new();
+        let mut decade = 10f64.powf(bottom.log10().floor());
+        while decade <= top * 1.0001 {
+            for m in [1.0, 2.0, 5.0] {
+                let v = decade * m;
+                if v >= bottom * 0.999 && v <= top * 1.0001 {
+                    ticks.push(v);
+                }
+            }
+            decade *= 10.0;
+        }
+        for v in ticks {
             let (rect, _) = ui.allocate_exact_size(egui::vec2(14.0, 14.0), egui::Sense::hover());
             ui.painter().rect_filled(rect, 2.0, lux_colour(v, top));
-            ui.label(format!("{v:.0} lx"));
-            v += step;
+            ui.label(if v < 10.0 {
+                format!("{v:.1} lx")
+            } else {
+                format!("{v:.0} lx")
+            });
         }
     });
 }
@@ -439,8 +465,8 @@ fn lux_legend_ui(ui: &mut Ui, top: f64, step: f64) {
 /// room's outline, the luminaires as crosses, the lux under the pointer.
 fn work_plane_ui(ui: &mut Ui, p: &RoomPicture) {
     let grid = &p.grid;
-    let (top, step) = lux_scale(grid.lux.iter().copied());
-    lux_legend_ui(ui, top, step);
+    let top = lux_top(grid.lux.iter().copied());
+    lux_legend_ui(ui, top);
     let (room_w, room_d) = p.room_m;
     let width = ui.available_width().max(50.0);
     let scale = width / room_w.max(room_d).max(1e-3) as f32;
