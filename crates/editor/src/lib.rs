@@ -18,6 +18,7 @@ mod pacer;
 mod profile_editor;
 mod recovery;
 mod reference;
+mod room_preview;
 mod room_view;
 mod scene_panel;
 mod simulation_panel;
@@ -33,6 +34,10 @@ pub use config::{EditorPaths, MAX_RECENT, ThemeChoice};
 pub use dialogs::DialogKind;
 pub use files::{ImportMeshError, PendingAction, starter_scene};
 pub use recovery::RecoveryOffer;
+pub use room_preview::{
+    DRAFT_SIZE, FINE_SIZE, RenderRequest, Renderer, RoomBackend, RoomPicture, RoomPreview,
+    RoomSetup, TASK_TARGETS, TaskTarget, default_rooms_dir,
+};
 pub use state::{Command, EditorState, NewPart, SceneEdit, Selection, View};
 pub use viewport::{Bounds, CubeShown, GpuTarget, OrbitCamera, StandardView, Viewport, pick};
 

@@ -5,6 +5,7 @@
 
 use glam::DVec3;
 use lucerna_photometry::CandelaTable;
+use rayon::prelude::*;
 
 /// γ step of the grid (degrees): fine enough for narrow spots (a 5° beam
 /// spans 10 samples).
@@ -108,11 +109,14 @@ impl ProfileGrid {
         let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
         for level in 1..=BLUR_LEVELS {
             let radius = (BLUR_BASE_DEG * 2f64.powi(level as i32 - 1)).to_radians();
-            let mut next_candela = Vec::with_capacity(n);
-            let mut next_cosine = Vec::with_capacity(n);
-            for ci in 0..self.c_count {
-                for gi in 0..self.gamma_count {
-                    let axis = self.node_direction(ci, gi);
+            // Nodes in parallel (a level only reads the one below): the
+            // editor rebuilds the grid for every snapshot it previews.
+            let this = &self;
+            let nodes: Vec<(f32, f32)> = (0..n)
+                .into_par_iter()
+                .map(|node| {
+                    let (ci, gi) = (node / this.gamma_count, node % this.gamma_count);
+                    let axis = this.node_direction(ci, gi);
                     let u = axis.any_orthonormal_vector();
                     let v = axis.cross(u);
                     let (mut sum_i, mut sum_c) = (0.0, 0.0);
@@ -128,13 +132,16 @@ impl ProfileGrid {
                         if d.z * axis.z < 0.0 {
                             d.z = -d.z;
                         }
-                        sum_i += self.sample(&self.candela_levels, d, level - 1);
-                        sum_c += self.sample(&self.cosine_levels, d, level - 1);
+                        sum_i += this.sample(&this.candela_levels, d, level - 1);
+                        sum_c += this.sample(&this.cosine_levels, d, level - 1);
                     }
-                    next_candela.push((sum_i / CAP_POINTS as f64) as f32);
-                    next_cosine.push((sum_c / CAP_POINTS as f64) as f32);
-                }
-            }
+                    (
+                        (sum_i / CAP_POINTS as f64) as f32,
+                        (sum_c / CAP_POINTS as f64) as f32,
+                    )
+                })
+                .collect();
+            let (next_candela, next_cosine): (Vec<f32>, Vec<f32>) = nodes.into_iter().unzip();
             self.candela_levels.extend(next_candela);
             self.cosine_levels.extend(next_cosine);
         }

@@ -184,11 +184,26 @@ pub fn shade_ray(
 
 /// Renders the camera's view on the CPU (rayon over rows).
 pub fn render_cpu(scene: &RoomScene, width: u32, height: u32, shading: Shading) -> Frame {
+    render_cpu_rows(scene, width, height, 0..height, shading)
+}
+
+/// Rows `rows` (from the top) of the camera's `width × height` view, as a
+/// frame `rows.len()` pixels high: a caller can render a frame in bands and
+/// give up between them (the editor's preview, when a newer request comes).
+pub fn render_cpu_rows(
+    scene: &RoomScene,
+    width: u32,
+    height: u32,
+    rows: std::ops::Range<u32>,
+    shading: Shading,
+) -> Frame {
     let rays = ViewRays::new(scene, width, height);
     let indirect = scene.indirect_lux();
     let polygons: Vec<Polygon> = scene.lights.iter().map(|l| l.world_polygon()).collect();
     let polygons = &polygons;
-    let pixels: Vec<(f32, f32)> = (0..height)
+    let rows = rows.start.min(height)..rows.end.min(height);
+    let band_height = rows.len() as u32;
+    let pixels: Vec<(f32, f32)> = rows
         .into_par_iter()
         .flat_map_iter(|j| {
             (0..width).map(move |i| {
@@ -200,7 +215,7 @@ pub fn render_cpu(scene: &RoomScene, width: u32, height: u32, shading: Shading) 
         .collect();
     Frame {
         width,
-        height,
+        height: band_height,
         luminance: pixels.iter().map(|p| p.0).collect(),
         illuminance: pixels.iter().map(|p| p.1).collect(),
     }
