@@ -108,17 +108,25 @@ fn lower_this_threads_priority() {
     let _ = thread_priority::set_current_thread_priority(thread_priority::ThreadPriority::Min);
 }
 
-/// Opens the editor's window on `scene` (or none) and runs until it closes;
-/// with `benchmark`, for that long under measurement (figures printed on
-/// exit), repainting every frame if its flag says so.
-pub fn run(
-    scene: Option<PathBuf>,
-    benchmark: Option<(std::time::Duration, bool)>,
-) -> Result<(), RunEditorError> {
+/// How the window starts.
+#[derive(Debug, Clone, Default)]
+pub struct RunOptions {
+    pub scene: Option<PathBuf>,
+    /// The photometric view shown first.
+    pub view: View,
+    /// Run under measurement for this long, then print the figures and
+    /// close.
+    pub benchmark: Option<std::time::Duration>,
+    /// In a benchmark, repaint every frame (as while dragging).
+    pub continuous: bool,
+}
+
+/// Opens the editor's window and runs until it closes.
+pub fn run(options: RunOptions) -> Result<(), RunEditorError> {
     if std::env::var_os("DISPLAY").is_none() && std::env::var_os("WAYLAND_DISPLAY").is_none() {
         return Err(RunEditorError::NoDisplay);
     }
-    let options = eframe::NativeOptions {
+    let native = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_inner_size([1366.0, 768.0])
             .with_min_inner_size([800.0, 500.0])
@@ -131,14 +139,16 @@ pub fn run(
         resolution: 64,
         ..lucerna_simulation::SimulationSettings::default()
     };
-    let state = EditorState::with_paths(scene, settings, EditorPaths::user());
+    let mut state = EditorState::with_paths(options.scene, settings, EditorPaths::user());
+    state.view = options.view;
+    let (benchmark, continuous) = (options.benchmark, options.continuous);
     eframe::run_native(
         "Lucerna editor",
-        options,
+        native,
         Box::new(move |cc| {
             let app = EditorApp::from_creation(cc, state);
             Ok(Box::new(match benchmark {
-                Some((d, continuous)) => app.with_benchmark(d, continuous),
+                Some(d) => app.with_benchmark(d, continuous),
                 None => app,
             }))
         }),
