@@ -87,7 +87,7 @@ fn tracer_threads_at_low_priority() {
 }
 
 #[cfg(target_os = "linux")]
-fn lower_this_threads_priority() {
+pub(crate) fn lower_this_threads_priority() {
     use thread_priority::unix::{
         NormalThreadSchedulePolicy, ThreadSchedulePolicy, set_thread_priority_and_policy,
         thread_native_id,
@@ -104,7 +104,7 @@ fn lower_this_threads_priority() {
 }
 
 #[cfg(not(target_os = "linux"))]
-fn lower_this_threads_priority() {
+pub(crate) fn lower_this_threads_priority() {
     let _ = thread_priority::set_current_thread_priority(thread_priority::ThreadPriority::Min);
 }
 

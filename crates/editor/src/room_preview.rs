@@ -421,7 +421,11 @@ impl RoomPreview {
         let worker = shared.clone();
         let spawned = std::thread::Builder::new()
             .name("room preview".to_owned())
-            .spawn(move || worker_loop(&worker, &send, backend, repaint));
+            .spawn(move || {
+                // At the tracer's priority: a frame never waits for it.
+                crate::lower_this_threads_priority();
+                worker_loop(&worker, &send, backend, repaint)
+            });
         RoomPreview {
             shared,
             pictures,
@@ -538,13 +542,21 @@ fn worker_loop(
     }
 }
 
-/// When to render what: a draft at once whenever the table or the room
-/// changes, the fine picture once neither has changed for [`SETTLE`].
+/// Between two pictures of one converging run (no edit): the room keeps
+/// up with the noise going down without rendering all the time; on the
+/// CPU a picture costs 0.2-1.5 s, which would come out of the tracing.
+pub const CONVERGING_REFRESH: Duration = Duration::from_secs(5);
+
+/// When to render what: a draft at once on an edit (a new run) or a room
+/// change, the fine picture once neither has changed for [`SETTLE`], and
+/// while one run converges a new picture (at the size last asked) at most
+/// every [`CONVERGING_REFRESH`].
 #[derive(Debug, Default)]
 pub struct Refinement {
     /// The snapshot and room revision last asked for.
     shown: Option<(Arc<Snapshot>, u64)>,
     changed_at: Option<Instant>,
+    requested_at: Option<Instant>,
     fine_requested: bool,
 }
 
@@ -557,28 +569,49 @@ impl Refinement {
         revision: u64,
         now: Instant,
     ) -> Option<[u32; 2]> {
-        let same = self
-            .shown
-            .as_ref()
-            .is_some_and(|(s, r)| Arc::ptr_eq(s, snapshot) && *r == revision);
-        if !same {
-            self.shown = Some((snapshot.clone(), revision));
-            self.changed_at = Some(now);
-            self.fine_requested = false;
-            return Some(DRAFT_SIZE);
+        let Some((shown, shown_revision)) = &self.shown else {
+            return Some(self.changed(snapshot, revision, now));
+        };
+        if *shown_revision != revision || shown.generation != snapshot.generation {
+            return Some(self.changed(snapshot, revision, now));
         }
         let still = self.changed_at.is_some_and(|t| now - t >= SETTLE);
         if still && !self.fine_requested {
             self.fine_requested = true;
+            self.shown = Some((snapshot.clone(), revision));
+            self.requested_at = Some(now);
             return Some(FINE_SIZE);
+        }
+        let newer = !Arc::ptr_eq(shown, snapshot);
+        let refresh = self
+            .requested_at
+            .is_none_or(|t| now - t >= CONVERGING_REFRESH);
+        if newer && refresh {
+            self.shown = Some((snapshot.clone(), revision));
+            self.requested_at = Some(now);
+            return Some(if self.fine_requested {
+                FINE_SIZE
+            } else {
+                DRAFT_SIZE
+            });
         }
         None
     }
 
-    /// How long until the fine picture is due (for a repaint then).
+    fn changed(&mut self, snapshot: &Arc<Snapshot>, revision: u64, now: Instant) -> [u32; 2] {
+        self.shown = Some((snapshot.clone(), revision));
+        self.changed_at = Some(now);
+        self.requested_at = Some(now);
+        self.fine_requested = false;
+        DRAFT_SIZE
+    }
+
+    /// How long until the next picture may be due (for a repaint then).
     pub fn fine_due_in(&self, now: Instant) -> Option<Duration> {
         if self.fine_requested {
-            return None;
+            return self
+                .requested_at
+                .map(|t| CONVERGING_REFRESH.saturating_sub(now.saturating_duration_since(t)));
         }
         self.changed_at
             .map(|t| SETTLE.saturating_sub(now.saturating_duration_since(t)))
