@@ -6,6 +6,10 @@
 //! error that writes nothing. CPU backend, 32 texels per face edge and a
 //! photon limit keep each run short and deterministic.
 
+mod common;
+
+use common::{choose, click, steps, type_into};
+
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -52,12 +56,6 @@ fn editor(open: &Path) -> Harness<'static, EditorApp> {
         )
 }
 
-fn steps(h: &mut Harness<'_, EditorApp>, n: usize) {
-    for _ in 0..n {
-        h.step();
-    }
-}
-
 /// Steps frames until the run of the opened scene has finished.
 fn finished_run(h: &mut Harness<'_, EditorApp>) -> Arc<Snapshot> {
     let deadline = Instant::now() + Duration::from_secs(120);
@@ -76,27 +74,6 @@ fn finished_run(h: &mut Harness<'_, EditorApp>) -> Arc<Snapshot> {
         assert!(Instant::now() < deadline, "timed out waiting for the run");
         std::thread::sleep(Duration::from_millis(10));
     }
-}
-
-fn click(h: &mut Harness<'_, EditorApp>, label: &str) {
-    h.get_by_label(label).click();
-    steps(h, 2);
-}
-
-fn choose(h: &mut Harness<'_, EditorApp>, combo: &str, option: &str) {
-    click(h, combo);
-    click(h, option);
-}
-
-/// Replaces the text of the field labelled `label` and presses Enter.
-fn type_into(h: &mut Harness<'_, EditorApp>, label: &str, text: &str) {
-    click(h, label);
-    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::A);
-    h.step();
-    h.get_by_label(label).type_text(text);
-    h.step();
-    h.key_press(egui::Key::Enter);
-    steps(h, 2);
 }
 
 fn open_dialog(h: &mut Harness<'_, EditorApp>, out: &Path, base: &str) {

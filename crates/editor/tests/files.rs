@@ -4,6 +4,10 @@
 //! dropped files, the theme and zoom. Every editor here keeps its config
 //! in a temporary directory, never the real home.
 
+mod common;
+
+use common::steps;
+
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -40,12 +44,6 @@ fn editor(open: Option<PathBuf>, config: &Path) -> Harness<'static, EditorApp> {
     Harness::builder()
         .with_size([1366.0, 900.0])
         .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), EditorApp::new(state))
-}
-
-fn steps(h: &mut Harness<'_, EditorApp>, n: usize) {
-    for _ in 0..n {
-        h.step();
-    }
 }
 
 fn parts(h: &Harness<'_, EditorApp>) -> usize {

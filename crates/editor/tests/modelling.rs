@@ -4,6 +4,10 @@
 //! simulation's controls, and the coarse preview while dragging. CPU
 //! backend, small maps and few photons keep every run short.
 
+mod common;
+
+use common::{choose, click, set, steps, type_into};
+
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -88,39 +92,6 @@ fn wait_for(
         assert!(Instant::now() < deadline, "timed out waiting for {what}");
         std::thread::sleep(Duration::from_millis(10));
     }
-}
-
-fn steps(h: &mut Harness<'_, EditorApp>, n: usize) {
-    for _ in 0..n {
-        h.step();
-    }
-}
-
-fn click(h: &mut Harness<'_, EditorApp>, label: &str) {
-    h.get_by_label(label).click();
-    steps(h, 2);
-}
-
-/// Picks `option` in the combo box labelled `combo`.
-fn choose(h: &mut Harness<'_, EditorApp>, combo: &str, option: &str) {
-    click(h, combo);
-    click(h, option);
-}
-
-/// Replaces the text of the field labelled `label` and presses Enter.
-fn type_into(h: &mut Harness<'_, EditorApp>, label: &str, text: &str) {
-    click(h, label);
-    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::A);
-    h.step();
-    h.get_by_label(label).type_text(text);
-    h.step();
-    h.key_press(egui::Key::Enter);
-    steps(h, 2);
-}
-
-fn set(h: &mut Harness<'_, EditorApp>, label: &str, value: f64) {
-    h.get_by_label(label).set_value_accesskit(value);
-    steps(h, 2);
 }
 
 fn button(pos: Pos2, button: PointerButton, pressed: bool) -> Event {

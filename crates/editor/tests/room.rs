@@ -5,6 +5,10 @@
 //! 32² cube faces and a photon limit keep every run short and its table
 //! deterministic (a seed and a photon count fix the map).
 
+mod common;
+
+use common::{set, steps};
+
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
@@ -39,12 +43,6 @@ fn editor(settings: SimulationSettings) -> Harness<'static, EditorApp> {
             |ui, app: &mut EditorApp| app.ui(ui),
             EditorApp::new(EditorState::new(Some(example()), settings)),
         )
-}
-
-fn steps(h: &mut Harness<'_, EditorApp>, n: usize) {
-    for _ in 0..n {
-        h.step();
-    }
 }
 
 /// The text of the one label starting with `prefix`, if shown.
@@ -136,11 +134,6 @@ fn choose(h: &mut Harness<'_, EditorApp>, combo: &str, option: &str) {
     h.get_by_role_and_label(Role::ComboBox, combo).click();
     steps(h, 2);
     h.get_by_label(option).click();
-    steps(h, 2);
-}
-
-fn set(h: &mut Harness<'_, EditorApp>, label: &str, value: f64) {
-    h.get_by_label(label).set_value_accesskit(value);
     steps(h, 2);
 }
 

@@ -1,5 +1,7 @@
-//! What the picture tests share: an editor drawn by egui's wgpu renderer
-//! (the software adapter here) and the masks over what follows wall time.
+//! What the editor's kittest tests share: stepping, clicking, typing and
+//! choosing by label; an editor drawn by egui's wgpu renderer (the
+//! software adapter here) for pictures, and the masks over what follows
+//! wall time.
 
 #![allow(dead_code)] // reason: each test file uses a part of it
 
@@ -49,4 +51,40 @@ pub fn snapshot(h: &mut Harness<'_, EditorApp>, name: &str) {
             .threshold(1.5)
             .max_failed_pixels(2500),
     );
+}
+
+/// Steps `n` frames.
+pub fn steps(h: &mut Harness<'_, EditorApp>, n: usize) {
+    for _ in 0..n {
+        h.step();
+    }
+}
+
+/// Clicks the widget labelled `label`, then lets two frames pass.
+pub fn click(h: &mut Harness<'_, EditorApp>, label: &str) {
+    h.get_by_label(label).click();
+    steps(h, 2);
+}
+
+/// Picks `option` in the combo box labelled `combo`.
+pub fn choose(h: &mut Harness<'_, EditorApp>, combo: &str, option: &str) {
+    click(h, combo);
+    click(h, option);
+}
+
+/// Replaces the text of the field labelled `label` and presses Enter.
+pub fn type_into(h: &mut Harness<'_, EditorApp>, label: &str, text: &str) {
+    click(h, label);
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::A);
+    h.step();
+    h.get_by_label(label).type_text(text);
+    h.step();
+    h.key_press(egui::Key::Enter);
+    steps(h, 2);
+}
+
+/// Sets the numeric field labelled `label` through accessibility.
+pub fn set(h: &mut Harness<'_, EditorApp>, label: &str, value: f64) {
+    h.get_by_label(label).set_value_accesskit(value);
+    steps(h, 2);
 }
