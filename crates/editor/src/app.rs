@@ -38,11 +38,10 @@ impl EditorApp {
 
     /// An editor for eframe's creation context: its wgpu target, if any.
     pub fn from_creation(cc: &eframe::CreationContext<'_>, state: EditorState) -> Self {
-        let target = cc.wgpu_render_state.as_ref().map(|rs| GpuTarget {
-            format: rs.target_format,
-            // eframe's egui pass is not multisampled unless asked.
-            samples: 1,
-        });
+        let target = cc
+            .wgpu_render_state
+            .as_ref()
+            .map(|rs| GpuTarget::new(&rs.adapter, rs.target_format));
         let software = cc
             .wgpu_render_state
             .as_ref()

@@ -327,10 +327,8 @@ fn benchmark_room_renders_frame_time_and_edit_latency() {
             egui_kittest::wgpu::default_wgpu_setup(),
             eframe::egui_wgpu::RendererOptions::PREDICTABLE,
         );
-        let target = lucerna_editor::GpuTarget {
-            format: render_state.target_format,
-            samples: 1,
-        };
+        let target =
+            lucerna_editor::GpuTarget::new(&render_state.adapter, render_state.target_format);
         let mut painted = Harness::builder()
             .with_size([1366.0, 768.0])
             .renderer(egui_kittest::wgpu::WgpuTestRenderer::from_render_state(
@@ -445,10 +443,7 @@ fn the_room_tab_with_a_converged_example_matches_its_snapshot() {
         egui_kittest::wgpu::default_wgpu_setup(),
         eframe::egui_wgpu::RendererOptions::PREDICTABLE,
     );
-    let target = lucerna_editor::GpuTarget {
-        format: render_state.target_format,
-        samples: 1,
-    };
+    let target = lucerna_editor::GpuTarget::new(&render_state.adapter, render_state.target_format);
     let mut h = Harness::builder()
         .with_size([1366.0, 768.0])
         .renderer(egui_kittest::wgpu::WgpuTestRenderer::from_render_state(

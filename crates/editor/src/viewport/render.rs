@@ -14,17 +14,39 @@ use super::geometry::{
     ATLAS_COLUMNS, ATLAS_ROWS, CubeVertex, LineVertex, MeshVertex, cube_vertices,
 };
 
-/// The format and sample count of egui's pass, which the blit must match.
+/// The format and sample count of egui's pass, which the blit must match,
+/// and the multisampling the adapter allows the view's own picture.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct GpuTarget {
     pub format: wgpu::TextureFormat,
     pub samples: u32,
+    /// 4 where the adapter multisamples the picture and depth formats
+    /// (paths are thin lines), else 1.
+    pub picture_samples: u32,
+}
+
+impl GpuTarget {
+    /// The target of egui's pass in `format` (not multisampled, as
+    /// eframe and kittest draw it) on `adapter`.
+    pub fn new(adapter: &wgpu::Adapter, format: wgpu::TextureFormat) -> GpuTarget {
+        // WebGPU guarantees 4x for both; a GL driver's downlevel limits
+        // need not, and a refused sample count would be a panic at draw.
+        let four = [PICTURE_FORMAT, DEPTH_FORMAT].iter().all(|&f| {
+            adapter
+                .get_texture_format_features(f)
+                .flags
+                .sample_count_supported(4)
+        });
+        GpuTarget {
+            format,
+            samples: 1,
+            picture_samples: if four { 4 } else { 1 },
+        }
+    }
 }
 
 const PICTURE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-/// WebGPU guarantees 4× MSAA for both formats above; paths are thin lines.
-const MSAA_SAMPLES: u32 = 4;
 
 /// The shader's `Uniforms`.
 #[repr(C)]
@@ -296,7 +318,7 @@ impl Resources {
                 },
                 depth_stencil: depth(true),
                 multisample: wgpu::MultisampleState {
-                    count: MSAA_SAMPLES,
+                    count: target.picture_samples,
                     mask: !0,
                     alpha_to_coverage_enabled: false,
                 },
@@ -458,13 +480,13 @@ impl Resources {
         let multisampled = texture(
             "viewport msaa",
             PICTURE_FORMAT,
-            MSAA_SAMPLES,
+            self.target.picture_samples,
             wgpu::TextureUsages::RENDER_ATTACHMENT,
         );
         let depth = texture(
             "viewport depth",
             DEPTH_FORMAT,
-            MSAA_SAMPLES,
+            self.target.picture_samples,
             wgpu::TextureUsages::RENDER_ATTACHMENT,
         );
         let picture = texture(

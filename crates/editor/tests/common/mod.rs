@@ -15,10 +15,7 @@ pub fn wgpu_editor(state: EditorState, size: [f32; 2]) -> Harness<'static, Edito
         egui_kittest::wgpu::default_wgpu_setup(),
         eframe::egui_wgpu::RendererOptions::PREDICTABLE,
     );
-    let target = GpuTarget {
-        format: render_state.target_format,
-        samples: 1,
-    };
+    let target = GpuTarget::new(&render_state.adapter, render_state.target_format);
     Harness::builder()
         .with_size(size)
         .renderer(egui_kittest::wgpu::WgpuTestRenderer::from_render_state(
