@@ -186,3 +186,30 @@ fn the_benchmark_mode_times_each_scripted_edit() {
     );
     assert!(!latencies.contains("NaN"), "{report}");
 }
+
+/// Where the adapter does not multisample, the view draws straight into
+/// its picture: the luminaire still shows, and nothing fails validation.
+#[test]
+fn the_3d_view_draws_without_multisampling_too() {
+    let mut h = common::wgpu_editor_with(
+        EditorState::new(Some(example()), settings(100_000)),
+        [1366.0, 768.0],
+        |target| lucerna_editor::GpuTarget {
+            picture_samples: 1,
+            ..target
+        },
+    );
+    wait_for_snapshot(&mut h, |_| true);
+    let view = h.get_by_label("3D view").rect();
+    let image = h.render().expect("rendered");
+    let ppp = image.width() as f32 / 1366.0;
+    let mut colours = std::collections::HashSet::new();
+    for y in (view.top() as u32 + 40..view.bottom() as u32 - 20).step_by(4) {
+        for x in (view.left() as u32 + 4..view.right() as u32 - 4).step_by(4) {
+            let p = image.get_pixel((x as f32 * ppp) as u32, (y as f32 * ppp) as u32);
+            colours.insert(p.0);
+        }
+    }
+    // Shaded metal, the cube's faces, the axes: many colours, not a blank.
+    assert!(colours.len() > 50, "{} colours", colours.len());
+}

@@ -178,7 +178,8 @@ impl Run {
         );
         let grid = self.settings.table;
         let table = Arc::new(tabulate(&mut self.resampler, &map, &candela, grid));
-        // The unfiltered table beside it, so views can show both.
+        // The unfiltered table beside the exported one, so views can show
+        // both.
         let raw_table = if filter.is_some() {
             let raw = map.symmetrised(&self.symmetry).candela();
             Arc::new(tabulate(&mut self.resampler, &map, &raw, grid))
@@ -196,7 +197,15 @@ impl Run {
         let angle_noise = |angles: [Option<f64>; 2], fraction: f64| {
             [0.0, 90.0].map(|c| {
                 let angle = angles[if c == 0.0 { 0 } else { 1 }];
-                spread_angle_noise_deg(&table, &map, c, fraction, angle, peak_relative)
+                spread_angle_noise_deg(
+                    &table,
+                    &map,
+                    &self.symmetry,
+                    c,
+                    fraction,
+                    angle,
+                    peak_relative,
+                )
             })
         };
         let noise = Noise {

@@ -3,7 +3,7 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use lucerna_photometry::{AxialSymmetry, CandelaTable, Figures, IntensityMap};
+use lucerna_photometry::{AxialSymmetry, CandelaTable, Figures, IntensityMap, TexelSymmetry};
 
 use crate::Luminaire;
 
@@ -50,37 +50,61 @@ pub struct Noise {
 /// 1σ of a full spread angle `angle_deg` at `fraction` of the plane's
 /// maximum in plane `c_deg`: at each crossing (γ = angle/2 in planes C and
 /// C + 180°, the symmetric reading) the Poisson noise of the photons the
-/// table's cell there averages, and the threshold's share of the peak's
-/// noise, over the slope of the table there; the two crossings add in
-/// quadrature.
+/// table's cell there averages, over the table's slope there; plus the
+/// threshold's share of the peak's noise, which moves both crossings
+/// together (so it adds through both slopes at once). With the photons
+/// pooled over `symmetry` a cell's photons are those of the union of its
+/// images, each once, and two crossings made of the same photons (images
+/// of each other) move together too. With a filter on, this is the raw
+/// photons' bound.
 pub(crate) fn spread_angle_noise_deg(
     table: &CandelaTable,
     map: &IntensityMap,
+    symmetry: &TexelSymmetry,
     c_deg: f64,
     fraction: f64,
     angle_deg: Option<f64>,
     peak_relative: f64,
 ) -> Option<f64> {
     let half = 0.5 * angle_deg?;
-    let peak = table.peak().0;
+    // The level is a fraction of the plane's own maximum, as
+    // `figures::spread_angle` measures it.
+    let plane_max = (0..=360)
+        .map(|k| {
+            let g = f64::from(k) * 0.5;
+            table
+                .intensity(c_deg, g)
+                .max(table.intensity(c_deg + 180.0, g))
+        })
+        .fold(0.0, f64::max);
     let gamma_step = local_step(&table.gammas_deg, half);
     let c_step = local_step(&table.c_planes_deg, c_deg.rem_euclid(360.0));
-    let mut variance = 0.0;
+    let mut crossings = Vec::with_capacity(2);
     for c in [c_deg, c_deg + 180.0] {
-        let slope_per_deg =
-            (table.intensity(c, half + 0.25) - table.intensity(c, (half - 0.25).max(0.0))) / 0.5;
+        let (g0, g1) = ((half - 0.25).max(0.0), half + 0.25);
+        let slope_per_deg = (table.intensity(c, g1) - table.intensity(c, g0)) / (g1 - g0);
         if !(slope_per_deg.abs() > 0.0) {
             return None;
         }
-        let count = photons_in_cell(map, c, half, c_step, gamma_step);
+        let photons = cell_photons(map, symmetry, c, half, c_step, gamma_step);
+        let count: u64 = photons.iter().map(|&t| map.counts[t]).sum();
         if count == 0 {
             return None;
         }
-        let intensity_sigma = table.intensity(c, half) / (count as f64).sqrt();
-        let threshold_sigma = fraction * peak * peak_relative;
-        variance += (intensity_sigma.powi(2) + threshold_sigma.powi(2)) / slope_per_deg.powi(2);
+        let angle_sigma = table.intensity(c, half) / (count as f64).sqrt() / slope_per_deg.abs();
+        crossings.push((angle_sigma, 1.0 / slope_per_deg.abs(), photons));
     }
-    Some(variance.sqrt())
+    let shared = crossings[0]
+        .2
+        .iter()
+        .any(|t| crossings[1].2.binary_search(t).is_ok());
+    let intensity_part = if shared {
+        crossings[0].0 + crossings[1].0
+    } else {
+        crossings[0].0.hypot(crossings[1].0)
+    };
+    let threshold_part = fraction * plane_max * peak_relative * (crossings[0].1 + crossings[1].1);
+    Some(intensity_part.hypot(threshold_part))
 }
 
 /// The grid step of ascending `values` around `at` (degrees).
@@ -94,32 +118,32 @@ fn local_step(values: &[f64], at: f64) -> f64 {
     }
 }
 
-/// Photons escaped into the texels of the table cell about (C, γ): found by
-/// sampling directions across the cell, so only those texels are visited.
-fn photons_in_cell(
+/// The raw texels whose photons make the table cell about (C, γ): the
+/// cell's texels (found by sampling directions across it, so only those
+/// are visited) and their images under `symmetry`, each once, sorted.
+fn cell_photons(
     map: &IntensityMap,
+    symmetry: &TexelSymmetry,
     c_deg: f64,
     gamma_deg: f64,
     c_step: f64,
     gamma_step: f64,
-) -> u64 {
+) -> Vec<usize> {
     const SAMPLES: usize = 12;
-    let mut texels = Vec::with_capacity(SAMPLES * SAMPLES);
+    let mut texels = Vec::with_capacity(SAMPLES * SAMPLES * symmetry.order());
     for i in 0..SAMPLES {
         for j in 0..SAMPLES {
             let c = c_deg + c_step * ((i as f64 + 0.5) / SAMPLES as f64 - 0.5);
             let g = (gamma_deg + gamma_step * ((j as f64 + 0.5) / SAMPLES as f64 - 0.5))
                 .clamp(0.0, 180.0);
             let d = lucerna_photometry::table::direction(c.to_radians(), g.to_radians());
-            texels.push(map.layout.texel_of_direction(d));
+            let t = map.layout.texel_of_direction(d);
+            texels.extend((0..symmetry.order()).map(|k| symmetry.image(k, t)));
         }
     }
     texels.sort_unstable();
     texels.dedup();
     texels
-        .iter()
-        .map(|&t| map.counts.get(t).copied().unwrap_or(0))
-        .sum()
 }
 
 /// What the filter did to the exported map.

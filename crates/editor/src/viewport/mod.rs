@@ -55,6 +55,9 @@ const MAX_PATHS: usize = 400;
 /// The cube's half edge over the luminaire's bounding radius.
 const CUBE_REACH: f32 = 1.3;
 
+/// Paths traced for a luminaire with (seed, bounce limit).
+type SampledPaths = (Arc<Luminaire>, (u32, u32), Arc<Vec<PhotonPath>>);
+
 /// The viewport's own state: camera, display choices and what it has
 /// built from the current luminaire and snapshot.
 #[derive(Default)]
@@ -71,7 +74,9 @@ pub struct Viewport {
     framed: Option<Arc<Luminaire>>,
     mesh: Option<(Arc<Luminaire>, Arc<Vec<MeshVertex>>, Bounds)>,
     cube_texels: Option<(Arc<Snapshot>, CubeShown, CubeTexels, f64)>,
-    paths: Option<(Arc<Luminaire>, Arc<Vec<PhotonPath>>)>,
+    /// Keyed by the luminaire and the seed and bounce limit they were
+    /// traced with, so they stay the run's photons when those change.
+    paths: Option<SampledPaths>,
     lines: Option<(LinesKey, Arc<Vec<LineVertex>>)>,
 }
 
@@ -153,8 +158,9 @@ impl Viewport {
         seed: u32,
         bounces: u32,
     ) -> Arc<Vec<PhotonPath>> {
-        if let Some((l, paths)) = &self.paths
+        if let Some((l, key, paths)) = &self.paths
             && Arc::ptr_eq(l, luminaire)
+            && *key == (seed, bounces)
         {
             return paths.clone();
         }
@@ -162,7 +168,7 @@ impl Viewport {
         paths.retain(|p| p.escape_direction().is_some());
         paths.truncate(MAX_PATHS);
         let paths = Arc::new(paths);
-        self.paths = Some((luminaire.clone(), paths.clone()));
+        self.paths = Some((luminaire.clone(), (seed, bounces), paths.clone()));
         paths
     }
 

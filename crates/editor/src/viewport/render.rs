@@ -36,7 +36,10 @@ impl GpuTarget {
                 .get_texture_format_features(f)
                 .flags
                 .sample_count_supported(4)
-        });
+        }) && adapter
+            .get_texture_format_features(PICTURE_FORMAT)
+            .flags
+            .contains(wgpu::TextureFormatFeatureFlags::MULTISAMPLE_RESOLVE);
         GpuTarget {
             format,
             samples: 1,
@@ -111,7 +114,9 @@ impl RenderKey {
 
 struct Targets {
     size: [u32; 2],
-    multisampled: wgpu::TextureView,
+    /// Drawn into and resolved to `picture`; none without multisampling,
+    /// when the pass draws into `picture` itself.
+    multisampled: Option<wgpu::TextureView>,
     depth: wgpu::TextureView,
     picture: wgpu::TextureView,
     blit_group: wgpu::BindGroup,
@@ -477,12 +482,14 @@ impl Resources {
                 })
                 .create_view(&wgpu::TextureViewDescriptor::default())
         };
-        let multisampled = texture(
-            "viewport msaa",
-            PICTURE_FORMAT,
-            self.target.picture_samples,
-            wgpu::TextureUsages::RENDER_ATTACHMENT,
-        );
+        let multisampled = (self.target.picture_samples > 1).then(|| {
+            texture(
+                "viewport msaa",
+                PICTURE_FORMAT,
+                self.target.picture_samples,
+                wgpu::TextureUsages::RENDER_ATTACHMENT,
+            )
+        });
         let depth = texture(
             "viewport depth",
             DEPTH_FORMAT,
@@ -606,13 +613,24 @@ impl Resources {
         let [r, g, b] = frame.background.map(f64::from);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("viewport"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &targets.multisampled,
-                depth_slice: None,
-                resolve_target: Some(&targets.picture),
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a: 1.0 }),
-                    store: wgpu::StoreOp::Discard,
+            color_attachments: &[Some(match &targets.multisampled {
+                Some(multisampled) => wgpu::RenderPassColorAttachment {
+                    view: multisampled,
+                    depth_slice: None,
+                    resolve_target: Some(&targets.picture),
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a: 1.0 }),
+                        store: wgpu::StoreOp::Discard,
+                    },
+                },
+                None => wgpu::RenderPassColorAttachment {
+                    view: &targets.picture,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a: 1.0 }),
+                        store: wgpu::StoreOp::Store,
+                    },
                 },
             })],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {

@@ -11,11 +11,24 @@ use lucerna_editor::{EditorApp, EditorState, GpuTarget};
 
 /// An editor whose 3D view and plots are rendered for snapshots.
 pub fn wgpu_editor(state: EditorState, size: [f32; 2]) -> Harness<'static, EditorApp> {
+    wgpu_editor_with(state, size, |target| target)
+}
+
+/// [`wgpu_editor`] with the 3D view's target adjusted (e.g. no MSAA, as a
+/// GL driver may only allow).
+pub fn wgpu_editor_with(
+    state: EditorState,
+    size: [f32; 2],
+    adjust: impl FnOnce(GpuTarget) -> GpuTarget,
+) -> Harness<'static, EditorApp> {
     let render_state = egui_kittest::wgpu::create_render_state(
         egui_kittest::wgpu::default_wgpu_setup(),
         eframe::egui_wgpu::RendererOptions::PREDICTABLE,
     );
-    let target = GpuTarget::new(&render_state.adapter, render_state.target_format);
+    let target = adjust(GpuTarget::new(
+        &render_state.adapter,
+        render_state.target_format,
+    ));
     Harness::builder()
         .with_size(size)
         .renderer(egui_kittest::wgpu::WgpuTestRenderer::from_render_state(
