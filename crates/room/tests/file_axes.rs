@@ -3,24 +3,14 @@
 //! EULUMDAT file: the near-field cubature depends on the opening, so an
 //! opening turned by 90° (EULUMDAT's length lies along C90-C270) shows.
 
-use std::path::Path;
+mod common;
 
 use lucerna_photometry::{read_photometry, to_latin1, write_ldt};
-use lucerna_room::model::load_room;
 use lucerna_room::{RoomScene, Shading, render_cpu};
 
 #[test]
 fn the_corridor_renders_the_same_from_the_ies_and_the_ldt() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/rooms");
-    let room = load_room(&dir.join("corridor.toml")).unwrap();
-    let from_ies: Vec<_> = room
-        .luminaires
-        .iter()
-        .map(|l| {
-            let (_, p) = l.source_path(&dir).unwrap();
-            read_photometry(&std::fs::read(p).unwrap()).unwrap()
-        })
-        .collect();
+    let (room, from_ies) = common::example_room("corridor.toml");
     let from_ldt: Vec<_> = from_ies
         .iter()
         .map(|p| read_photometry(&to_latin1(&write_ldt(p).expect("writes"))).unwrap())

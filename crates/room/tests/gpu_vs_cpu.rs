@@ -2,10 +2,11 @@
 //! The WGSL renderer against the CPU implementation, on the software
 //! adapter: illuminance at random points and whole frames.
 
+mod common;
+
 use std::path::Path;
 
 use glam::DVec3;
-use lucerna_photometry::read_photometry;
 use lucerna_room::gpu::GpuRoomRenderer;
 use lucerna_room::model::{OpeningSpec, load_room};
 use lucerna_room::reference::SplitMix;
@@ -31,14 +32,7 @@ fn scene() -> RoomScene {
     room.luminaires.push(disk);
     room.luminaires.push(point);
     let base = root.join("rooms");
-    let phot: Vec<_> = room
-        .luminaires
-        .iter()
-        .map(|l| {
-            let (_, path) = l.source_path(&base).unwrap();
-            read_photometry(&std::fs::read(path).unwrap()).unwrap()
-        })
-        .collect();
+    let phot = common::photometry_of(&room, &base);
     RoomScene::new(&room, &phot)
 }
 

@@ -2,25 +2,14 @@
 //! A view rendered in bands of rows is the whole view: the editor's preview
 //! renders its fine picture band by band so it can give up for a newer one.
 
-use std::path::Path;
+mod common;
 
-use lucerna_photometry::read_photometry;
-use lucerna_room::model::load_room;
 use lucerna_room::render::render_cpu_rows;
 use lucerna_room::{RoomScene, Shading, render_cpu};
 
 #[test]
 fn bands_of_rows_put_together_are_the_whole_frame() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/rooms");
-    let room = load_room(&dir.join("office.toml")).unwrap();
-    let phot: Vec<_> = room
-        .luminaires
-        .iter()
-        .map(|l| {
-            let (_, p) = l.source_path(&dir).unwrap();
-            read_photometry(&std::fs::read(p).unwrap()).unwrap()
-        })
-        .collect();
+    let (room, phot) = common::example_room("office.toml");
     let scene = RoomScene::new(&room, &phot);
     let (w, h) = (40, 25);
     let whole = render_cpu(&scene, w, h, Shading::Cubature);

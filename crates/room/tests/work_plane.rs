@@ -2,25 +2,14 @@
 //! Work-plane figures (Emin, Eavg, Emax, U0) of the example rooms: the
 //! cubature against the Monte Carlo reference, the GPU against the CPU.
 
-use std::path::Path;
+mod common;
 
-use lucerna_photometry::read_photometry;
 use lucerna_room::gpu::GpuRoomRenderer;
-use lucerna_room::model::load_room;
 use lucerna_room::work_plane::work_plane_reference;
 use lucerna_room::{IlluminanceFigures, RoomScene, Shading, work_plane_cpu};
 
 fn room(name: &str) -> RoomScene {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/rooms");
-    let room = load_room(&dir.join(name)).unwrap();
-    let phot: Vec<_> = room
-        .luminaires
-        .iter()
-        .map(|l| {
-            let (_, p) = l.source_path(&dir).unwrap();
-            read_photometry(&std::fs::read(p).unwrap()).unwrap()
-        })
-        .collect();
+    let (room, phot) = common::example_room(name);
     RoomScene::new(&room, &phot)
 }
 
