@@ -51,3 +51,34 @@ pub fn in_address_limited_child(name: &str) -> bool {
     );
     false
 }
+
+/// A small valid scene (one LED under a mirror paraboloid) for tests to
+/// break one field of at a time.
+pub const SMALL_SCENE: &str = r#"format_version = 1
+name = "test"
+
+[materials.alu]
+type = "mirror"
+reflectance = 0.9
+
+[[emitter]]
+name = "LED"
+flux_lm = 100.0
+shape = { type = "disk", radius = 0.002 }
+
+[[part]]
+name = "reflector"
+material = "alu"
+shape = { type = "paraboloid", focal_length = 0.02, aperture_diameter = 0.08 }
+"#;
+
+/// An error and its sources on one line, `: `-separated, for matching.
+pub fn error_chain(e: &dyn std::error::Error) -> String {
+    let mut s = e.to_string();
+    let mut source = e.source();
+    while let Some(cause) = source {
+        s = format!("{s}: {cause}");
+        source = cause.source();
+    }
+    s
+}

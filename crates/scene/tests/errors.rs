@@ -5,23 +5,7 @@ use std::path::Path;
 
 use lucerna_scene::{LoadSceneError, TessellateError, parse_scene, tessellate};
 
-const GOOD: &str = r#"format_version = 1
-name = "test"
-
-[materials.alu]
-type = "mirror"
-reflectance = 0.9
-
-[[emitter]]
-name = "LED"
-flux_lm = 100.0
-shape = { type = "disk", radius = 0.002 }
-
-[[part]]
-name = "reflector"
-material = "alu"
-shape = { type = "paraboloid", focal_length = 0.02, aperture_diameter = 0.08 }
-"#;
+use lucerna_scene::test_support::SMALL_SCENE as GOOD;
 
 fn parse(text: &str) -> Result<lucerna_scene::Scene, LoadSceneError> {
     parse_scene(text, Path::new("lamp.toml"))

@@ -14,23 +14,7 @@ use lucerna_scene::obj::{
 use lucerna_scene::validate::{MAX_LISTED_PROBLEMS, MAX_PART_TRIANGLES, MAX_SCENE_TRIANGLES};
 use lucerna_scene::{LoadSceneError, ReadFileError, load_scene, parse_scene, tessellate};
 
-const GOOD: &str = r#"format_version = 1
-name = "test"
-
-[materials.alu]
-type = "mirror"
-reflectance = 0.9
-
-[[emitter]]
-name = "LED"
-flux_lm = 100.0
-shape = { type = "disk", radius = 0.002 }
-
-[[part]]
-name = "reflector"
-material = "alu"
-shape = { type = "paraboloid", focal_length = 0.02, aperture_diameter = 0.08 }
-"#;
+use lucerna_scene::test_support::SMALL_SCENE as GOOD;
 
 const PARABOLOID: &str =
     "shape = { type = \"paraboloid\", focal_length = 0.02, aperture_diameter = 0.08 }";
@@ -88,15 +72,7 @@ fn sparse_file(path: &Path, bytes: u64) {
     std::fs::File::create(path).unwrap().set_len(bytes).unwrap();
 }
 
-fn chain(e: &dyn std::error::Error) -> String {
-    let mut s = e.to_string();
-    let mut source = e.source();
-    while let Some(cause) = source {
-        s = format!("{s}: {cause}");
-        source = cause.source();
-    }
-    s
-}
+use lucerna_scene::test_support::error_chain as chain;
 
 #[test]
 fn an_mtl_colour_with_too_few_numbers_names_the_library_and_line() {

@@ -13,36 +13,12 @@ use lucerna_scene::{LoadSceneError, Shape, TessellateError, load_scene, parse_sc
 
 use lucerna_scene::test_support::in_address_limited_child as in_limited_child;
 
-const GOOD: &str = r#"format_version = 1
-name = "test"
-
-[materials.alu]
-type = "mirror"
-reflectance = 0.9
-
-[[emitter]]
-name = "LED"
-flux_lm = 100.0
-shape = { type = "disk", radius = 0.002 }
-
-[[part]]
-name = "reflector"
-material = "alu"
-shape = { type = "paraboloid", focal_length = 0.02, aperture_diameter = 0.08 }
-"#;
+use lucerna_scene::test_support::SMALL_SCENE as GOOD;
 
 const PARABOLOID: &str =
     "shape = { type = \"paraboloid\", focal_length = 0.02, aperture_diameter = 0.08 }";
 
-fn chain(e: &dyn std::error::Error) -> String {
-    let mut s = e.to_string();
-    let mut source = e.source();
-    while let Some(cause) = source {
-        s = format!("{s}: {cause}");
-        source = cause.source();
-    }
-    s
-}
+use lucerna_scene::test_support::error_chain as chain;
 
 /// The scene with its part made of the OBJ at `path`, tessellated.
 fn tessellate_obj(
