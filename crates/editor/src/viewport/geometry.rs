@@ -168,10 +168,10 @@ pub fn cube_texels(layout: CubeMapLayout, candela: &[f64], peak: f64) -> Vec<u8>
         } else {
             NO_LIGHT
         };
-        let (face, rest) = (t / (n * n), t % (n * n));
-        let (row, column) = (rest / n, rest % n);
-        let x = (face % ATLAS_COLUMNS) * n + column;
-        let y = (face / ATLAS_COLUMNS) * n + row;
+        let (face, column, row) = layout.texel_coordinates(t);
+        let face = face as usize;
+        let x = (face % ATLAS_COLUMNS) * n + column as usize;
+        let y = (face / ATLAS_COLUMNS) * n + row as usize;
         let at = 4 * (y * width + x);
         texels[at..at + 4].copy_from_slice(&[c.r(), c.g(), c.b(), 255]);
     }

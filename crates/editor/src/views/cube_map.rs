@@ -26,6 +26,8 @@ const CROSS: [(CubeFace, usize, usize, &str); 6] = [
 pub struct CubeTexture {
     shown: Option<Arc<Snapshot>>,
     texture: Option<TextureHandle>,
+    /// The shown map's peak (cd), found once per snapshot.
+    peak: f64,
 }
 
 impl std::fmt::Debug for CubeTexture {
@@ -85,9 +87,10 @@ pub fn cube_map_ui(ui: &mut Ui, snapshot: &Arc<Snapshot>, cube: &mut CubeTexture
             }
         }
         cube.shown = Some(snapshot.clone());
+        cube.peak = snapshot.candela.iter().copied().fold(0.0, f64::max);
     }
     let Some(texture) = &cube.texture else { return };
-    let peak = snapshot.candela.iter().copied().fold(0.0, f64::max);
+    let peak = cube.peak;
     ui.label(format!(
         "Log scale over {DECADES:.0} decades below the peak ({peak:.0} cd)"
     ));

@@ -5,6 +5,11 @@ use egui::Ui;
 use lucerna_photometry::figures::ZONES_DEG;
 use lucerna_simulation::Snapshot;
 
+/// The zone of `ZONES_DEG` spanning `zone` (degrees).
+fn zone_index(zone: (f64, f64)) -> usize {
+    ZONES_DEG.iter().position(|z| *z == zone).unwrap_or(0)
+}
+
 /// One row: figure, value, noise.
 fn rows(s: &Snapshot) -> Vec<(String, String, String)> {
     let f = &s.figures;
@@ -41,12 +46,12 @@ fn rows(s: &Snapshot) -> Vec<(String, String, String)> {
                 f.downward_flux_lm,
                 100.0 * f.downward_fraction
             ),
-            percent(n.zonal_relative[3]),
+            percent(n.zonal_relative[zone_index((0.0, 90.0))]),
         ),
         (
             "Upward flux".to_owned(),
             format!("{:.1} lm", f.upward_flux_lm),
-            percent(n.zonal_relative[4]),
+            percent(n.zonal_relative[zone_index((90.0, 180.0))]),
         ),
         (
             "Peak".to_owned(),
