@@ -1,75 +1,83 @@
-//! Traversal micro-benchmark: `cargo run --release -p lucerna-tracer --example speed -- SCENE`.
+//! Tracer micro-benchmark, one thread:
+//! `cargo run --release -p lucerna-tracer --example speed -- SCENE [photons]`.
+//! Times closest-hit queries of the rays real photons cast (their paths'
+//! segments) on each CPU traversal, and whole photons; with `photons`, only
+//! prints the best of three photon rates (M photons/s), for A/B scripts.
+#![allow(clippy::expect_used)] // reason: a benchmark may panic on bad input
+
 use glam::Vec3A;
+use lucerna_tracer::bvh::CpuTraversal;
+use lucerna_tracer::rng::PhotonRng;
+use lucerna_tracer::{Fate, cpu, wide_traversal};
+
 fn main() {
     let path = std::path::PathBuf::from(std::env::args().nth(1).expect("scene path"));
+    let only_photons = std::env::args().nth(2).as_deref() == Some("photons");
     let scene = lucerna_scene::load_scene(&path).expect("scene");
     let dir = path.parent().expect("dir");
     let t = lucerna_scene::tessellate(&scene, dir).expect("tessellate");
     let mut p = lucerna_tracer::PreparedScene::new(&scene, &t, dir).expect("prepare");
-    let mut rng = lucerna_tracer::rng::PhotonRng::new(1, 1, 1);
-    let rays: Vec<(Vec3A, Vec3A)> = (0..1_000_000)
-        .map(|_| {
-            let d = lucerna_tracer::sampling::cosine_hemisphere(
-                Vec3A::Z,
-                rng.next_f32(),
-                rng.next_f32(),
-            );
-            (Vec3A::new(0.0, 0.0, 0.0001), d)
-        })
-        .collect();
-    for name in ["cwbvh obvhs", "cwbvh avx2", "bvh2"] {
-        p.bvh.traversal = if name == "cwbvh avx2" {
-            lucerna_tracer::bvh::CpuTraversal::Avx2
-        } else {
-            lucerna_tracer::bvh::CpuTraversal::Obvhs
-        };
-        let start = std::time::Instant::now();
-        let mut hits = 0;
-        for &(o, d) in &rays {
-            let h = if name.starts_with("cwbvh") {
-                p.bvh.intersect(o, d, f32::INFINITY)
-            } else {
-                p.bvh.intersect_bvh2(o, d, f32::INFINITY)
-            };
-            hits += usize::from(h.is_some());
-        }
-        let s = start.elapsed().as_secs_f64();
+    let photons = 1_000_000u32;
+    let photon_rate = |p: &lucerna_tracer::PreparedScene| {
+        (0..3u32)
+            .map(|rep| {
+                let start = std::time::Instant::now();
+                let escaped = wide_traversal::with_best_features(|| {
+                    (0..photons)
+                        .filter(|&k| {
+                            let mut rng = PhotonRng::new(1, rep, k);
+                            matches!(cpu::trace_photon(p, 64, &mut rng).0, Fate::Escaped(_))
+                        })
+                        .count()
+                });
+                std::hint::black_box(escaped);
+                f64::from(photons) / start.elapsed().as_secs_f64() / 1e6
+            })
+            .fold(0.0, f64::max)
+    };
+    if only_photons {
+        println!("{:.3}", photon_rate(&p));
+        return;
+    }
+    if let Some(w) = &p.bvh.wide {
+        let lanes: usize = w
+            .blocks
+            .iter()
+            .map(|b| b.triangle.iter().filter(|&&t| t != u32::MAX).count())
+            .sum();
         println!(
-            "{name}: {:.0} ns/ray single-threaded, {hits} hits",
-            s * 1e9 / rays.len() as f64
+            "wide BVH: {} nodes, {} blocks, {:.2} triangles per block, depth {}",
+            w.nodes.len(),
+            w.blocks.len(),
+            lanes as f64 / w.blocks.len() as f64,
+            w.depth
         );
     }
-    let mut tests = 0usize;
-    for &(o, d) in rays.iter().take(100_000) {
-        let ray = obvhs::ray::Ray::new(o * p.bvh.scale, d, 0.0, f32::INFINITY);
-        let mut hit = obvhs::ray::RayHit::none();
-        p.bvh.cwbvh.ray_traverse(ray, &mut hit, |r, slot| {
-            tests += 1;
-            let i = p.bvh.cwbvh_leaf_triangles[slot];
-            lucerna_tracer::bvh::intersect_triangle(
-                &p.bvh.triangles[i as usize],
-                o * p.bvh.scale,
-                d,
-            )
-            .map_or(f32::INFINITY, |h| {
-                if h.0 < r.tmax { h.0 } else { f32::INFINITY }
-            })
+    // The rays of 300 000 photons: each segment of each path.
+    let mut rays: Vec<(Vec3A, Vec3A)> = Vec::new();
+    for k in 0..300_000u32 {
+        let mut rng = PhotonRng::new(1, 0, k);
+        let mut points = Vec::new();
+        let (fate, _, _) = cpu::trace_photon_recorded(&p, 64, &mut rng, |x| points.push(x));
+        rays.extend(points.windows(2).map(|w| (w[0], (w[1] - w[0]).normalize())));
+        if let (Fate::Escaped(d), Some(&last)) = (fate, points.last()) {
+            rays.push((last + d * p.epsilon * 2.0, d));
+        }
+    }
+    for traversal in [CpuTraversal::best(), CpuTraversal::Scalar] {
+        p.bvh.traversal = traversal;
+        let start = std::time::Instant::now();
+        let hits = wide_traversal::with_best_features(|| {
+            rays.iter()
+                .filter(|&&(o, d)| p.bvh.intersect(o, d, f32::INFINITY).is_some())
+                .count()
         });
+        println!(
+            "{}: {:.0} ns/ray, {hits} hits of {} photon rays",
+            traversal.describe(),
+            start.elapsed().as_secs_f64() * 1e9 / rays.len() as f64,
+            rays.len()
+        );
+        println!("  {:.3} M photons/s", photon_rate(&p));
     }
-    println!("triangle tests per ray: {:.1}", tests as f64 / 100_000.0);
-    let start = std::time::Instant::now();
-    let mut acc = 0usize;
-    for &(_, d) in &rays {
-        acc += lucerna_photometry::CubeMapLayout::new(256).texel_of_direction([
-            f64::from(d.x),
-            f64::from(d.y),
-            f64::from(d.z),
-        ]);
-    }
-    println!(
-        "texel_of_direction: {:.0} ns ({acc})",
-        start.elapsed().as_secs_f64() * 1e9 / rays.len() as f64
-    );
 }
-#[allow(dead_code)]
-fn unused() {}

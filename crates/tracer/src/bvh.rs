@@ -1,8 +1,10 @@
 //! Bounding-volume hierarchies, built by obvhs (PLOC + reinsertion):
-//! - a compressed 8-wide BVH (CWBVH) that the CPU tracer traverses with
-//!   obvhs' SIMD traversal (measured faster than a BVH2 on 2 cores);
+//! - a compressed 8-wide BVH (CWBVH), converted for the CPU into float
+//!   eight-wide nodes with four-wide triangle blocks ([`crate::wide_bvh`]),
+//!   traversed in AVX2 where the CPU has it;
 //! - a BVH2 flattened into 32-byte nodes for the WGSL kernel, traversed on
-//!   the CPU too by [`Bvh::intersect_bvh2`] so tests check the GPU layout.
+//!   the CPU too by [`Bvh::intersect_bvh2`], so tests check the GPU layout
+//!   and CPUs without AVX2 (or with another architecture) trace with it.
 //!
 //! Triangles are stored once, in the scene's order; the leaves of both
 //! hierarchies reach them through slot → triangle tables, so spatial
@@ -48,13 +50,13 @@ pub const BVH_EXTENT: f32 = 1000.0;
 pub struct Bvh {
     /// BVH units per metre.
     pub scale: f32,
-    /// CWBVH for CPU traversal (leaves index `cwbvh_leaf_triangles`).
+    /// obvhs' CWBVH: the topology of [`Bvh::wide`] (leaves index
+    /// `triangles` through its `primitive_indices`).
     pub cwbvh: obvhs::cwbvh::CwBvh,
-    /// For each CWBVH leaf slot, the index into `triangles`.
-    pub cwbvh_leaf_triangles: Vec<u32>,
-    /// The triangles again, in CWBVH slot order, so the CPU traversal reads
-    /// them without an indirection (measured ~10 % faster).
-    pub cwbvh_slot_triangles: Vec<BvhTriangle>,
+    /// The CWBVH with float boxes and triangle blocks, for
+    /// [`CpuTraversal::Avx2`]; `None` off AVX2 or for a tree too deep for
+    /// its stack (then the BVH2 is traversed).
+    pub wide: Option<crate::wide_bvh::WideBvh>,
     /// The BVH2 for the GPU, built the first time it is asked for: a run
     /// on the CPU (every edit on a machine without a GPU) never pays for it.
     bvh2: std::sync::OnceLock<Bvh2>,
@@ -76,14 +78,15 @@ pub struct Bvh2 {
     pub build_time: std::time::Duration,
 }
 
-/// CPU traversal of the CWBVH.
+/// How the CPU finds closest hits.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CpuTraversal {
-    /// obvhs' traversal (SSE, four child boxes at a time): any x86-64 or
-    /// other CPU.
-    Obvhs,
-    /// Eight child boxes at a time in AVX2 ([`crate::wide_traversal`]);
-    /// only where [`crate::wide_traversal::available`].
+    /// The BVH2 of the GPU layout, one box at a time: any CPU. (obvhs' own
+    /// CWBVH traversal is not used: its quantised boxes cannot be widened,
+    /// and it lost hits on rays through shared edges.)
+    Scalar,
+    /// The float eight-wide BVH in AVX2 ([`crate::wide_bvh`]); only where
+    /// [`crate::wide_traversal::available`].
     Avx2,
 }
 
@@ -93,14 +96,14 @@ impl CpuTraversal {
         if crate::wide_traversal::available() {
             CpuTraversal::Avx2
         } else {
-            CpuTraversal::Obvhs
+            CpuTraversal::Scalar
         }
     }
 
     pub fn describe(self) -> &'static str {
         match self {
-            CpuTraversal::Obvhs => "obvhs SSE",
-            CpuTraversal::Avx2 => "AVX2 8-wide",
+            CpuTraversal::Scalar => "scalar BVH2",
+            CpuTraversal::Avx2 => "AVX2 8-wide float BVH",
         }
     }
 }
@@ -144,7 +147,6 @@ impl Bvh {
         let start = Instant::now();
         let cwbvh = obvhs::cwbvh::builder::build_cwbvh_from_tris(&tris, params, &mut core);
         let cwbvh_build_time = start.elapsed();
-        let cwbvh_leaf_triangles = cwbvh.primitive_indices.clone();
         let triangles: Vec<BvhTriangle> = corners
             .iter()
             .map(|&[a, b, c]| BvhTriangle {
@@ -156,19 +158,30 @@ impl Bvh {
                 _pad2: 0,
             })
             .collect();
-        let cwbvh_slot_triangles = cwbvh_leaf_triangles
-            .iter()
-            .map(|&i| triangles[i as usize])
-            .collect();
+        let traversal = CpuTraversal::best();
+        let wide = if traversal == CpuTraversal::Avx2 {
+            let slot_triangles: Vec<BvhTriangle> = cwbvh
+                .primitive_indices
+                .iter()
+                .map(|&i| triangles[i as usize])
+                .collect();
+            crate::wide_bvh::WideBvh::from_cwbvh(&cwbvh, &slot_triangles, &cwbvh.primitive_indices)
+        } else {
+            None
+        };
+        let traversal = if wide.is_some() {
+            traversal
+        } else {
+            CpuTraversal::Scalar
+        };
         Bvh {
-            cwbvh_slot_triangles,
+            wide,
             scale,
             cwbvh,
             bvh2: std::sync::OnceLock::new(),
-            cwbvh_leaf_triangles,
             triangles,
             cwbvh_build_time,
-            traversal: CpuTraversal::best(),
+            traversal,
         }
     }
 
@@ -200,9 +213,20 @@ impl Bvh {
                 .nodes
                 .iter()
                 .map(|n| BvhNode {
-                    min: n.aabb().min.to_array(),
+                    // Widened as the CPU's wide BVH is, so that neither
+                    // culls a hit Möller–Trumbore puts just off its
+                    // triangle's plane.
+                    min: n
+                        .aabb()
+                        .min
+                        .to_array()
+                        .map(|x| crate::wide_bvh::outward_down(f64::from(x))),
                     first: n.first_index,
-                    max: n.aabb().max.to_array(),
+                    max: n
+                        .aabb()
+                        .max
+                        .to_array()
+                        .map(|x| crate::wide_bvh::outward_up(f64::from(x))),
                     count: n.prim_count,
                 })
                 .collect();
@@ -215,61 +239,30 @@ impl Bvh {
     }
 
     /// Closest hit along `origin + t·dir` (metres, unit `dir`), t in
-    /// (0, t_max), by the CWBVH.
+    /// (0, t_max): by the wide BVH in AVX2 where it is, else by the BVH2.
     #[inline]
     pub fn intersect(&self, origin: Vec3A, dir: Vec3A, t_max: f32) -> Option<Hit> {
         if self.triangles.is_empty() {
             return None;
         }
-        let origin = origin * self.scale;
-        let t_max = t_max * self.scale;
-        if self.traversal == CpuTraversal::Avx2 && crate::wide_traversal::available() {
+        if self.traversal == CpuTraversal::Avx2
+            && let Some(wide) = &self.wide
+            && crate::wide_traversal::available()
+        {
+            let origin = origin * self.scale;
             // SAFETY: the CPU has the features, checked just above (a
             // cached atomic load).
             #[allow(unsafe_code)]
-            let (t, slot, u, v) = unsafe {
-                crate::wide_traversal::closest_hit(
-                    &self.cwbvh,
-                    &self.cwbvh_slot_triangles,
-                    origin,
-                    dir,
-                    t_max,
-                )
-            }?;
+            let (t, triangle, u, v) =
+                unsafe { crate::wide_bvh::closest_hit(wide, origin, dir, t_max * self.scale) }?;
             return Some(Hit {
                 t: t / self.scale,
-                triangle: self.cwbvh_leaf_triangles[slot as usize],
+                triangle,
                 u,
                 v,
             });
         }
-        let ray = obvhs::ray::Ray::new(origin, dir, 0.0, t_max);
-        let mut hit = obvhs::ray::RayHit::none();
-        let mut best = Hit {
-            t: t_max,
-            triangle: u32::MAX,
-            u: 0.0,
-            v: 0.0,
-        };
-        self.cwbvh.ray_traverse(ray, &mut hit, |r, slot| {
-            match intersect_triangle(&self.cwbvh_slot_triangles[slot], origin, dir) {
-                Some((t, u, v)) if t < r.tmax && t < best.t => {
-                    best = Hit {
-                        t,
-                        triangle: slot as u32,
-                        u,
-                        v,
-                    };
-                    t
-                }
-                _ => f32::INFINITY,
-            }
-        });
-        (best.triangle != u32::MAX).then(|| Hit {
-            t: best.t / self.scale,
-            triangle: self.cwbvh_leaf_triangles[best.triangle as usize],
-            ..best
-        })
+        self.intersect_bvh2(origin, dir, t_max)
     }
 
     /// Closest hit by the BVH2 in the GPU layout: the same stack traversal

@@ -51,18 +51,6 @@ impl Tally {
     pub fn escaped(&self) -> u64 {
         self.counts.iter().map(|&c| u64::from(c)).sum()
     }
-
-    fn add(mut self, other: Tally) -> Tally {
-        for (a, b) in self.counts.iter_mut().zip(&other.counts) {
-            *a += b;
-        }
-        self.emitted += other.emitted;
-        self.absorbed += other.absorbed;
-        self.cut_off += other.cut_off;
-        self.bounces += other.bounces;
-        self.rays += other.rays;
-        self
-    }
 }
 
 /// Tracing settings shared by every backend.
@@ -299,6 +287,126 @@ fn dielectric(
     }
 }
 
+/// Photon bookkeeping of a batch apart from its counts; adds exactly.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct BatchTotals {
+    pub emitted: u64,
+    pub absorbed: u64,
+    pub cut_off: u64,
+    /// Surface interactions survived.
+    pub bounces: u64,
+    /// Rays cast.
+    pub rays: u64,
+}
+
+impl BatchTotals {
+    fn add(&mut self, other: BatchTotals) {
+        self.emitted += other.emitted;
+        self.absorbed += other.absorbed;
+        self.cut_off += other.cut_off;
+        self.bounces += other.bounces;
+        self.rays += other.rays;
+    }
+}
+
+/// Per-thread count buffers kept between batches: a fresh 6 × n² buffer
+/// per batch and thread costs page faults and zeroing (1.5 MB at 256²,
+/// several % of a 50 ms iteration); a reused one is zeroed while it is
+/// merged.
+#[derive(Debug, Default)]
+pub struct CountBuffers {
+    free: std::sync::Mutex<Vec<Vec<u32>>>,
+}
+
+impl CountBuffers {
+    fn take(&self, texels: usize) -> Vec<u32> {
+        let reused = self
+            .free
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .pop();
+        match reused {
+            Some(b) if b.len() == texels => b,
+            _ => vec![0; texels],
+        }
+    }
+
+    fn give_back(&self, buffer: Vec<u32>) {
+        self.free
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .push(buffer);
+    }
+}
+
+/// Photons per work item: small enough that two threads finish a 50 ms
+/// batch within a few percent of each other.
+const CHUNK_PHOTONS: u32 = 4096;
+
+/// Traces photons `first .. first + count` of `iteration` in parallel and
+/// adds their escape counts to `counts` (one per texel of the layout).
+/// Each thread claims chunks of photons from a shared counter into its own
+/// buffer; which thread traced a photon never changes its fate (its random
+/// stream is a hash of its index), so the counts are the same however the
+/// work was shared.
+pub fn trace_batch_into(
+    scene: &PreparedScene,
+    settings: &TraceSettings,
+    iteration: u32,
+    first: u32,
+    count: u32,
+    buffers: &CountBuffers,
+    counts: &mut [u64],
+) -> BatchTotals {
+    use std::sync::atomic::{AtomicU32, Ordering};
+    let texels = settings.layout.texel_count();
+    assert_eq!(counts.len(), texels, "counts must match the layout");
+    let chunks = count.div_ceil(CHUNK_PHOTONS);
+    let next = AtomicU32::new(0);
+    let workers = rayon::current_num_threads().clamp(1, chunks.max(1) as usize);
+    let traced: Vec<(Vec<u32>, BatchTotals)> = (0..workers)
+        .into_par_iter()
+        .map(|_| {
+            let mut buffer = buffers.take(texels);
+            let mut totals = BatchTotals::default();
+            let mut work = || {
+                loop {
+                    let c = next.fetch_add(1, Ordering::Relaxed);
+                    if c >= chunks {
+                        break;
+                    }
+                    let start = first + c * CHUNK_PHOTONS;
+                    let end = start + CHUNK_PHOTONS.min(first + count - start);
+                    trace_range(
+                        scene,
+                        settings,
+                        iteration,
+                        start..end,
+                        &mut buffer,
+                        &mut totals,
+                    );
+                }
+            };
+            if scene.bvh.traversal == crate::bvh::CpuTraversal::Avx2 {
+                crate::wide_traversal::with_best_features(work);
+            } else {
+                work();
+            }
+            (buffer, totals)
+        })
+        .collect();
+    let mut totals = BatchTotals::default();
+    for (mut buffer, t) in traced {
+        for (total, c) in counts.iter_mut().zip(buffer.iter_mut()) {
+            *total += u64::from(*c);
+            *c = 0;
+        }
+        totals.add(t);
+        buffers.give_back(buffer);
+    }
+    totals
+}
+
 /// Traces photons `first .. first + count` of `iteration` in parallel.
 pub fn trace_batch(
     scene: &PreparedScene,
@@ -307,44 +415,44 @@ pub fn trace_batch(
     first: u32,
     count: u32,
 ) -> Tally {
-    let texels = settings.layout.texel_count();
-    let chunk = 16_384u32;
-    let chunks = count.div_ceil(chunk);
-    (0..chunks)
-        .into_par_iter()
-        .fold(
-            || Tally::new(texels),
-            |mut tally, c| {
-                let start = first + c * chunk;
-                let end = (start + chunk).min(first + count);
-                if scene.bvh.traversal == crate::bvh::CpuTraversal::Avx2 {
-                    crate::wide_traversal::with_best_features(|| {
-                        trace_range(scene, settings, iteration, start..end, &mut tally);
-                    });
-                } else {
-                    trace_range(scene, settings, iteration, start..end, &mut tally);
-                }
-                tally
-            },
-        )
-        .reduce(|| Tally::new(texels), Tally::add)
+    let mut counts = vec![0u64; settings.layout.texel_count()];
+    let totals = trace_batch_into(
+        scene,
+        settings,
+        iteration,
+        first,
+        count,
+        &CountBuffers::default(),
+        &mut counts,
+    );
+    Tally {
+        // A batch has at most 2³² photons, so no texel count overflows.
+        counts: counts.into_iter().map(|c| c as u32).collect(),
+        emitted: totals.emitted,
+        absorbed: totals.absorbed,
+        cut_off: totals.cut_off,
+        bounces: totals.bounces,
+        rays: totals.rays,
+    }
 }
 
-/// Traces photons `photons` of `iteration` into `tally`, one after another.
+/// Traces photons `photons` of `iteration` into `counts` and `totals`, one
+/// after another.
 #[inline(always)]
 fn trace_range(
     scene: &PreparedScene,
     settings: &TraceSettings,
     iteration: u32,
     photons: std::ops::Range<u32>,
-    tally: &mut Tally,
+    counts: &mut [u32],
+    totals: &mut BatchTotals,
 ) {
     for photon in photons {
         let mut rng = PhotonRng::new(settings.seed, iteration, photon);
         let (fate, bounces, rays) = trace_photon(scene, settings.max_bounces, &mut rng);
-        tally.emitted += 1;
-        tally.bounces += u64::from(bounces);
-        tally.rays += u64::from(rays);
+        totals.emitted += 1;
+        totals.bounces += u64::from(bounces);
+        totals.rays += u64::from(rays);
         match fate {
             Fate::Escaped(d) => {
                 let texel = settings.layout.texel_of_direction([
@@ -352,10 +460,10 @@ fn trace_range(
                     f64::from(d.y),
                     f64::from(d.z),
                 ]);
-                tally.counts[texel] += 1;
+                counts[texel] += 1;
             }
-            Fate::Absorbed => tally.absorbed += 1,
-            Fate::CutOff => tally.cut_off += 1,
+            Fate::Absorbed => totals.absorbed += 1,
+            Fate::CutOff => totals.cut_off += 1,
         }
     }
 }

@@ -15,9 +15,15 @@ pub mod symmetry;
 // reason: SIMD intrinsics and `#[target_feature]` functions, called only
 // after run-time feature detection.
 #[allow(unsafe_code)]
+pub mod wide_bvh;
+// reason: SIMD intrinsics and `#[target_feature]` functions, called only
+// after run-time feature detection.
+#[allow(unsafe_code)]
 pub mod wide_traversal;
 
-pub use cpu::{Fate, Tally, TraceSettings, trace_batch};
+pub use cpu::{
+    BatchTotals, CountBuffers, Fate, Tally, TraceSettings, trace_batch, trace_batch_into,
+};
 pub use paths::{PhotonPath, sample_photon_paths};
 pub use prepared::{PrepareError, PreparedScene};
 pub use session::{Backend, BackendRequest, IterationReport, Session, choose_backend};

@@ -8,7 +8,7 @@ use lucerna_gpu::{GpuContext, GpuError};
 use lucerna_photometry::cubemap::rectangle_solid_angle;
 use lucerna_photometry::{AxialSymmetry, CubeFace, IntensityMap, TexelSymmetry};
 
-use crate::cpu::{Tally, TraceSettings, trace_batch};
+use crate::cpu::{BatchTotals, CountBuffers, Tally, TraceSettings, trace_batch_into};
 use crate::gpu::GpuTracer;
 use crate::prepared::PreparedScene;
 
@@ -40,8 +40,42 @@ impl Backend {
         count: u32,
     ) -> Result<Tally, GpuError> {
         match self {
-            Backend::Cpu => Ok(trace_batch(scene, settings, block, first, count)),
+            Backend::Cpu => Ok(crate::cpu::trace_batch(
+                scene, settings, block, first, count,
+            )),
             Backend::Gpu(g) => g.trace_batch(block, first, count),
+        }
+    }
+
+    /// [`Backend::trace`], adding the counts to `counts` (one per texel);
+    /// the CPU tracer reuses the count buffers in `buffers`.
+    pub fn trace_into(
+        &self,
+        scene: &PreparedScene,
+        settings: &TraceSettings,
+        block: u32,
+        first: u32,
+        count: u32,
+        buffers: &CountBuffers,
+        counts: &mut [u64],
+    ) -> Result<BatchTotals, GpuError> {
+        match self {
+            Backend::Cpu => Ok(trace_batch_into(
+                scene, settings, block, first, count, buffers, counts,
+            )),
+            Backend::Gpu(g) => {
+                let tally = g.trace_batch(block, first, count)?;
+                for (total, &c) in counts.iter_mut().zip(&tally.counts) {
+                    *total += u64::from(c);
+                }
+                Ok(BatchTotals {
+                    emitted: tally.emitted,
+                    absorbed: tally.absorbed,
+                    cut_off: tally.cut_off,
+                    bounces: tally.bounces,
+                    rays: tally.rays,
+                })
+            }
         }
     }
 }
@@ -166,6 +200,8 @@ pub struct Session {
     /// The symmetry the map's photons will be pooled over: the reported
     /// peak error is that of the pooled map.
     symmetry: TexelSymmetry,
+    /// The CPU tracer's per-thread count buffers, kept between iterations.
+    buffers: CountBuffers,
 }
 
 impl Session {
@@ -198,6 +234,7 @@ impl Session {
             rays: 0,
             tracing_time: Duration::ZERO,
             symmetry: TexelSymmetry::none(settings.layout),
+            buffers: CountBuffers::default(),
         }
     }
 
@@ -251,18 +288,17 @@ impl Session {
             .min(PHOTONS_PER_BLOCK - first)
             .max(1) as u32;
         let start = Instant::now();
-        let tally = self.backend.trace(
+        let tally = self.backend.trace_into(
             &self.scene,
             &self.settings,
             block as u32,
             first as u32,
             photons,
+            &self.buffers,
+            &mut self.map.counts,
         )?;
         let elapsed = start.elapsed();
         self.tracing_time += elapsed;
-        for (a, &b) in self.map.counts.iter_mut().zip(&tally.counts) {
-            *a += u64::from(b);
-        }
         self.map.photons_emitted += tally.emitted;
         self.map.photons_absorbed += tally.absorbed;
         self.map.photons_cut_off += tally.cut_off;

@@ -1,6 +1,6 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)] // reason: test helpers may panic
-//! The BVH2 in the GPU layout and both CPU traversals of the CWBVH (obvhs'
-//! and the AVX2 one, where the CPU has it) find the same closest hits as
+//! The BVH2 in the GPU layout (the CPU's scalar traversal too) and the
+//! float wide BVH (where the CPU has AVX2) find the same closest hits as
 //! brute force.
 
 use std::path::Path;
@@ -16,16 +16,16 @@ fn both_hierarchies_agree_with_brute_force() {
         "faceted_downlight.toml",
         "linear_louvre.toml",
         "obj_cone.toml",
+        "parabolic_spot.toml",
     ] {
         let scene = lucerna_scene::load_scene(&dir.join(name)).unwrap();
         let t = lucerna_scene::tessellate(&scene, &dir).unwrap();
         let p = lucerna_tracer::PreparedScene::new(&scene, &t, &dir).unwrap();
-        let mut obvhs_traversal = p.bvh.clone();
-        obvhs_traversal.traversal = CpuTraversal::Obvhs;
         let bvh = &p.bvh;
         assert_eq!(bvh.traversal, CpuTraversal::best());
         let mut rng = PhotonRng::new(1, 2, 3);
         let mut hits = 0;
+        let mut exact = 0;
         for i in 0..3000 {
             let o = Vec3A::new(
                 rng.next_f32() - 0.5,
@@ -39,10 +39,19 @@ fn both_hierarchies_agree_with_brute_force() {
             );
             // Every fifth ray lies in a coordinate plane or along an axis
             // (zero direction components: the slab test's 1/0 case).
+            // Every fifteenth aims at an edge's midpoint or a vertex, which
+            // two or more triangles share: hits that tie in distance.
             match i % 15 {
                 0 => d.x = 0.0,
                 5 => d.y = 0.0,
                 10 => d = Vec3A::new(0.0, 0.0, d.z.signum()),
+                3 | 8 => {
+                    let tri = &bvh.triangles[(rng.next_u32() as usize) % bvh.triangles.len()];
+                    let share = if i % 15 == 3 { 0.5 } else { 0.0 };
+                    let target =
+                        (Vec3A::from_array(tri.v0) + Vec3A::from_array(tri.e1) * share) / bvh.scale;
+                    d = target - o;
+                }
                 _ => {}
             }
             let d = d.normalize();
@@ -57,27 +66,42 @@ fn both_hierarchies_agree_with_brute_force() {
             let cw = bvh
                 .intersect(o, d, f32::INFINITY)
                 .map(|h| (h.t, h.triangle));
-            let cw_obvhs = obvhs_traversal
-                .intersect(o, d, f32::INFINITY)
-                .map(|h| (h.t, h.triangle));
             let b2 = bvh
                 .intersect_bvh2(o, d, f32::INFINITY)
                 .map(|h| (h.t, h.triangle));
-            // Same distance (coincident triangles may tie on the index).
+            // Same distance (coincident triangles may tie on the index),
+            // within 1e-6 relative or 10 µm: on a sliver triangle (the
+            // louvre has some) Möller–Trumbore's own t is off its plane by
+            // a few µm, and a box around the true triangle may rightly
+            // prefer its neighbour in the same plane.
             let same = |a: Option<(f32, u32)>, b: Option<(f32, u32)>| match (a, b) {
-                (Some(a), Some(b)) => (a.0 - b.0).abs() <= 1e-6 * b.0.max(1e-3),
+                (Some(a), Some(b)) => (a.0 - b.0).abs() <= (1e-6 * b.0).max(1e-5),
                 (None, None) => true,
                 _ => false,
             };
             assert!(
                 same(cw, brute),
-                "{name}: CWBVH ({}) {cw:?} vs brute force {brute:?}",
+                "{name}: {} {cw:?} vs brute force {brute:?}",
                 bvh.traversal.describe()
             );
-            assert!(
-                same(cw_obvhs, brute),
-                "{name}: CWBVH (obvhs) {cw_obvhs:?} vs brute force {brute:?}"
-            );
+            // The wide BVH's triangle test is the scalar one's arithmetic
+            // lane by lane and ties go to the lower index: brute force's
+            // hit, to the bit, but for those slivers.
+            if bvh.traversal == CpuTraversal::Avx2 {
+                exact += usize::from(
+                    cw.map(|h| (h.0.to_bits(), h.1)) == brute.map(|h| (h.0.to_bits(), h.1)),
+                );
+                if let Some((t, triangle)) = cw {
+                    let again =
+                        intersect_triangle(&bvh.triangles[triangle as usize], o * bvh.scale, d)
+                            .map(|h| h.0 / bvh.scale);
+                    assert_eq!(
+                        again,
+                        Some(t),
+                        "{name}: wide BVH reports a hit its triangle does not have"
+                    );
+                }
+            }
             assert!(
                 same(b2, brute),
                 "{name}: BVH2 {b2:?} vs brute force {brute:?}"
@@ -88,5 +112,11 @@ fn both_hierarchies_agree_with_brute_force() {
             hits > 300,
             "{name}: the test rays must hit something ({hits})"
         );
+        if bvh.traversal == CpuTraversal::Avx2 {
+            assert!(
+                exact >= 2990,
+                "{name}: {exact} of 3000 hits are brute force's to the bit"
+            );
+        }
     }
 }

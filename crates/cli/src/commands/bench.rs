@@ -116,11 +116,11 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
                 settings,
             )?)));
         }
-        // The CPU tracer with each CWBVH traversal this CPU runs (the
-        // fastest first: it is what `--backend cpu` uses), then the GPU.
+        // The CPU tracer with each traversal this CPU runs (the fastest
+        // first: it is what `--backend cpu` uses), then the GPU.
         let mut runs: Vec<(&Backend, CpuTraversal)> = vec![(&backends[0], best_traversal)];
-        if best_traversal != CpuTraversal::Obvhs {
-            runs.push((&backends[0], CpuTraversal::Obvhs));
+        if best_traversal != CpuTraversal::Scalar {
+            runs.push((&backends[0], CpuTraversal::Scalar));
         }
         runs.extend(backends[1..].iter().map(|b| (b, best_traversal)));
         for (backend, traversal) in runs {
