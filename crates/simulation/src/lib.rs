@@ -28,4 +28,4 @@ pub use luminaire::Luminaire;
 pub use run::{Run, bake};
 pub use settings::{FilterChoice, SettingsError, SimulationSettings, StoppingRule, TableGrid};
 pub use snapshot::{FilterSummary, Noise, RunState, Snapshot, StopReason};
-pub use worker::{Published, Simulation};
+pub use worker::{Pace, Published, Simulation};

@@ -15,6 +15,8 @@ use crate::{Luminaire, Run, SimulationError, SimulationSettings};
 
 enum Command {
     Edit(Box<Scene>, PathBuf, u64),
+    /// A luminaire its caller has prepared already (a bake loads it first).
+    Prepared(Arc<Luminaire>, u64),
     Settings(SimulationSettings, u64),
     Pause,
     Resume,
@@ -49,6 +51,33 @@ pub struct Published {
 
 type Notify = Box<dyn Fn() + Send>;
 
+/// How a simulation paces its work: an editor wants short iterations (an
+/// edit waits for at most one) and frequent snapshots; a headless bake
+/// long iterations (less per-iteration overhead) and a snapshot now and
+/// then for its progress bar.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Pace {
+    /// Wall time one iteration aims at.
+    pub iteration: Duration,
+    /// Least time between two snapshots; they also take at most a fifth
+    /// of the worker's time.
+    pub snapshot_interval: Duration,
+}
+
+impl Pace {
+    /// For an editor: 50 ms iterations, snapshots as often as they cost a
+    /// fifth of the time.
+    pub const INTERACTIVE: Pace = Pace {
+        iteration: Duration::from_millis(50),
+        snapshot_interval: Duration::from_millis(50),
+    };
+    /// For a bake: 250 ms iterations, a snapshot a second.
+    pub const BATCH: Pace = Pace {
+        iteration: Duration::from_millis(250),
+        snapshot_interval: Duration::from_secs(1),
+    };
+}
+
 /// A luminaire simulation running on its own thread. Every edit restarts
 /// it at once (iterations of the old scene are discarded); [`latest`]
 /// hands out the newest [`Snapshot`] without waiting for tracing.
@@ -81,17 +110,43 @@ impl Simulation {
         settings: SimulationSettings,
         on_update: impl Fn() + Send + 'static,
     ) -> Result<Simulation, SimulationError> {
+        Simulation::spawn(
+            Command::Edit(Box::new(scene), scene_dir.to_path_buf(), 0),
+            settings,
+            Pace::INTERACTIVE,
+            on_update,
+        )
+    }
+
+    /// Starts on a luminaire already prepared (not built again), paced by
+    /// `pace`: what a bake does.
+    pub fn start_prepared(
+        luminaire: Arc<Luminaire>,
+        settings: SimulationSettings,
+        pace: Pace,
+        on_update: impl Fn() + Send + 'static,
+    ) -> Result<Simulation, SimulationError> {
+        Simulation::spawn(Command::Prepared(luminaire, 0), settings, pace, on_update)
+    }
+
+    fn spawn(
+        first: Command,
+        settings: SimulationSettings,
+        pace: Pace,
+        on_update: impl Fn() + Send + 'static,
+    ) -> Result<Simulation, SimulationError> {
         settings.validate()?;
         let (commands, inbox) = channel();
         let shared = Arc::new(Shared::default());
         let worker_shared = shared.clone();
         commands
-            .send(Command::Edit(Box::new(scene), scene_dir.to_path_buf(), 0))
+            .send(first)
             .map_err(|_| SimulationError::WorkerGone)?;
         let thread = std::thread::Builder::new()
             .name("lucerna-simulation".to_owned())
             .spawn(move || {
-                Worker::new(settings, worker_shared.clone(), Box::new(on_update)).serve(inbox);
+                Worker::new(settings, pace, worker_shared.clone(), Box::new(on_update))
+                    .serve(inbox);
                 worker_shared.lock().gone = true;
                 worker_shared.changed.notify_all();
             })
@@ -239,6 +294,7 @@ impl Drop for Simulation {
 /// The worker's own state.
 struct Worker {
     settings: SimulationSettings,
+    pace: Pace,
     shared: Arc<Shared>,
     notify: Notify,
     generation: u64,
@@ -253,9 +309,15 @@ struct Worker {
 }
 
 impl Worker {
-    fn new(settings: SimulationSettings, shared: Arc<Shared>, notify: Notify) -> Worker {
+    fn new(
+        settings: SimulationSettings,
+        pace: Pace,
+        shared: Arc<Shared>,
+        notify: Notify,
+    ) -> Worker {
         Worker {
             settings,
+            pace,
             shared,
             notify,
             generation: 0,
@@ -299,7 +361,10 @@ impl Worker {
 
     /// Applies a command; `false` to quit.
     fn handle(&mut self, command: Command) -> bool {
-        if matches!(command, Command::Edit(..) | Command::Settings(..)) {
+        if matches!(
+            command,
+            Command::Edit(..) | Command::Prepared(..) | Command::Settings(..)
+        ) {
             // A new generation: the last one's failure no longer stands.
             self.shared.lock().error = None;
         }
@@ -314,6 +379,11 @@ impl Worker {
                     }
                     Err(e) => self.fail(e),
                 }
+            }
+            Command::Prepared(luminaire, generation) => {
+                self.generation = generation;
+                self.luminaire = Some(luminaire);
+                self.restart();
             }
             Command::Settings(settings, generation) => {
                 self.generation = generation;
@@ -399,8 +469,7 @@ impl Worker {
                     r
                 })?,
             };
-            // Short iterations: an edit waits for at most one.
-            run.set_iteration_time(Duration::from_millis(50));
+            run.set_iteration_time(self.pace.iteration);
             Ok::<_, SimulationError>(run)
         })();
         match started {
@@ -429,9 +498,10 @@ impl Worker {
         }
         // Snapshots (filter, table, figures) take at most about a fifth of
         // the worker's time; the first after a restart comes at once.
+        let interval = self.pace.snapshot_interval;
         let due = self
             .last_snapshot
-            .is_none_or(|(at, cost)| at.elapsed() >= (cost * 4).max(Duration::from_millis(50)));
+            .is_none_or(|(at, cost)| at.elapsed() >= (cost * 4).max(interval));
         if due {
             self.publish(RunState::Tracing, false);
         }

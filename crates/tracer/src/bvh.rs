@@ -62,6 +62,8 @@ pub struct Bvh {
     bvh2: std::sync::OnceLock<Bvh2>,
     /// Triangles in the scene's order.
     pub triangles: Vec<BvhTriangle>,
+    /// A tag per triangle, handed back with its hits.
+    pub tags: Vec<u32>,
     pub cwbvh_build_time: std::time::Duration,
     /// How the CPU traverses the CWBVH; the fastest this CPU runs, by
     /// default.
@@ -108,20 +110,37 @@ impl CpuTraversal {
     }
 }
 
-/// A ray hit: distance, reordered triangle index, barycentrics (u, v).
+/// A ray hit: distance, scene triangle index, barycentrics (u, v), and
+/// what the tracer needs of the triangle without reading another record:
+/// its tag and unit geometric normal.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Hit {
     pub t: f32,
     pub triangle: u32,
     pub u: f32,
     pub v: f32,
+    /// The tag given to [`Bvh::build`] for the triangle.
+    pub tag: u32,
+    /// `e1 × e2` normalised (zero for a degenerate triangle): the same
+    /// arithmetic on every traversal.
+    pub normal: Vec3A,
+}
+
+/// The unit normal `e1 × e2` of a triangle's edges, zero if degenerate.
+#[inline(always)]
+pub fn unit_normal(e1: Vec3A, e2: Vec3A) -> Vec3A {
+    e1.cross(e2).normalize_or_zero()
 }
 
 impl Bvh {
     /// Builds both hierarchies with obvhs' `very_slow_build` preset (spatial
     /// pre-splits, PLOC, full reinsertion, leaf collapse); corners in
-    /// luminaire coordinates (m).
-    pub fn build(corners: &[[Vec3; 3]]) -> Bvh {
+    /// luminaire coordinates (m), and a tag per triangle (zeros if
+    /// `tags` is shorter) that hits carry.
+    pub fn build(corners: &[[Vec3; 3]], tags: &[u32]) -> Bvh {
+        let tags: Vec<u32> = (0..corners.len())
+            .map(|i| tags.get(i).copied().unwrap_or(0))
+            .collect();
         use std::time::Instant;
         let (lo, hi) = corners.iter().flatten().fold(
             (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
@@ -165,7 +184,12 @@ impl Bvh {
                 .iter()
                 .map(|&i| triangles[i as usize])
                 .collect();
-            crate::wide_bvh::WideBvh::from_cwbvh(&cwbvh, &slot_triangles, &cwbvh.primitive_indices)
+            crate::wide_bvh::WideBvh::from_cwbvh(
+                &cwbvh,
+                &slot_triangles,
+                &cwbvh.primitive_indices,
+                &tags,
+            )
         } else {
             None
         };
@@ -180,6 +204,7 @@ impl Bvh {
             cwbvh,
             bvh2: std::sync::OnceLock::new(),
             triangles,
+            tags,
             cwbvh_build_time,
             traversal,
         }
@@ -253,13 +278,15 @@ impl Bvh {
             // SAFETY: the CPU has the features, checked just above (a
             // cached atomic load).
             #[allow(unsafe_code)]
-            let (t, triangle, u, v) =
+            let hit =
                 unsafe { crate::wide_bvh::closest_hit(wide, origin, dir, t_max * self.scale) }?;
             return Some(Hit {
-                t: t / self.scale,
-                triangle,
-                u,
-                v,
+                t: hit.t / self.scale,
+                triangle: hit.triangle,
+                u: hit.u,
+                v: hit.v,
+                tag: hit.tag,
+                normal: hit.normal,
             });
         }
         self.intersect_bvh2(origin, dir, t_max)
@@ -287,6 +314,8 @@ impl Bvh {
             triangle: u32::MAX,
             u: 0.0,
             v: 0.0,
+            tag: 0,
+            normal: Vec3A::ZERO,
         };
         let mut stack = [0u32; 64];
         let mut top = 0usize;
@@ -299,13 +328,15 @@ impl Bvh {
                     let i = leaf_triangles[slot as usize];
                     if let Some((t, u, v)) =
                         intersect_triangle(&self.triangles[i as usize], origin, dir)
-                        && t < best.t
+                        && (t < best.t || (t == best.t && i < best.triangle))
                     {
                         best = Hit {
                             t,
                             triangle: i,
                             u,
                             v,
+                            tag: 0,
+                            normal: Vec3A::ZERO,
                         };
                     }
                 }
@@ -340,9 +371,14 @@ impl Bvh {
             top -= 1;
             node = stack[top];
         }
-        (best.triangle != u32::MAX).then_some(Hit {
-            t: best.t / self.scale,
-            ..best
+        (best.triangle != u32::MAX).then(|| {
+            let tri = &self.triangles[best.triangle as usize];
+            Hit {
+                t: best.t / self.scale,
+                tag: self.tags[best.triangle as usize],
+                normal: unit_normal(Vec3A::from_array(tri.e1), Vec3A::from_array(tri.e2)),
+                ..best
+            }
         })
     }
 }

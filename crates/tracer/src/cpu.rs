@@ -6,7 +6,9 @@ use glam::Vec3A;
 use lucerna_photometry::CubeMapLayout;
 use rayon::prelude::*;
 
-use crate::prepared::{EmitterDirections, PreparedScene, kind, sample_emitter_surface};
+use crate::prepared::{
+    EmitterDirections, FLAT_TAG, PreparedScene, TriangleShading, kind, sample_emitter_surface,
+};
 use crate::rng::PhotonRng;
 use crate::sampling::{
     basis, cosine_hemisphere, fresnel_dielectric, ggx_lambda, reflect, sample_ggx_vndf,
@@ -121,14 +123,20 @@ pub fn trace_photon_recorded(
         if bounce == max_bounces {
             return (Fate::CutOff, bounce, rays);
         }
-        let s = &scene.shading[hit.triangle as usize];
-        let m = &scene.materials[s.material as usize];
-        let geometric = Vec3A::from_array(s.geometric_normal);
-        let w = 1.0 - hit.u - hit.v;
-        let shading_normal = (Vec3A::from_slice(&s.n0[..3]) * w
-            + Vec3A::from_slice(&s.n1[..3]) * hit.u
-            + Vec3A::from_slice(&s.n2[..3]) * hit.v)
-            .normalize_or(geometric);
+        // The material and geometric normal come with the hit; a smooth
+        // triangle's vertex normals from its shading record.
+        let m = &scene.materials[TriangleShading::material_of_tag(hit.tag) as usize];
+        let geometric = hit.normal;
+        let shading_normal = if hit.tag & FLAT_TAG != 0 {
+            geometric
+        } else {
+            let s = &scene.shading[hit.triangle as usize];
+            let w = 1.0 - hit.u - hit.v;
+            (Vec3A::from_slice(&s.n0[..3]) * w
+                + Vec3A::from_slice(&s.n1[..3]) * hit.u
+                + Vec3A::from_slice(&s.n2[..3]) * hit.v)
+                .normalize_or(geometric)
+        };
         // Two-sided sheets: both normals face the incoming photon.
         let ng = facing(geometric, dir);
         let ns = if shading_normal.dot(ng) < 0.0 {
@@ -436,6 +444,12 @@ pub fn trace_batch(
     }
 }
 
+/// Escapes held back before they are counted: a 256² map's counts (1.5 MB
+/// per thread) do not stay in cache, and an increment that waits for its
+/// line stalls the photon loop; counted together, with the lines asked for
+/// ahead, the waits overlap.
+const PENDING_ESCAPES: usize = 256;
+
 /// Traces photons `photons` of `iteration` into `counts` and `totals`, one
 /// after another.
 #[inline(always)]
@@ -447,6 +461,8 @@ fn trace_range(
     counts: &mut [u32],
     totals: &mut BatchTotals,
 ) {
+    let mut pending = [0u32; PENDING_ESCAPES];
+    let mut held = 0usize;
     for photon in photons {
         let mut rng = PhotonRng::new(settings.seed, iteration, photon);
         let (fate, bounces, rays) = trace_photon(scene, settings.max_bounces, &mut rng);
@@ -460,10 +476,36 @@ fn trace_range(
                     f64::from(d.y),
                     f64::from(d.z),
                 ]);
-                counts[texel] += 1;
+                pending[held] = texel as u32;
+                held += 1;
+                if held == PENDING_ESCAPES {
+                    count_escapes(counts, &pending);
+                    held = 0;
+                }
             }
             Fate::Absorbed => totals.absorbed += 1,
             Fate::CutOff => totals.cut_off += 1,
         }
+    }
+    count_escapes(counts, &pending[..held]);
+}
+
+/// Adds one to each texel's count, the cache lines of the next few asked
+/// for while one is counted.
+#[inline(always)]
+fn count_escapes(counts: &mut [u32], texels: &[u32]) {
+    const AHEAD: usize = 16;
+    for &t in texels.iter().take(AHEAD) {
+        if let Some(c) = counts.get(t as usize) {
+            crate::wide_traversal::prefetch(c);
+        }
+    }
+    for (i, &t) in texels.iter().enumerate() {
+        if let Some(&ahead) = texels.get(i + AHEAD)
+            && let Some(c) = counts.get(ahead as usize)
+        {
+            crate::wide_traversal::prefetch(c);
+        }
+        counts[t as usize] += 1;
     }
 }

@@ -103,6 +103,26 @@ pub struct TriangleShading {
 }
 const _: () = assert!(std::mem::size_of::<TriangleShading>() == 64);
 
+/// Tag bit of a flat triangle: its three vertex normals are one normal
+/// along its geometric one, so the tracer shades it with the geometric
+/// normal the hit carries and never reads its shading record.
+pub const FLAT_TAG: u32 = 1 << 31;
+
+impl TriangleShading {
+    /// The BVH tag of this triangle: its material, and [`FLAT_TAG`].
+    pub fn tag(&self) -> u32 {
+        let g = Vec3A::from_array(self.geometric_normal);
+        let n0 = Vec3A::from_slice(&self.n0[..3]);
+        let flat = self.n0 == self.n1 && self.n0 == self.n2 && (n0 - g).length() < 1e-5;
+        self.material | if flat { FLAT_TAG } else { 0 }
+    }
+
+    /// The material index without the tag bits.
+    pub fn material_of_tag(tag: u32) -> u32 {
+        tag & !FLAT_TAG
+    }
+}
+
 /// How an emitter chooses directions.
 #[derive(Debug, Clone)]
 pub enum EmitterDirections {
@@ -177,10 +197,7 @@ impl PreparedScene {
             .iter()
             .map(|t| t.map(|i| mesh.positions[i as usize]))
             .collect();
-        let start = Instant::now();
-        let bvh = Bvh::build(&corners);
-        let bvh_build_time = start.elapsed();
-        let shading = (0..mesh.triangles.len())
+        let shading: Vec<TriangleShading> = (0..mesh.triangles.len())
             .map(|i| {
                 let t = mesh.triangles[i];
                 let [a, b, c] = corners[i];
@@ -198,6 +215,10 @@ impl PreparedScene {
                 }
             })
             .collect();
+        let tags: Vec<u32> = shading.iter().map(TriangleShading::tag).collect();
+        let start = Instant::now();
+        let bvh = Bvh::build(&corners, &tags);
+        let bvh_build_time = start.elapsed();
         let materials = tessellated
             .materials
             .iter()

@@ -11,9 +11,13 @@
 //!   its near and far row per axis once, by the signs of its direction,
 //!   so a node test is six fused multiply-adds, four min/max and one
 //!   compare on eight lanes, with no byte unpacking.
-//! - [`TriangleBlock`], 160 bytes: up to four triangles as vertex and two
-//!   edges in SoA rows, tested at once by Möller–Trumbore in four lanes;
-//!   unused lanes are degenerate (zero edges) and never hit.
+//! - [`TriangleBlock`], 192 bytes: up to four triangles as vertex and two
+//!   edges in SoA rows, tested at once by Möller–Trumbore in four lanes
+//!   (unused lanes are degenerate, zero edges, and never hit), then their
+//!   scene indices and tags (the tracer's material and flat-shading flag)
+//!   in the block's last cache line: the hit's geometric normal (from its
+//!   edges) and tag come from lines the test has just read, where a
+//!   separate shading record per triangle cost a cache miss per bounce.
 //!
 //! Traversal is closest-hit with a stack of (reference, entry distance):
 //! hit children are visited nearest first (the farther ones pushed in
@@ -46,15 +50,17 @@ pub struct WideNode {
 const _: () = assert!(std::mem::size_of::<WideNode>() == 224);
 
 /// Up to four triangles of one leaf, SoA.
-#[repr(C, align(32))]
+#[repr(C, align(64))]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TriangleBlock {
     /// Rows v0 x, y, z; e1 x, y, z; e2 x, y, z.
     pub rows: [[f32; 4]; 9],
     /// Scene triangle index per lane (`u32::MAX` in unused lanes).
     pub triangle: [u32; 4],
+    /// The tag [`crate::bvh::Bvh::build`] was given per triangle.
+    pub tag: [u32; 4],
 }
-const _: () = assert!(std::mem::size_of::<TriangleBlock>() == 160);
+const _: () = assert!(std::mem::size_of::<TriangleBlock>() == 192);
 
 /// The float eight-wide BVH the CPU traverses.
 #[derive(Debug, Clone, Default)]
@@ -106,6 +112,7 @@ impl WideBvh {
         cwbvh: &obvhs::cwbvh::CwBvh,
         slot_triangles: &[BvhTriangle],
         slot_scene_triangle: &[u32],
+        tags: &[u32],
     ) -> Option<WideBvh> {
         let count = cwbvh.nodes.len();
         if count == 0 || slot_triangles.len() != slot_scene_triangle.len() {
@@ -213,7 +220,7 @@ impl WideBvh {
                         pending.push((*c, Some((out_index as usize, slot)), depth + 1));
                     }
                     Child::Leaf(leaf) => {
-                        let block = pack_block(slot_triangles, slot_scene_triangle, leaf)?;
+                        let block = pack_block(slot_triangles, slot_scene_triangle, tags, leaf)?;
                         bvh.blocks.push(block);
                         bvh.nodes[out_index as usize].children[slot] =
                             LEAF | (bvh.blocks.len() as u32 - 1);
@@ -359,10 +366,12 @@ pub(crate) fn outward_up(x: f64) -> f32 {
     (x + margin(x)) as f32
 }
 
-/// Packs leaf slots (at most four) into a block.
+/// Packs leaf slots (at most four) into a block; `tags` are per scene
+/// triangle.
 fn pack_block(
     slot_triangles: &[BvhTriangle],
     slot_scene_triangle: &[u32],
+    tags: &[u32],
     slots: &[u32],
 ) -> Option<TriangleBlock> {
     if slots.is_empty() || slots.len() > BLOCK_LANES {
@@ -371,6 +380,7 @@ fn pack_block(
     let mut block = TriangleBlock {
         rows: [[0.0; 4]; 9],
         triangle: [u32::MAX; 4],
+        tag: [0; 4],
     };
     for (lane, &slot) in slots.iter().enumerate() {
         let t = slot_triangles.get(slot as usize)?;
@@ -379,7 +389,9 @@ fn pack_block(
             block.rows[3 + axis][lane] = t.e1[axis];
             block.rows[6 + axis][lane] = t.e2[axis];
         }
-        block.triangle[lane] = *slot_scene_triangle.get(slot as usize)?;
+        let triangle = *slot_scene_triangle.get(slot as usize)?;
+        block.triangle[lane] = triangle;
+        block.tag[lane] = *tags.get(triangle as usize)?;
     }
     Some(block)
 }
@@ -396,18 +408,26 @@ fn safe_reciprocal(x: f32) -> f32 {
     }
 }
 
-/// Closest hit in BVH units: (t, scene triangle, u, v), t in (0, t_max).
+/// A closest hit in BVH units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WideHit {
+    pub t: f32,
+    /// Scene triangle index.
+    pub triangle: u32,
+    pub u: f32,
+    pub v: f32,
+    pub tag: u32,
+    /// Unit geometric normal, [`crate::bvh::unit_normal`] of its edges.
+    pub normal: Vec3A,
+}
+
+/// Closest hit in BVH units, t in (0, t_max).
 ///
 /// # Safety
 /// The CPU must have AVX2 and FMA ([`crate::wide_traversal::available`]).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,bmi1")]
-pub unsafe fn closest_hit(
-    bvh: &WideBvh,
-    origin: Vec3A,
-    dir: Vec3A,
-    t_max: f32,
-) -> Option<(f32, u32, f32, f32)> {
+pub unsafe fn closest_hit(bvh: &WideBvh, origin: Vec3A, dir: Vec3A, t_max: f32) -> Option<WideHit> {
     use std::arch::x86_64::*;
     use std::mem::MaybeUninit;
 
@@ -428,6 +448,8 @@ pub unsafe fn closest_hit(
 
     let mut t_best = t_max;
     let mut best: Option<(f32, u32, f32, f32)> = None;
+    // The block and lane of the best hit, for its tag and normal.
+    let mut best_at: (usize, usize) = (0, 0);
     // Entries are written before they are read (`sp` counts them).
     let mut stack_ref: [MaybeUninit<u32>; STACK_ENTRIES] = [MaybeUninit::uninit(); STACK_ENTRIES];
     let mut stack_dist: [MaybeUninit<f32>; STACK_ENTRIES] = [MaybeUninit::uninit(); STACK_ENTRIES];
@@ -540,6 +562,7 @@ pub unsafe fn closest_hit(
                     if best.is_none_or(|(bt, bi, _, _)| t < bt || triangle < bi) {
                         t_best = t;
                         best = Some((t, triangle, u, v));
+                        best_at = ((current & !LEAF) as usize, lane);
                     }
                 }
             }
@@ -555,8 +578,25 @@ pub unsafe fn closest_hit(
                 }
             }
         }
+        let (t, triangle, u, v) = best?;
+        let (block, lane) = best_at;
+        let block = bvh.blocks.get_unchecked(block);
+        let edge = |r: usize| {
+            Vec3A::new(
+                *block.rows.get_unchecked(r).get_unchecked(lane),
+                *block.rows.get_unchecked(r + 1).get_unchecked(lane),
+                *block.rows.get_unchecked(r + 2).get_unchecked(lane),
+            )
+        };
+        Some(WideHit {
+            t,
+            triangle,
+            u,
+            v,
+            tag: *block.tag.get_unchecked(lane),
+            normal: crate::bvh::unit_normal(edge(3), edge(6)),
+        })
     }
-    best
 }
 
 /// The nearest of a block's triangles hit at or before `t_best`, the lower
@@ -652,6 +692,6 @@ unsafe fn block_hit(
 /// # Safety
 /// Never to be called: it panics.
 #[cfg(not(target_arch = "x86_64"))]
-pub unsafe fn closest_hit(_: &WideBvh, _: Vec3A, _: Vec3A, _: f32) -> Option<(f32, u32, f32, f32)> {
+pub unsafe fn closest_hit(_: &WideBvh, _: Vec3A, _: Vec3A, _: f32) -> Option<WideHit> {
     unreachable!("wide_traversal::available() is false off x86-64")
 }

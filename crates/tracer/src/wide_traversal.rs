@@ -35,3 +35,19 @@ pub fn with_best_features<R>(work: impl FnOnce() -> R) -> R {
 unsafe fn with_avx2<R>(work: impl FnOnce() -> R) -> R {
     work()
 }
+
+/// Asks the CPU to start loading `value`'s cache line, so that a later
+/// access does not wait for memory.
+#[inline(always)]
+pub fn prefetch<T>(value: &T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch of a valid reference reads nothing and cannot
+    // fault; SSE is part of x86-64.
+    unsafe {
+        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
+            std::ptr::from_ref(value).cast::<i8>(),
+        );
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = value;
+}

@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use glam::Vec3A;
-use lucerna_tracer::bvh::{CpuTraversal, intersect_triangle};
+use lucerna_tracer::bvh::{CpuTraversal, intersect_triangle, unit_normal};
 use lucerna_tracer::rng::PhotonRng;
 
 #[test]
@@ -63,9 +63,20 @@ fn both_hierarchies_agree_with_brute_force() {
                     intersect_triangle(tri, o * bvh.scale, d).map(|h| (h.0 / bvh.scale, i as u32))
                 })
                 .min_by(|a, b| a.0.total_cmp(&b.0));
-            let cw = bvh
-                .intersect(o, d, f32::INFINITY)
-                .map(|h| (h.t, h.triangle));
+            let full = bvh.intersect(o, d, f32::INFINITY);
+            // A hit carries its triangle's tag and normal, whatever the
+            // traversal.
+            if let Some(h) = full {
+                let tri = &bvh.triangles[h.triangle as usize];
+                assert_eq!(h.tag, bvh.tags[h.triangle as usize], "{name}: tag");
+                assert_eq!(
+                    h.normal,
+                    unit_normal(Vec3A::from_array(tri.e1), Vec3A::from_array(tri.e2)),
+                    "{name}: normal"
+                );
+                assert_eq!(h.tag, p.shading[h.triangle as usize].tag(), "{name}: tag");
+            }
+            let cw = full.map(|h| (h.t, h.triangle));
             let b2 = bvh
                 .intersect_bvh2(o, d, f32::INFINITY)
                 .map(|h| (h.t, h.triangle));

@@ -9,8 +9,9 @@ use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use lucerna_photometry::{CPlaneSymmetry, IesVersion};
 use lucerna_simulation::{
-    BackendRequest, ExportFormats, ExportOptions, ExportRequest, FilterChoice, Luminaire, RunState,
-    SettingsError, Simulation, SimulationSettings, Snapshot, StopReason, StoppingRule, TableGrid,
+    BackendRequest, ExportFormats, ExportOptions, ExportRequest, FilterChoice, Luminaire, Pace,
+    RunState, SettingsError, Simulation, SimulationSettings, Snapshot, StopReason, StoppingRule,
+    TableGrid,
 };
 
 /// The C-plane symmetry the files declare (the table is averaged over it,
@@ -283,7 +284,6 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
             symmetry.order()
         );
     }
-    let scene_dir = luminaire.scene_dir.clone();
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create output directory {}", args.out.display()))?;
 
@@ -294,7 +294,9 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
         // then Ctrl+C simply ends the process.
         let _ = ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst));
     }
-    let simulation = Simulation::start(luminaire.scene, &scene_dir, settings, || {})?;
+    // The luminaire loaded above is the one traced (not prepared twice),
+    // in long iterations with a snapshot a second for the progress bar.
+    let simulation = Simulation::start_prepared(Arc::new(luminaire), settings, Pace::BATCH, || {})?;
     let bar = match settings.stop.photons {
         Some(n) => ProgressBar::new(n),
         None => ProgressBar::new_spinner(),

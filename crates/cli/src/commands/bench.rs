@@ -161,7 +161,7 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
                 .iter()
                 .map(|t| t.map(|i| mesh.positions[i as usize]))
                 .collect();
-            let bvh = Bvh::build(&corners);
+            let bvh = Bvh::build(&corners, &[]);
             println!(
                 "{:>10} {:>12.1} {:>12.1}",
                 corners.len(),
