@@ -1,6 +1,7 @@
 //! The window: the panels around the views, one frame at a time.
 
 use crate::benchmark::Benchmark;
+use crate::drag_benchmark::DragBenchmark;
 use crate::export_dialog::{ExportDialog, export_dialog_ui};
 use crate::files_bar::files_bar_ui;
 use crate::scene_panel::scene_panel_ui;
@@ -17,6 +18,7 @@ pub struct EditorApp {
     export: ExportDialog,
     viewport: Viewport,
     benchmark: Option<Benchmark>,
+    drag_benchmark: Option<DragBenchmark>,
 }
 
 impl EditorApp {
@@ -33,6 +35,7 @@ impl EditorApp {
             export: ExportDialog::default(),
             viewport: Viewport::new(target),
             benchmark: None,
+            drag_benchmark: None,
         }
     }
 
@@ -60,9 +63,19 @@ impl EditorApp {
         self
     }
 
+    /// Drags the main part's main parameter for `drag`, measured
+    /// ([`DragBenchmark`]), then closes.
+    pub fn with_drag_benchmark(mut self, drag: std::time::Duration) -> Self {
+        self.drag_benchmark = Some(DragBenchmark::new(drag));
+        self
+    }
+
     /// The benchmark's figures, if one ran.
     pub fn benchmark_report(&self) -> Option<String> {
-        self.benchmark.as_ref().map(Benchmark::report)
+        self.benchmark
+            .as_ref()
+            .map(Benchmark::report)
+            .or_else(|| self.drag_benchmark.as_ref().map(DragBenchmark::report))
     }
 
     pub fn viewport(&self) -> &Viewport {
@@ -92,6 +105,16 @@ impl EditorApp {
                 // Frames come as in use; the next edit is due within 2 s.
                 ctx.request_repaint_after(std::time::Duration::from_millis(250));
             }
+        }
+        if let Some(b) = &mut self.drag_benchmark {
+            b.begin_frame(&mut self.state, frame_start);
+            if b.is_finished() {
+                self.state.push(crate::state::Command::QuitDiscarding);
+            } else {
+                // A dragging hand moves the pointer every frame.
+                ctx.request_repaint();
+            }
+            self.state.scripted_pointer = b.holds_pointer();
         }
         egui::Panel::top("files")
             .show(ui, |ui| files_bar_ui(ui, &mut self.state, &mut self.export));

@@ -7,6 +7,7 @@
 
 mod app;
 mod benchmark;
+pub mod drag_benchmark;
 mod colour;
 mod config;
 mod dialogs;
@@ -119,6 +120,9 @@ pub struct RunOptions {
     pub benchmark: Option<std::time::Duration>,
     /// In a benchmark, repaint every frame (as while dragging).
     pub continuous: bool,
+    /// Run the drag benchmark, dragging for this long, then print the
+    /// figures and close.
+    pub drag_benchmark: Option<std::time::Duration>,
 }
 
 /// Opens the editor's window and runs until it closes.
@@ -141,15 +145,17 @@ pub fn run(options: RunOptions) -> Result<(), RunEditorError> {
     };
     let mut state = EditorState::with_paths(options.scene, settings, EditorPaths::user());
     state.view = options.view;
-    let (benchmark, continuous) = (options.benchmark, options.continuous);
+    let (benchmark, continuous, drag) =
+        (options.benchmark, options.continuous, options.drag_benchmark);
     eframe::run_native(
         "Lucerna editor",
         native,
         Box::new(move |cc| {
             let app = EditorApp::from_creation(cc, state);
-            Ok(Box::new(match benchmark {
-                Some(d) => app.with_benchmark(d, continuous),
-                None => app,
+            Ok(Box::new(match (benchmark, drag) {
+                (Some(d), _) => app.with_benchmark(d, continuous),
+                (None, Some(d)) => app.with_drag_benchmark(d),
+                (None, None) => app,
             }))
         }),
     )

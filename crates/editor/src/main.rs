@@ -1,55 +1,72 @@
-//! `lucerna-editor [--view NAME] [--benchmark SECONDS [--continuous]]
-//! [SCENE.toml]`: the editor's window (also reached through `lucerna
-//! edit`). Prints the error chain as `lucerna` does.
+//! `lucerna-editor [SCENE.toml]`: the editor's window (also reached through
+//! `lucerna edit`), and its benchmarks. Prints the error chain as `lucerna`
+//! does.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Duration;
 
+use clap::{Parser, ValueEnum};
 use lucerna_editor::{RunOptions, View};
 
-const USAGE: &str = "usage: lucerna-editor [--view polar|cartesian|isocandela|cube|figures|room] \
-                     [--benchmark SECONDS [--continuous]] [SCENE.toml]";
+/// The Lucerna editor: model a luminaire, watch its light distribution
+/// converge, see a room lit by it, export IES and EULUMDAT files.
+#[derive(Debug, Parser)]
+#[command(name = "lucerna-editor", version)]
+struct Args {
+    /// The scene file to open.
+    scene: Option<PathBuf>,
+    /// The photometric view shown first.
+    #[arg(long, value_enum, default_value_t = FirstView::Polar)]
+    view: FirstView,
+    /// Run the frame-time benchmark for SECONDS (a scripted edit every
+    /// 2 s), print its figures and close.
+    #[arg(long, value_name = "SECONDS", value_parser = seconds, conflicts_with = "benchmark_drag")]
+    benchmark: Option<Duration>,
+    /// In the frame-time benchmark, repaint every frame (as while
+    /// dragging).
+    #[arg(long, requires = "benchmark")]
+    continuous: bool,
+    /// Run the drag benchmark: drag the main part's main parameter for
+    /// SECONDS, one change a frame, then release; print preview age,
+    /// previews per second, release to full resolution, frame interval.
+    #[arg(long, value_name = "SECONDS", value_parser = seconds)]
+    benchmark_drag: Option<Duration>,
+}
 
-fn parse() -> Result<RunOptions, String> {
-    let mut options = RunOptions::default();
-    let mut args = std::env::args_os().skip(1);
-    while let Some(arg) = args.next() {
-        if arg == "--benchmark" {
-            let seconds = args
-                .next()
-                .and_then(|s| s.to_str().and_then(|s| s.parse::<f64>().ok()))
-                .filter(|s| s.is_finite() && (1.0..=3600.0).contains(s))
-                .ok_or("--benchmark takes a duration in seconds (1 to 3600)")?;
-            options.benchmark = Some(Duration::from_secs_f64(seconds));
-        } else if arg == "--continuous" {
-            options.continuous = true;
-        } else if arg == "--view" {
-            options.view = match args.next().as_ref().and_then(|s| s.to_str()) {
-                Some("polar") => View::Polar,
-                Some("cartesian") => View::Cartesian,
-                Some("isocandela") => View::Isocandela,
-                Some("cube") => View::CubeMap,
-                Some("figures") => View::Figures,
-                Some("room") => View::Room,
-                _ => return Err(USAGE.to_owned()),
-            };
-        } else if options.scene.is_none() && !arg.to_string_lossy().starts_with("--") {
-            options.scene = Some(PathBuf::from(arg));
-        } else {
-            return Err(USAGE.to_owned());
-        }
-    }
-    Ok(options)
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum FirstView {
+    Polar,
+    Cartesian,
+    Isocandela,
+    Cube,
+    Figures,
+    Room,
+}
+
+fn seconds(s: &str) -> Result<Duration, String> {
+    s.parse::<f64>()
+        .ok()
+        .filter(|s| s.is_finite() && (1.0..=3600.0).contains(s))
+        .map(Duration::from_secs_f64)
+        .ok_or_else(|| format!("'{s}' is not a duration in seconds (1 to 3600)"))
 }
 
 fn main() -> ExitCode {
-    let options = match parse() {
-        Ok(options) => options,
-        Err(message) => {
-            eprintln!("error: {message}");
-            return ExitCode::FAILURE;
-        }
+    let args = Args::parse();
+    let options = RunOptions {
+        scene: args.scene,
+        view: match args.view {
+            FirstView::Polar => View::Polar,
+            FirstView::Cartesian => View::Cartesian,
+            FirstView::Isocandela => View::Isocandela,
+            FirstView::Cube => View::CubeMap,
+            FirstView::Figures => View::Figures,
+            FirstView::Room => View::Room,
+        },
+        benchmark: args.benchmark,
+        continuous: args.continuous,
+        drag_benchmark: args.benchmark_drag,
     };
     match lucerna_editor::run(options) {
         Ok(()) => ExitCode::SUCCESS,

@@ -110,6 +110,9 @@ pub struct EditorState {
     undoer: Undoer<Scene>,
     /// A pointer drag or text entry is changing the scene: one undo step.
     gesture: bool,
+    /// A scripted pointer is held down (the drag benchmark and tests): the
+    /// edits it makes are a drag's.
+    pub(crate) scripted_pointer: bool,
     /// The last valid scene handed to the simulation.
     sent: Option<Scene>,
     sim: Option<Simulation>,
@@ -171,6 +174,7 @@ impl EditorState {
                 ..UndoSettings::default()
             }),
             gesture: false,
+            scripted_pointer: false,
             sent: None,
             sim: None,
             settings,
@@ -298,7 +302,7 @@ impl EditorState {
     /// edit opens an undo step unless a gesture already holds one, and a
     /// valid scene goes to the simulation at once.
     pub(crate) fn end_frame(&mut self, ctx: &egui::Context, before: Option<Scene>) {
-        let dragging = ctx.input(|i| i.pointer.any_down());
+        let dragging = ctx.input(|i| i.pointer.any_down()) || self.scripted_pointer;
         let held = dragging || ctx.egui_wants_keyboard_input();
         if self.scene != before {
             if let Some(before) = &before
