@@ -2,7 +2,8 @@
 //! measured in the real window. After the first preview and 1.5 s of
 //! settling, a scripted drag changes one generator parameter of the
 //! luminaire's main part every frame for SECONDS (a ramp to 92 % of its
-//! value, as a hand drags a focal length down), exactly as a held
+//! value, as a hand drags a focal length down; a trough 5 mm deeper; a
+//! mesh part 5 mm lower), exactly as a held
 //! DragValue does (the editor sees a pointer gesture: coarse preview, one
 //! undo step); then it is released and the benchmark waits for the first
 //! preview at the chosen resolution. Printed at the end:
@@ -28,11 +29,13 @@ const RAMP_TO: f64 = 0.92;
 /// What the drag changes.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum DragTarget {
-    /// A scalar shape parameter of part `part`, named as the panel names it.
+    /// A scalar shape parameter of part `part`, named as the panel names
+    /// it, from `start` to `end`.
     Parameter {
         part: usize,
         name: &'static str,
         start: f64,
+        end: f64,
     },
     /// The part's height (a mesh has no generator parameter).
     Height { part: usize, start: f64 },
@@ -54,12 +57,27 @@ impl DragTarget {
             .iter()
             .enumerate()
             .min_by_key(|(_, p)| rank(&p.shape))?;
-        let parameter = |name, start| DragTarget::Parameter { part, name, start };
+        let parameter = |name, start: f64| DragTarget::Parameter {
+            part,
+            name,
+            start,
+            end: start * RAMP_TO,
+        };
         Some(match &p.shape {
             Shape::Paraboloid(s) => parameter("focal length", s.focal_length),
             Shape::Ellipsoid(s) => parameter("focal distance", s.focal_distance),
             Shape::Revolved(s) => parameter("profile point radius", middle_point(&s.profile)?[0]),
-            Shape::Extruded(s) => parameter("profile point x", middle_point(&s.profile)?[0]),
+            // A trough's middle point sits on its axis (x = 0): deepen it
+            // by 5 mm instead.
+            Shape::Extruded(s) => {
+                let z = middle_point(&s.profile)?[1];
+                DragTarget::Parameter {
+                    part,
+                    name: "profile point z",
+                    start: z,
+                    end: z - 0.005,
+                }
+            }
             Shape::Dome(s) => parameter("height", s.height),
             Shape::Louvre(s) => parameter("spacing", s.spacing),
             Shape::Cylinder(s) => parameter("radius", s.radius),
@@ -75,18 +93,20 @@ impl DragTarget {
     /// Sets the dragged value to `fraction` of the way from its start to
     /// its end.
     pub fn set(&self, scene: &mut Scene, fraction: f64) {
-        let at = |start: f64| start * (1.0 + (RAMP_TO - 1.0) * fraction.clamp(0.0, 1.0));
+        let fraction = fraction.clamp(0.0, 1.0);
         match *self {
-            DragTarget::Parameter { part, start, .. } => {
+            DragTarget::Parameter {
+                part, start, end, ..
+            } => {
                 let Some(p) = scene.parts.get_mut(part) else {
                     return;
                 };
-                let value = at(start);
+                let value = start + (end - start) * fraction;
                 match &mut p.shape {
                     Shape::Paraboloid(s) => s.focal_length = value,
                     Shape::Ellipsoid(s) => s.focal_distance = value,
-                    Shape::Revolved(s) => set_middle_point(&mut s.profile, value),
-                    Shape::Extruded(s) => set_middle_point(&mut s.profile, value),
+                    Shape::Revolved(s) => set_middle_point(&mut s.profile, 0, value),
+                    Shape::Extruded(s) => set_middle_point(&mut s.profile, 1, value),
                     Shape::Dome(s) => s.height = value,
                     Shape::Louvre(s) => s.spacing = value,
                     Shape::Cylinder(s) => s.radius = value,
@@ -98,7 +118,7 @@ impl DragTarget {
             DragTarget::Height { part, start } => {
                 if let Some(p) = scene.parts.get_mut(part) {
                     // 5 mm down over the drag.
-                    p.transform.translate[2] = start - 0.005 * fraction.clamp(0.0, 1.0);
+                    p.transform.translate[2] = start - 0.005 * fraction;
                 }
             }
         }
@@ -118,10 +138,10 @@ fn middle_point(profile: &[[f64; 2]]) -> Option<[f64; 2]> {
     profile.get(profile.len() / 2).copied()
 }
 
-fn set_middle_point(profile: &mut [[f64; 2]], value: f64) {
+fn set_middle_point(profile: &mut [[f64; 2]], coordinate: usize, value: f64) {
     let middle = profile.len() / 2;
     if let Some(p) = profile.get_mut(middle) {
-        p[0] = value;
+        p[coordinate] = value;
     }
 }
 
