@@ -41,14 +41,21 @@ impl EditorApp {
 
     /// An editor for eframe's creation context: its wgpu target, if any.
     pub fn from_creation(cc: &eframe::CreationContext<'_>, state: EditorState) -> Self {
-        let target = cc
-            .wgpu_render_state
-            .as_ref()
-            .map(|rs| GpuTarget::new(&rs.adapter, rs.target_format));
         let software = cc
             .wgpu_render_state
             .as_ref()
             .is_some_and(|rs| rs.adapter.get_info().device_type == eframe::wgpu::DeviceType::Cpu);
+        let target = cc.wgpu_render_state.as_ref().map(|rs| {
+            let mut target = GpuTarget::new(&rs.adapter, rs.target_format);
+            if software {
+                // A software rasteriser's 4x MSAA of the 3D view cost
+                // 12-20 ms of a ~110 ms frame while a drag re-renders it
+                // every frame (drag benchmark, parabolic spot); the
+                // tracer shares those cores.
+                target.picture_samples = 1;
+            }
+            target
+        });
         if software {
             state.pacer.software_rasteriser();
         }

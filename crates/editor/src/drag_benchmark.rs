@@ -7,8 +7,12 @@
 //! DragValue does (the editor sees a pointer gesture: coarse preview, one
 //! undo step); then it is released and the benchmark waits for the first
 //! preview at the chosen resolution. Printed at the end:
-//! - preview age: for every frame of the drag, the time since the edit
-//!   whose snapshot the frame shows was made (median, p95);
+//! - drag start to the first frame showing a preview of the drag;
+//! - preview age: for every frame of the drag from then on, the time since
+//!   the edit whose snapshot the frame shows was made (median, p95);
+//! - preview lag: for every frame of the drag, the time since the shown
+//!   snapshot went out of date (the first edit it does not show; zero
+//!   while it shows the newest);
 //! - distinct previews shown per second during the drag;
 //! - release to the first full-resolution preview;
 //! - the frame interval during the drag (median, p95) and the longest.
@@ -149,11 +153,18 @@ fn set_middle_point(profile: &mut [[f64; 2]], coordinate: usize, value: f64) {
 enum Phase {
     /// Until the first snapshot.
     Loading,
-    Settling { since: Instant },
-    Dragging { since: Instant },
+    Settling {
+        since: Instant,
+    },
+    Dragging {
+        since: Instant,
+    },
     /// Released at `at`; waiting for generation `generation` at full
     /// resolution.
-    Released { at: Instant, generation: u64 },
+    Released {
+        at: Instant,
+        generation: u64,
+    },
     Done,
 }
 
@@ -172,7 +183,11 @@ pub struct DragBenchmark {
     /// generation.
     edited_at: Option<Instant>,
     last_shown: Option<(u64, u32)>,
+    /// The newest generation before the drag.
+    before_drag: u64,
+    first_drag_preview: Option<Duration>,
     ages: Vec<Duration>,
+    lags: Vec<Duration>,
     distinct: u32,
     drag_intervals: Vec<Duration>,
     longest_frame: Duration,
@@ -193,7 +208,10 @@ impl DragBenchmark {
             last_generation: 0,
             edited_at: None,
             last_shown: None,
+            before_drag: 0,
+            first_drag_preview: None,
             ages: Vec::new(),
+            lags: Vec::new(),
             distinct: 0,
             drag_intervals: Vec::new(),
             longest_frame: Duration::ZERO,
@@ -232,7 +250,9 @@ impl DragBenchmark {
         self.edited_at = None;
         let interval = self.last_frame.map(|last| now - last);
         self.last_frame = Some(now);
-        let shown = state.snapshot().map(|s| (s.generation, s.iteration, s.map.layout.resolution));
+        let shown = state
+            .snapshot()
+            .map(|s| (s.generation, s.iteration, s.map.layout.resolution));
         match self.phase {
             Phase::Loading => {
                 if shown.is_some() {
@@ -249,6 +269,7 @@ impl DragBenchmark {
                             .target
                             .map_or("nothing to drag".to_owned(), |t| t.describe(scene));
                     }
+                    self.before_drag = self.last_generation;
                     self.phase = Phase::Dragging { since: now };
                 }
             }
@@ -258,9 +279,23 @@ impl DragBenchmark {
                     self.longest_frame = self.longest_frame.max(interval);
                 }
                 if let Some((g, iteration, _)) = shown {
-                    if let Some(at) = self.sent_at(g) {
+                    if g > self.before_drag && self.first_drag_preview.is_none() {
+                        self.first_drag_preview = Some(now - since);
+                    }
+                    if self.first_drag_preview.is_some()
+                        && let Some(at) = self.sent_at(g)
+                    {
                         self.ages.push(now.saturating_duration_since(at));
                     }
+                    // Out of date since the first edit after its own.
+                    let outdated = self
+                        .sent
+                        .iter()
+                        .find(|(sent, _)| *sent > g)
+                        .map(|&(_, at)| at);
+                    self.lags.push(
+                        outdated.map_or(Duration::ZERO, |at| now.saturating_duration_since(at)),
+                    );
                     if self.last_shown != Some((g, iteration)) {
                         self.distinct += 1;
                         self.last_shown = Some((g, iteration));
@@ -325,12 +360,22 @@ impl DragBenchmark {
             (at(0.5), at(0.95), v.len())
         };
         let (age_median, age_p95, frames) = quantiles(&self.ages);
+        let (lag_median, lag_p95, lag_frames) = quantiles(&self.lags);
         let (interval_median, interval_p95, _) = quantiles(&self.drag_intervals);
+        let first = self
+            .first_drag_preview
+            .map_or("none".to_owned(), |d| format!("{:.0} ms", ms(d)));
         let release = self
             .release_to_full
             .map_or("not within 5 s".to_owned(), |d| format!("{:.0} ms", ms(d)));
         format!(
-            "dragged: {}\npreview age during the drag: median {age_median:.0} ms, p95 {age_p95:.0} ms over {frames} frames\ndistinct previews shown: {:.1} per second\nrelease to full-resolution preview: {release}{}\nframe interval during the drag: median {interval_median:.0} ms, p95 {interval_p95:.0} ms, longest {:.0} ms",
+            "dragged: {}
+drag start to its first preview: {first}
+preview age during the drag: median {age_median:.0} ms, p95 {age_p95:.0} ms over {frames} frames
+preview lag during the drag: median {lag_median:.0} ms, p95 {lag_p95:.0} ms over {lag_frames} frames
+distinct previews shown: {:.1} per second
+release to full-resolution preview: {release}{}
+frame interval during the drag: median {interval_median:.0} ms, p95 {interval_p95:.0} ms, longest {:.0} ms",
             self.described,
             f64::from(self.distinct) / self.drag.as_secs_f64(),
             if self.released_value_shown {

@@ -7,10 +7,10 @@
 
 mod app;
 mod benchmark;
-pub mod drag_benchmark;
 mod colour;
 mod config;
 mod dialogs;
+pub mod drag_benchmark;
 mod export_dialog;
 mod files;
 mod files_bar;
@@ -145,8 +145,11 @@ pub fn run(options: RunOptions) -> Result<(), RunEditorError> {
     };
     let mut state = EditorState::with_paths(options.scene, settings, EditorPaths::user());
     state.view = options.view;
-    let (benchmark, continuous, drag) =
-        (options.benchmark, options.continuous, options.drag_benchmark);
+    let (benchmark, continuous, drag) = (
+        options.benchmark,
+        options.continuous,
+        options.drag_benchmark,
+    );
     eframe::run_native(
         "Lucerna editor",
         native,

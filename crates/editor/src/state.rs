@@ -530,6 +530,15 @@ impl EditorState {
     }
 
     fn start_simulation(&mut self, scene: Scene, dir: &Path) {
+        // A drag's coarse preview must not wait for its resolution's
+        // first-time tables (250 ms in the window, measured).
+        let coarse = coarse_preview(self.settings);
+        let _ = std::thread::Builder::new()
+            .name("lucerna-prepare".to_owned())
+            .spawn(move || {
+                crate::lower_this_threads_priority();
+                lucerna_simulation::prepare_snapshots(&coarse);
+            });
         let ctx = self.ctx.clone();
         let pacer = self.pacer.clone();
         let repaint = move || {

@@ -426,6 +426,63 @@ fn a_drag_is_one_undo_step() {
     assert!((focal_length(&h) - dragged).abs() < 1e-12);
 }
 
+/// The core gesture: while a drag changes the focal length frame after
+/// frame (over a second, as a hand does), the views keep showing newer
+/// previews of it, not one frozen snapshot, and after the release they end
+/// on the released value at the chosen resolution.
+#[test]
+fn a_drag_previews_live_and_ends_on_the_released_value() {
+    let mut h = editor(Some(example()));
+    wait_for(&mut h, "the first run", |s| {
+        s.generation == 0 && s.photons > 0
+    });
+    select_reflector(&mut h);
+    let before_drag = h.state().state.simulation().unwrap().generation();
+    let start = h.get_by_label("Focal length").rect().center();
+    let button = |pos, pressed| egui::Event::PointerButton {
+        pos,
+        button: egui::PointerButton::Primary,
+        pressed,
+        modifiers: egui::Modifiers::NONE,
+    };
+    h.event(egui::Event::PointerMoved(start));
+    h.step();
+    h.event(button(start, true));
+    h.step();
+    let mut pos = start;
+    let mut shown = Vec::new();
+    for _ in 0..50 {
+        pos.x += 2.0;
+        h.event(egui::Event::PointerMoved(pos));
+        h.step();
+        if let Some(s) = h.state().state.snapshot() {
+            shown.push(s.generation);
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let during: Vec<u64> = {
+        let mut g: Vec<u64> = shown.iter().copied().filter(|&g| g > before_drag).collect();
+        g.dedup();
+        g
+    };
+    assert!(
+        during.len() >= 3,
+        "the previews froze during the drag: generations shown {shown:?}"
+    );
+    assert!(
+        h.state().state.is_coarse_preview(),
+        "a drag previews at the coarse resolution"
+    );
+    h.event(button(pos, false));
+    h.step();
+    let released = h.state().state.scene().cloned().expect("a scene");
+    let last = wait_for(&mut h, "the released value at full resolution", |s| {
+        s.map.layout.resolution == 64 && s.luminaire.scene == released && s.photons > 0
+    });
+    assert!(last.generation > *during.last().unwrap());
+    assert!(!h.state().state.is_coarse_preview());
+}
+
 #[test]
 fn settings_restart_the_run_and_pause_pauses_it() {
     let mut h = editor(Some(example()));

@@ -25,7 +25,7 @@ pub use export::{
 pub use live_filter::LiveFilter;
 pub use lucerna_gpu::BackendRequest;
 pub use luminaire::Luminaire;
-pub use run::{Run, bake};
+pub use run::{Run, bake, prepare_snapshots};
 pub use settings::{FilterChoice, SettingsError, SimulationSettings, StoppingRule, TableGrid};
 pub use snapshot::{FilterSummary, Noise, RunState, Snapshot, StopReason};
 pub use worker::{Pace, Published, Simulation};

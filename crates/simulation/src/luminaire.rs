@@ -1,8 +1,10 @@
 //! A luminaire scene loaded, tessellated and prepared for tracing, once.
 
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
 use lucerna_scene::{Scene, TessellatedScene, load_scene, tessellate};
+use lucerna_tracer::bvh::BvhQuality;
 use lucerna_tracer::{LuminaireSymmetry, PreparedScene, luminaire_symmetry};
 
 use crate::SimulationError;
@@ -16,27 +18,76 @@ pub struct Luminaire {
     pub scene_dir: PathBuf,
     pub tessellated: TessellatedScene,
     pub prepared: PreparedScene,
-    pub symmetry: LuminaireSymmetry,
+    /// Found once: at once by [`Luminaire::new`], later (on another
+    /// thread) for [`Luminaire::for_edit`]'s.
+    symmetry: OnceLock<LuminaireSymmetry>,
 }
 
 impl Luminaire {
-    /// Tessellates and prepares `scene` (validated by its loader or editor).
+    /// Tessellates and prepares `scene` (validated by its loader or
+    /// editor), its symmetry found.
     pub fn new(scene: Scene, scene_dir: &Path) -> Result<Luminaire, SimulationError> {
+        let Some(luminaire) = Luminaire::build(scene, scene_dir, BvhQuality::Final, &|| false)?
+        else {
+            unreachable!("a build that is never stale finishes");
+        };
+        luminaire.find_symmetry();
+        Ok(luminaire)
+    }
+
+    /// Prepares an edited scene as fast as it can be traced: its BVH at
+    /// [`BvhQuality::Preview`] (on the examples as fast to trace as the
+    /// final one, built in half the time) and its symmetry not yet looked
+    /// for ([`Luminaire::find_symmetry`], which takes longer than the rest
+    /// together: 150 ms of the parabolic spot's 170). `None` if `stale`
+    /// says, once the scene is tessellated, that a newer edit has come: its
+    /// BVH is not built.
+    pub fn for_edit(
+        scene: Scene,
+        scene_dir: &Path,
+        stale: &dyn Fn() -> bool,
+    ) -> Result<Option<Luminaire>, SimulationError> {
+        Luminaire::build(scene, scene_dir, BvhQuality::Preview, stale)
+    }
+
+    fn build(
+        scene: Scene,
+        scene_dir: &Path,
+        quality: BvhQuality,
+        stale: &dyn Fn() -> bool,
+    ) -> Result<Option<Luminaire>, SimulationError> {
         let tessellated = tessellate(&scene, scene_dir)?;
-        let prepared = PreparedScene::new(&scene, &tessellated, scene_dir)?;
-        let symmetry = luminaire_symmetry(&scene, &tessellated);
-        Ok(Luminaire {
+        if stale() {
+            return Ok(None);
+        }
+        // Once the BVH is built the luminaire is shown, even if a newer
+        // edit came meanwhile: edits faster than builds would otherwise
+        // never show anything.
+        let prepared = PreparedScene::with_quality(&scene, &tessellated, scene_dir, quality)?;
+        Ok(Some(Luminaire {
             scene,
             scene_dir: scene_dir.to_path_buf(),
             tessellated,
             prepared,
-            symmetry,
-        })
+            symmetry: OnceLock::new(),
+        }))
     }
 
     /// Loads a scene file and prepares it.
     pub fn load(path: &Path) -> Result<Luminaire, SimulationError> {
         let scene = load_scene(path)?;
         Luminaire::new(scene, path.parent().unwrap_or(Path::new(".")))
+    }
+
+    /// The symmetry about the axis, once it has been found.
+    pub fn symmetry(&self) -> Option<&LuminaireSymmetry> {
+        self.symmetry.get()
+    }
+
+    /// Finds the symmetry (from the triangles, materials and emitters), if
+    /// not yet found, and returns it.
+    pub fn find_symmetry(&self) -> &LuminaireSymmetry {
+        self.symmetry
+            .get_or_init(|| luminaire_symmetry(&self.scene, &self.tessellated))
     }
 }

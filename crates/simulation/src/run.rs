@@ -80,10 +80,11 @@ impl Run {
         backend_reason: String,
     ) -> Run {
         let trace = trace_settings(&settings);
-        let axial = if settings.pool_symmetry {
-            luminaire.symmetry.symmetry
-        } else {
-            AxialSymmetry::None
+        // Pooled over the symmetry once it is known (an edit's is found
+        // while the run goes on: `set_symmetry`).
+        let axial = match luminaire.symmetry() {
+            Some(s) if settings.pool_symmetry => s.symmetry,
+            _ => AxialSymmetry::None,
         };
         let symmetry = TexelSymmetry::new(trace.layout, axial);
         let mut session = Session::with_backend(luminaire.prepared.clone(), trace, backend);
@@ -103,6 +104,30 @@ impl Run {
 
     pub fn settings(&self) -> &SimulationSettings {
         &self.settings
+    }
+
+    /// The symmetry the snapshots pool the photons over.
+    pub fn pooled_symmetry(&self) -> AxialSymmetry {
+        self.symmetry.symmetry
+    }
+
+    /// Photons in the next iteration (later ones are sized to the time
+    /// budget from its rate).
+    pub fn set_first_iteration_photons(&mut self, photons: u32) {
+        self.session.set_next_iteration_photons(photons);
+    }
+
+    /// Pools the photons over the luminaire's symmetry from now on, if the
+    /// settings ask for pooling (found after the run started; the counts
+    /// are pooled when a snapshot is taken, so none is lost).
+    pub fn set_symmetry(&mut self, symmetry: AxialSymmetry) {
+        if !self.settings.pool_symmetry || symmetry == self.symmetry.symmetry {
+            return;
+        }
+        self.symmetry = TexelSymmetry::new(self.session.settings().layout, symmetry);
+        self.session.pool_over(symmetry);
+        // The live filter's last choice was made for the other pooling.
+        self.filter = LiveFilter::new();
     }
 
     pub(crate) fn set_backend_reason(&mut self, reason: String) {
@@ -129,6 +154,25 @@ impl Run {
     /// Changes only when the run stops; the photons so far are kept.
     pub fn set_stopping_rule(&mut self, stop: crate::StoppingRule) {
         self.settings.stop = stop;
+    }
+
+    /// [`Run::step`], given up when `stop` says so (`Ok(None)`: nothing
+    /// traced counts).
+    pub fn step_unless(
+        &mut self,
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> Result<Option<IterationReport>, SimulationError> {
+        let done = self.session.map().photons_emitted;
+        let left = self
+            .settings
+            .stop
+            .photons
+            .map_or(u64::MAX, |p| p.saturating_sub(done));
+        let report = self.session.iterate_at_most_unless(left.max(1), stop)?;
+        if report.is_some() {
+            self.last = report;
+        }
+        Ok(report)
     }
 
     /// Traces one iteration (never past the photon limit).
@@ -293,6 +337,19 @@ pub(crate) fn tabulate(
         &uniform_c_planes(grid.c_step_deg),
         gammas,
     )
+}
+
+/// Builds what the first snapshot at `settings`' resolution and grid
+/// builds once per process (texel solid angles, the table's binning:
+/// 60–250 ms), so that a switch to it — an editor's coarse preview when a
+/// drag starts — does not wait for them.
+pub fn prepare_snapshots(settings: &SimulationSettings) {
+    let layout = CubeMapLayout::new(settings.resolution);
+    let mut map = IntensityMap::new(layout, 1.0);
+    map.counts.fill(1);
+    map.photons_emitted = layout.texel_count() as u64;
+    let candela = map.candela();
+    let _ = tabulate(&mut TableResampler::new(), &map, &candela, settings.table);
 }
 
 fn trace_settings(settings: &SimulationSettings) -> TraceSettings {

@@ -1,7 +1,8 @@
 //! The simulation on its own worker thread: commands in, snapshots out.
 
 use std::path::{Path, PathBuf};
-use std::sync::mpsc::{Receiver, Sender, TryRecvError, channel};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender, TryRecvError, channel};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
@@ -47,6 +48,10 @@ pub struct Published {
     pub error: Option<(u64, Arc<SimulationError>)>,
     /// Set when the worker thread has ended.
     pub gone: bool,
+    /// Edited scenes the worker has tessellated and built a BVH for: a
+    /// burst of edits faster than builds is built a few times, not once
+    /// per edit.
+    pub scenes_built: u64,
 }
 
 type Notify = Box<dyn Fn() + Send>;
@@ -87,6 +92,9 @@ pub struct Simulation {
     commands: Sender<Command>,
     shared: Arc<Shared>,
     generation: u64,
+    /// The newest generation sent, read by the worker to stop building a
+    /// scene a newer edit has replaced.
+    newest: Arc<AtomicU64>,
     settings: SimulationSettings,
     thread: Option<JoinHandle<()>>,
 }
@@ -139,14 +147,22 @@ impl Simulation {
         let (commands, inbox) = channel();
         let shared = Arc::new(Shared::default());
         let worker_shared = shared.clone();
+        let newest = Arc::new(AtomicU64::new(0));
+        let worker_newest = newest.clone();
         commands
             .send(first)
             .map_err(|_| SimulationError::WorkerGone)?;
         let thread = std::thread::Builder::new()
             .name("lucerna-simulation".to_owned())
             .spawn(move || {
-                Worker::new(settings, pace, worker_shared.clone(), Box::new(on_update))
-                    .serve(inbox);
+                Worker::new(
+                    settings,
+                    pace,
+                    worker_shared.clone(),
+                    worker_newest,
+                    Box::new(on_update),
+                )
+                .serve(inbox);
                 worker_shared.lock().gone = true;
                 worker_shared.changed.notify_all();
             })
@@ -155,6 +171,7 @@ impl Simulation {
             commands,
             shared,
             generation: 0,
+            newest,
             settings,
             thread: Some(thread),
         })
@@ -169,6 +186,7 @@ impl Simulation {
     /// will show it.
     pub fn edit(&mut self, scene: Scene, scene_dir: &Path) -> u64 {
         self.generation += 1;
+        self.newest.store(self.generation, Ordering::SeqCst);
         self.send(Command::Edit(
             Box::new(scene),
             scene_dir.to_path_buf(),
@@ -183,6 +201,7 @@ impl Simulation {
         settings.validate()?;
         self.settings = settings;
         self.generation += 1;
+        self.newest.store(self.generation, Ordering::SeqCst);
         self.send(Command::Settings(settings, self.generation));
         Ok(self.generation)
     }
@@ -296,6 +315,7 @@ struct Worker {
     settings: SimulationSettings,
     pace: Pace,
     shared: Arc<Shared>,
+    newest: Arc<AtomicU64>,
     notify: Notify,
     generation: u64,
     luminaire: Option<Arc<Luminaire>>,
@@ -306,6 +326,17 @@ struct Worker {
     finished: bool,
     /// When and how long the last snapshot took to build.
     last_snapshot: Option<(Instant, Duration)>,
+    /// Finds edited luminaires' symmetry while they are traced.
+    symmetry: SymmetryFinder,
+}
+
+/// What the drain of the inbox left to do before tracing on.
+#[derive(Default)]
+struct Pending {
+    /// The newest edit: the ones before it are dropped unbuilt.
+    edit: Option<(Box<Scene>, PathBuf)>,
+    /// The run must start again (new scene or settings).
+    restart: bool,
 }
 
 impl Worker {
@@ -313,12 +344,15 @@ impl Worker {
         settings: SimulationSettings,
         pace: Pace,
         shared: Arc<Shared>,
+        newest: Arc<AtomicU64>,
         notify: Notify,
     ) -> Worker {
         Worker {
             settings,
             pace,
             shared,
+            symmetry: SymmetryFinder::start(newest.clone()),
+            newest,
             notify,
             generation: 0,
             luminaire: None,
@@ -336,31 +370,65 @@ impl Worker {
 
     fn serve(&mut self, inbox: Receiver<Command>) {
         loop {
-            // Drain every pending command before tracing on: an edit
-            // replaces the run before another stale iteration starts.
+            // Drain every pending command before tracing on, keeping only
+            // the newest edit: a drag sends one a frame, and building each
+            // (tessellation, BVH) would keep the worker from ever tracing
+            // the newest.
+            let mut pending = Pending::default();
             loop {
-                let command = if self.active() {
+                let waiting = pending.edit.is_some() || pending.restart;
+                let command = if self.active() || waiting {
                     match inbox.try_recv() {
                         Ok(c) => c,
                         Err(TryRecvError::Empty) => break,
                         Err(TryRecvError::Disconnected) => return,
                     }
                 } else {
-                    match inbox.recv() {
+                    match inbox.recv_timeout(Duration::from_millis(200)) {
                         Ok(c) => c,
-                        Err(_) => return,
+                        // Idle (paused, finished): the symmetry found
+                        // meanwhile still reaches the shown snapshot.
+                        Err(RecvTimeoutError::Timeout) => {
+                            self.apply_found_symmetry(true);
+                            continue;
+                        }
+                        Err(RecvTimeoutError::Disconnected) => return,
                     }
                 };
-                if !self.handle(command) {
+                if !self.handle(command, &mut pending) {
                     return;
                 }
+            }
+            if let Some((scene, dir)) = pending.edit.take() {
+                let generation = self.generation;
+                let newest = self.newest.clone();
+                let stale = move || newest.load(Ordering::SeqCst) > generation;
+                match Luminaire::for_edit(*scene, &dir, &stale) {
+                    Ok(Some(l)) => {
+                        self.shared.lock().scenes_built += 1;
+                        let l = Arc::new(l);
+                        self.symmetry.find(generation, l.clone());
+                        self.luminaire = Some(l);
+                        pending.restart = true;
+                    }
+                    // A newer edit is in the inbox: build that one.
+                    Ok(None) => continue,
+                    Err(e) => {
+                        self.fail(e);
+                        continue;
+                    }
+                }
+            }
+            if pending.restart {
+                self.restart();
             }
             self.trace_once();
         }
     }
 
-    /// Applies a command; `false` to quit.
-    fn handle(&mut self, command: Command) -> bool {
+    /// Applies a command, or notes what it asks of the next build and
+    /// restart; `false` to quit.
+    fn handle(&mut self, command: Command, pending: &mut Pending) -> bool {
         if matches!(
             command,
             Command::Edit(..) | Command::Prepared(..) | Command::Settings(..)
@@ -372,18 +440,14 @@ impl Worker {
             Command::Edit(scene, dir, generation) => {
                 self.generation = generation;
                 self.run = None;
-                match Luminaire::new(*scene, &dir) {
-                    Ok(l) => {
-                        self.luminaire = Some(Arc::new(l));
-                        self.restart();
-                    }
-                    Err(e) => self.fail(e),
-                }
+                pending.edit = Some((scene, dir));
             }
             Command::Prepared(luminaire, generation) => {
                 self.generation = generation;
+                self.run = None;
+                pending.edit = None;
                 self.luminaire = Some(luminaire);
-                self.restart();
+                pending.restart = true;
             }
             Command::Settings(settings, generation) => {
                 self.generation = generation;
@@ -396,11 +460,11 @@ impl Worker {
                 }
                 self.settings = settings;
                 match (&mut self.run, only_stop) {
-                    (Some(run), true) => {
+                    (Some(run), true) if !pending.restart && pending.edit.is_none() => {
                         run.set_stopping_rule(settings.stop);
                         self.finished = false;
                     }
-                    _ => self.restart(),
+                    _ => pending.restart = true,
                 }
             }
             Command::Pause => {
@@ -411,12 +475,15 @@ impl Worker {
                 self.paused = false;
             }
             Command::Finish => {
+                self.flush(pending);
                 if self.run.is_some() && !self.finished {
                     self.finished = true;
                     self.publish(RunState::Finished(StopReason::Requested), true);
                 }
             }
             Command::Cancel => {
+                // An edit still to be built would start the run again.
+                *pending = Pending::default();
                 if self.run.take().is_some() {
                     let mut published = self.shared.lock();
                     if let Some(last) = &published.snapshot {
@@ -433,6 +500,30 @@ impl Worker {
             Command::Quit => return false,
         }
         true
+    }
+
+    /// Builds and restarts what `pending` holds now (before a command that
+    /// acts on the run, such as Finish).
+    fn flush(&mut self, pending: &mut Pending) {
+        if let Some((scene, dir)) = pending.edit.take() {
+            match Luminaire::for_edit(*scene, &dir, &|| false) {
+                Ok(Some(l)) => {
+                    self.shared.lock().scenes_built += 1;
+                    let l = Arc::new(l);
+                    self.symmetry.find(self.generation, l.clone());
+                    self.luminaire = Some(l);
+                    pending.restart = true;
+                }
+                Ok(None) => {}
+                Err(e) => {
+                    self.fail(e);
+                    pending.restart = false;
+                }
+            }
+        }
+        if std::mem::take(&mut pending.restart) {
+            self.restart();
+        }
     }
 
     /// A new run of the current luminaire and settings at zero photons.
@@ -470,6 +561,10 @@ impl Worker {
                 })?,
             };
             run.set_iteration_time(self.pace.iteration);
+            // A small first iteration, so that the first snapshot of an
+            // edit comes within milliseconds; the next ones grow to the
+            // pace.
+            run.set_first_iteration_photons(FIRST_ITERATION_PHOTONS);
             Ok::<_, SimulationError>(run)
         })();
         match started {
@@ -485,11 +580,43 @@ impl Worker {
         (self.notify)();
     }
 
-    fn trace_once(&mut self) {
-        let Some(run) = &mut self.run else { return };
-        if let Err(e) = run.step() {
-            self.fail(e);
+    /// The luminaire's symmetry, once found, pools the current run's
+    /// photons; with `republish`, a new snapshot shows it at once.
+    fn apply_found_symmetry(&mut self, republish: bool) {
+        let (Some(run), Some(luminaire)) = (&mut self.run, &self.luminaire) else {
             return;
+        };
+        let Some(found) = luminaire.symmetry() else {
+            return;
+        };
+        let before = run.pooled_symmetry();
+        run.set_symmetry(found.symmetry);
+        if republish && run.pooled_symmetry() != before {
+            let state = if self.paused {
+                RunState::Paused
+            } else {
+                RunState::Tracing
+            };
+            self.publish(state, false);
+        }
+    }
+
+    fn trace_once(&mut self) {
+        self.apply_found_symmetry(false);
+        let Some(run) = &mut self.run else { return };
+        // An edit or new settings make this iteration stale: it stops
+        // within a chunk of photons (about a millisecond) instead of
+        // running to its 50 ms. Not the first (small) one: every scene
+        // built is shown once, however fast the edits come.
+        let (newest, generation) = (self.newest.clone(), self.generation);
+        let first = self.last_snapshot.is_none();
+        match run.step_unless(&move || !first && newest.load(Ordering::SeqCst) > generation) {
+            Ok(Some(_)) => {}
+            Ok(None) => return,
+            Err(e) => {
+                self.fail(e);
+                return;
+            }
         }
         if let Some(reason) = run.stop_reason() {
             self.finished = true;
@@ -508,6 +635,12 @@ impl Worker {
     }
 
     fn publish(&mut self, state: RunState, final_export: bool) {
+        if final_export && let Some(luminaire) = &self.luminaire {
+            // A final result pools over the symmetry whenever the run
+            // ended: found now if it was not yet.
+            luminaire.find_symmetry();
+            self.apply_found_symmetry(false);
+        }
         let Some(run) = &mut self.run else { return };
         let start = Instant::now();
         let snapshot = run.snapshot(self.generation, state, final_export);
@@ -519,5 +652,76 @@ impl Worker {
         }
         self.shared.changed.notify_all();
         (self.notify)();
+    }
+}
+
+/// Photons in a run's first iteration: about 2 ms on two cores.
+const FIRST_ITERATION_PHOTONS: u32 = 8192;
+
+/// How long an edited luminaire must stay the newest before its symmetry
+/// is looked for: during a drag (an edit a frame) none is, and the search
+/// (150 ms of the parabolic spot) would take the tracer's cores.
+const SYMMETRY_SETTLE: Duration = Duration::from_millis(100);
+
+/// A thread that finds edited luminaires' symmetry, newest request only,
+/// once it has settled; the result lands in the luminaire
+/// ([`Luminaire::find_symmetry`]), where the worker picks it up.
+struct SymmetryFinder {
+    requests: Option<Sender<(u64, Arc<Luminaire>)>>,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl SymmetryFinder {
+    fn start(newest: Arc<AtomicU64>) -> SymmetryFinder {
+        let (requests, inbox) = channel::<(u64, Arc<Luminaire>)>();
+        let thread = std::thread::Builder::new()
+            .name("lucerna-symmetry".to_owned())
+            .spawn(move || {
+                while let Ok(mut request) = inbox.recv() {
+                    // The newest request that stays the newest for a while.
+                    loop {
+                        match inbox.recv_timeout(SYMMETRY_SETTLE) {
+                            Ok(newer) => request = newer,
+                            Err(RecvTimeoutError::Timeout) => break,
+                            Err(RecvTimeoutError::Disconnected) => return,
+                        }
+                    }
+                    let (generation, luminaire) = request;
+                    if newest.load(Ordering::SeqCst) <= generation {
+                        luminaire.find_symmetry();
+                    }
+                }
+            })
+            .ok();
+        SymmetryFinder {
+            requests: thread.as_ref().map(|_| requests),
+            thread,
+        }
+    }
+
+    /// Finds `luminaire`'s symmetry (of `generation`) unless a newer
+    /// request comes first; found on the spot if the thread could not be
+    /// started.
+    fn find(&self, generation: u64, luminaire: Arc<Luminaire>) {
+        if luminaire.symmetry().is_some() {
+            return;
+        }
+        match &self.requests {
+            Some(r) => {
+                let _ = r.send((generation, luminaire));
+            }
+            None => {
+                luminaire.find_symmetry();
+            }
+        }
+    }
+}
+
+impl Drop for SymmetryFinder {
+    fn drop(&mut self) {
+        self.requests = None;
+        if let Some(thread) = self.thread.take() {
+            let _ = thread.join();
+        }
     }
 }

@@ -247,3 +247,52 @@ fn absurd_settings_are_refused_before_anything_runs() {
     }
     let _: SettingsError = SettingsError::Photons;
 }
+
+/// A burst of edits (a drag sends one a frame) is built as the newest
+/// only: the worker never queues a build per edit, and the run it ends on
+/// is the last edit's.
+#[test]
+fn a_burst_of_edits_builds_the_newest_and_ends_on_it() {
+    let (mut sim, scene, dir) = started(
+        "parabolic_spot.toml",
+        small(StoppingRule {
+            photons: Some(200_000),
+            ..StoppingRule::default()
+        }),
+    );
+    wait_for(&sim, |s| s.photons > 0);
+    let mut last = scene.clone();
+    for k in 0..40 {
+        let mut edited = scene.clone();
+        if let lucerna_scene::Shape::Paraboloid(p) = &mut edited.parts[0].shape {
+            p.focal_length = 0.025 + 1e-5 * f64::from(k);
+        }
+        sim.edit(edited.clone(), &dir);
+        last = edited;
+    }
+    let s = wait_for(&sim, |s| s.generation == 40 && s.photons > 0);
+    assert_eq!(s.luminaire.scene, last, "the newest edit is the one traced");
+    let built = sim.published().scenes_built;
+    assert!(
+        built < 10,
+        "{built} scenes built for 40 edits made at once (and the first)"
+    );
+}
+
+/// An edited luminaire's symmetry is found while it is traced, and then
+/// pools the same run's photons: the generation stays, the photons go on.
+#[test]
+fn an_edits_symmetry_is_found_and_pools_the_running_run() {
+    let (sim, _, _) = started("faceted_downlight.toml", small(StoppingRule::default()));
+    let unpooled_or_pooled = wait_for(&sim, |s| s.photons > 0);
+    let pooled = wait_for(&sim, |s| {
+        s.symmetry != lucerna_photometry::AxialSymmetry::None
+    });
+    assert_eq!(pooled.generation, unpooled_or_pooled.generation);
+    assert!(pooled.photons >= unpooled_or_pooled.photons);
+    assert_eq!(pooled.symmetry, lucerna_photometry::AxialSymmetry::Square);
+    assert_eq!(
+        pooled.luminaire.symmetry().map(|s| s.symmetry),
+        Some(lucerna_photometry::AxialSymmetry::Square)
+    );
+}

@@ -80,6 +80,28 @@ pub struct Bvh2 {
     pub build_time: std::time::Duration,
 }
 
+/// How much a build spends on the tree. The hits do not depend on it
+/// (ties go to the lower triangle index), only how fast they are found:
+/// a preview of an edit in progress builds quickly and traces a little
+/// slower.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BvhQuality {
+    /// obvhs' `fast_build`: PLOC, a little reinsertion, no spatial splits.
+    Preview,
+    /// obvhs' `very_slow_build`: spatial pre-splits, PLOC, full
+    /// reinsertion, leaf collapse.
+    Final,
+}
+
+impl BvhQuality {
+    fn params(self) -> obvhs::BvhBuildParams {
+        match self {
+            BvhQuality::Preview => obvhs::BvhBuildParams::fast_build(),
+            BvhQuality::Final => obvhs::BvhBuildParams::very_slow_build(),
+        }
+    }
+}
+
 /// How the CPU finds closest hits.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CpuTraversal {
@@ -133,11 +155,15 @@ pub fn unit_normal(e1: Vec3A, e2: Vec3A) -> Vec3A {
 }
 
 impl Bvh {
-    /// Builds both hierarchies with obvhs' `very_slow_build` preset (spatial
-    /// pre-splits, PLOC, full reinsertion, leaf collapse); corners in
-    /// luminaire coordinates (m), and a tag per triangle (zeros if
-    /// `tags` is shorter) that hits carry.
+    /// Builds both hierarchies at [`BvhQuality::Final`]; corners in
+    /// luminaire coordinates (m), and a tag per triangle (zeros if `tags`
+    /// is shorter) that hits carry.
     pub fn build(corners: &[[Vec3; 3]], tags: &[u32]) -> Bvh {
+        Bvh::build_with(corners, tags, BvhQuality::Final)
+    }
+
+    /// [`Bvh::build`] at a chosen quality.
+    pub fn build_with(corners: &[[Vec3; 3]], tags: &[u32], quality: BvhQuality) -> Bvh {
         let tags: Vec<u32> = (0..corners.len())
             .map(|i| tags.get(i).copied().unwrap_or(0))
             .collect();
@@ -162,7 +188,7 @@ impl Bvh {
             })
             .collect();
         let mut core = std::time::Duration::ZERO;
-        let params = obvhs::BvhBuildParams::very_slow_build();
+        let params = quality.params();
         let start = Instant::now();
         let cwbvh = obvhs::cwbvh::builder::build_cwbvh_from_tris(&tris, params, &mut core);
         let cwbvh_build_time = start.elapsed();
@@ -210,8 +236,8 @@ impl Bvh {
         }
     }
 
-    /// The BVH2 for the GPU kernel, built on first use with the same
-    /// preset as the CWBVH.
+    /// The BVH2 for the GPU kernel, built on first use at
+    /// [`BvhQuality::Final`].
     pub fn bvh2(&self) -> &Bvh2 {
         self.bvh2.get_or_init(|| {
             use std::time::Instant;

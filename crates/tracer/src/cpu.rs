@@ -366,11 +366,38 @@ pub fn trace_batch_into(
     buffers: &CountBuffers,
     counts: &mut [u64],
 ) -> BatchTotals {
-    use std::sync::atomic::{AtomicU32, Ordering};
+    let totals = trace_batch_into_unless(
+        scene,
+        settings,
+        iteration,
+        first,
+        count,
+        buffers,
+        counts,
+        &|| false,
+    );
+    totals.unwrap_or_default()
+}
+
+/// [`trace_batch_into`], given up when `stop` says so (asked between
+/// chunks of 4096 photons): then nothing is added to `counts` and `None`
+/// is returned. An editor stops an iteration that an edit has made stale.
+pub fn trace_batch_into_unless(
+    scene: &PreparedScene,
+    settings: &TraceSettings,
+    iteration: u32,
+    first: u32,
+    count: u32,
+    buffers: &CountBuffers,
+    counts: &mut [u64],
+    stop: &(dyn Fn() -> bool + Sync),
+) -> Option<BatchTotals> {
+    use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
     let texels = settings.layout.texel_count();
     assert_eq!(counts.len(), texels, "counts must match the layout");
     let chunks = count.div_ceil(CHUNK_PHOTONS);
     let next = AtomicU32::new(0);
+    let stopped = AtomicBool::new(false);
     let workers = rayon::current_num_threads().clamp(1, chunks.max(1) as usize);
     let traced: Vec<(Vec<u32>, BatchTotals)> = (0..workers)
         .into_par_iter()
@@ -379,6 +406,10 @@ pub fn trace_batch_into(
             let mut totals = BatchTotals::default();
             let mut work = || {
                 loop {
+                    if stop() {
+                        stopped.store(true, Ordering::Relaxed);
+                        break;
+                    }
                     let c = next.fetch_add(1, Ordering::Relaxed);
                     if c >= chunks {
                         break;
@@ -403,6 +434,13 @@ pub fn trace_batch_into(
             (buffer, totals)
         })
         .collect();
+    if stopped.load(Ordering::Relaxed) {
+        for (mut buffer, _) in traced {
+            buffer.fill(0);
+            buffers.give_back(buffer);
+        }
+        return None;
+    }
     let mut totals = BatchTotals::default();
     for (mut buffer, t) in traced {
         for (total, c) in counts.iter_mut().zip(buffer.iter_mut()) {
@@ -412,7 +450,7 @@ pub fn trace_batch_into(
         totals.add(t);
         buffers.give_back(buffer);
     }
-    totals
+    Some(totals)
 }
 
 /// Traces photons `first .. first + count` of `iteration` in parallel.

@@ -23,6 +23,7 @@ pub mod wide_traversal;
 
 pub use cpu::{
     BatchTotals, CountBuffers, Fate, Tally, TraceSettings, trace_batch, trace_batch_into,
+    trace_batch_into_unless,
 };
 pub use paths::{PhotonPath, sample_photon_paths};
 pub use prepared::{PrepareError, PreparedScene};

@@ -11,7 +11,7 @@ use glam::{Affine3A, Mat3A, Vec3, Vec3A};
 use lucerna_scene::file::{MAX_PROFILE_FILE_BYTES, read_limited};
 use lucerna_scene::{Emission, EmitterShape, Material, Scene, TessellatedScene};
 
-use crate::bvh::Bvh;
+use crate::bvh::{Bvh, BvhQuality};
 use crate::sampling::ProfileSampler;
 
 /// Material kinds as the kernels switch on them.
@@ -191,6 +191,16 @@ impl PreparedScene {
         tessellated: &TessellatedScene,
         scene_dir: &Path,
     ) -> Result<PreparedScene, PrepareError> {
+        PreparedScene::with_quality(scene, tessellated, scene_dir, BvhQuality::Final)
+    }
+
+    /// [`PreparedScene::new`] with its BVH built at `quality`.
+    pub fn with_quality(
+        scene: &Scene,
+        tessellated: &TessellatedScene,
+        scene_dir: &Path,
+        quality: BvhQuality,
+    ) -> Result<PreparedScene, PrepareError> {
         let mesh = &tessellated.mesh;
         let corners: Vec<[Vec3; 3]> = mesh
             .triangles
@@ -217,7 +227,7 @@ impl PreparedScene {
             .collect();
         let tags: Vec<u32> = shading.iter().map(TriangleShading::tag).collect();
         let start = Instant::now();
-        let bvh = Bvh::build(&corners, &tags);
+        let bvh = Bvh::build_with(&corners, &tags, quality);
         let bvh_build_time = start.elapsed();
         let materials = tessellated
             .materials

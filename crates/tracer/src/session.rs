@@ -8,7 +8,7 @@ use lucerna_gpu::{GpuContext, GpuError};
 use lucerna_photometry::cubemap::rectangle_solid_angle;
 use lucerna_photometry::{AxialSymmetry, CubeFace, IntensityMap, TexelSymmetry};
 
-use crate::cpu::{BatchTotals, CountBuffers, Tally, TraceSettings, trace_batch_into};
+use crate::cpu::{BatchTotals, CountBuffers, Tally, TraceSettings, trace_batch_into_unless};
 use crate::gpu::GpuTracer;
 use crate::prepared::PreparedScene;
 
@@ -48,7 +48,9 @@ impl Backend {
     }
 
     /// [`Backend::trace`], adding the counts to `counts` (one per texel);
-    /// the CPU tracer reuses the count buffers in `buffers`.
+    /// the CPU tracer reuses the count buffers in `buffers`, and gives up
+    /// (`Ok(None)`, nothing added) when `stop` says so. A GPU dispatch is
+    /// not stopped.
     pub fn trace_into(
         &self,
         scene: &PreparedScene,
@@ -58,23 +60,24 @@ impl Backend {
         count: u32,
         buffers: &CountBuffers,
         counts: &mut [u64],
-    ) -> Result<BatchTotals, GpuError> {
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> Result<Option<BatchTotals>, GpuError> {
         match self {
-            Backend::Cpu => Ok(trace_batch_into(
-                scene, settings, block, first, count, buffers, counts,
+            Backend::Cpu => Ok(trace_batch_into_unless(
+                scene, settings, block, first, count, buffers, counts, stop,
             )),
             Backend::Gpu(g) => {
                 let tally = g.trace_batch(block, first, count)?;
                 for (total, &c) in counts.iter_mut().zip(&tally.counts) {
                     *total += u64::from(c);
                 }
-                Ok(BatchTotals {
+                Ok(Some(BatchTotals {
                     emitted: tally.emitted,
                     absorbed: tally.absorbed,
                     cut_off: tally.cut_off,
                     bounces: tally.bounces,
                     rays: tally.rays,
-                })
+                }))
             }
         }
     }
@@ -257,6 +260,12 @@ impl Session {
         &self.backend
     }
 
+    /// Photons the next iteration traces (at least 1024); the ones after
+    /// are sized to the time budget from its rate.
+    pub fn set_next_iteration_photons(&mut self, photons: u32) {
+        self.photons_per_iteration = photons.max(1024);
+    }
+
     pub fn scene(&self) -> &PreparedScene {
         &self.scene
     }
@@ -277,6 +286,17 @@ impl Session {
     /// Traces one iteration of at most `limit` photons, sized to the time
     /// budget.
     pub fn iterate_at_most(&mut self, limit: u64) -> Result<IterationReport, GpuError> {
+        let report = self.iterate_at_most_unless(limit, &|| false)?;
+        Ok(report.unwrap_or_else(|| self.report(0, Duration::ZERO)))
+    }
+
+    /// [`Session::iterate_at_most`], given up when `stop` says so (then
+    /// `Ok(None)` and the map is as it was).
+    pub fn iterate_at_most_unless(
+        &mut self,
+        limit: u64,
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> Result<Option<IterationReport>, GpuError> {
         // Photon k of the session is photon k mod 2³⁰ of random-number
         // block k / 2³⁰, however iterations split the photons: a seed and a
         // photon count give the same counts on one backend, whatever the
@@ -296,7 +316,11 @@ impl Session {
             photons,
             &self.buffers,
             &mut self.map.counts,
+            stop,
         )?;
+        let Some(tally) = tally else {
+            return Ok(None);
+        };
         let elapsed = start.elapsed();
         self.tracing_time += elapsed;
         self.map.photons_emitted += tally.emitted;
@@ -307,7 +331,7 @@ impl Session {
         self.iteration += 1;
         self.photons_per_iteration =
             next_iteration_size(photons, elapsed, self.target_iteration_time);
-        Ok(self.report(photons.into(), elapsed))
+        Ok(Some(self.report(photons.into(), elapsed)))
     }
 
     /// Traces one iteration sized to the time budget.

@@ -17,6 +17,7 @@ use std::collections::HashMap;
 use glam::Vec3;
 use lucerna_photometry::{AxialIsometry, AxialSymmetry};
 use lucerna_scene::{Emission, Material, Scene, SurfaceKind, TessellatedScene};
+use rayon::prelude::*;
 
 /// The luminaire's symmetry and, when something other than the geometry
 /// ruled symmetries out, what.
@@ -243,7 +244,8 @@ pub fn luminaire_symmetry(scene: &Scene, tessellated: &TessellatedScene) -> Lumi
         if g.is_mirror() && twisted.is_some() {
             return false;
         }
-        (0..mesh.triangle_count()).all(|t| {
+        // In parallel on rayon's pool (at the editor's low priority).
+        (0..mesh.triangle_count()).into_par_iter().all(|t| {
             let tri = mesh.triangles[t];
             let Some(image) = tri
                 .iter()

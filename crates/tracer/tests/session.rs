@@ -127,3 +127,44 @@ fn peak_error_compares_blocks_per_steradian() {
     assert!((peak_relative_error(&map, &none) - 1.0 / 3200f64.sqrt()).abs() < 1e-12);
     assert!((peak_relative_error(&map, &square) - 1.0 / 12800f64.sqrt()).abs() < 1e-12);
 }
+
+/// An iteration given up (an edit made it stale) adds nothing, and leaves
+/// no partial counts in the reused per-thread buffers: the next iteration
+/// counts exactly what a fresh session's first does, on a scene a bake
+/// would build with another BVH (the hits do not depend on the tree).
+#[test]
+fn a_stopped_iteration_adds_nothing_and_leaves_no_counts_behind() {
+    use std::sync::atomic::{AtomicU32, Ordering};
+    let settings = TraceSettings {
+        seed: 3,
+        max_bounces: 32,
+        layout: CubeMapLayout::new(32),
+    };
+    let mut stopped = Session::start(prepared("faceted_downlight.toml"), settings);
+    stopped.set_next_iteration_photons(200_000);
+    // Stops after a few chunks were traced into the buffers.
+    let asked = AtomicU32::new(0);
+    let report = stopped
+        .iterate_at_most_unless(u64::MAX, &|| asked.fetch_add(1, Ordering::Relaxed) > 4)
+        .unwrap();
+    assert!(report.is_none());
+    assert_eq!(stopped.map().photons_emitted, 0);
+    assert!(stopped.map().counts.iter().all(|&c| c == 0));
+    stopped.set_next_iteration_photons(50_000);
+    stopped.iterate().unwrap();
+
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/luminaires");
+    let scene = lucerna_scene::load_scene(&dir.join("faceted_downlight.toml")).unwrap();
+    let preview = PreparedScene::with_quality(
+        &scene,
+        &lucerna_scene::tessellate(&scene, &dir).unwrap(),
+        &dir,
+        lucerna_tracer::bvh::BvhQuality::Preview,
+    )
+    .unwrap();
+    let mut fresh = Session::start(preview, settings);
+    fresh.set_next_iteration_photons(50_000);
+    fresh.iterate().unwrap();
+    assert_eq!(stopped.map().photons_emitted, 50_000);
+    assert_eq!(stopped.map().counts, fresh.map().counts);
+}

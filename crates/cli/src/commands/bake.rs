@@ -272,12 +272,12 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
         anyhow::bail!("--name: '{name}' is not a plain file name (no folders)");
     }
     let luminaire = Luminaire::load(&args.scene)?;
-    if let Some(why) = &luminaire.symmetry.limited_by
+    if let Some(why) = &luminaire.find_symmetry().limited_by
         && settings.pool_symmetry
     {
         eprintln!("symmetry: {why}");
     }
-    let symmetry = luminaire.symmetry.symmetry;
+    let symmetry = luminaire.find_symmetry().symmetry;
     if settings.pool_symmetry && symmetry != lucerna_photometry::AxialSymmetry::None {
         eprintln!(
             "symmetry: {symmetry}: each photon counted in its {} images",

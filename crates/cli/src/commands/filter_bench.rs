@@ -98,11 +98,9 @@ pub fn filter_bench(args: &FilterBenchArgs) -> Result<()> {
         let name = path
             .file_stem()
             .map_or(String::new(), |s| s.to_string_lossy().into_owned());
-        let Luminaire {
-            prepared,
-            symmetry: found,
-            ..
-        } = Luminaire::load(path)?;
+        let luminaire = Luminaire::load(path)?;
+        let found = luminaire.find_symmetry().clone();
+        let prepared = luminaire.prepared;
         let symmetry = TexelSymmetry::new(layout, found.symmetry);
         let none = TexelSymmetry::none(layout);
         let start = Instant::now();

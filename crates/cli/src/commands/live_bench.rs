@@ -64,7 +64,7 @@ pub fn live_bench(args: &LiveBenchArgs) -> Result<()> {
         let symmetry = TexelSymmetry::new(
             settings_layout(&settings),
             if settings.pool_symmetry {
-                luminaire.symmetry.symmetry
+                luminaire.find_symmetry().symmetry
             } else {
                 AxialSymmetry::None
             },
