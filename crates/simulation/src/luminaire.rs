@@ -27,7 +27,8 @@ impl Luminaire {
     /// Tessellates and prepares `scene` (validated by its loader or
     /// editor), its symmetry found.
     pub fn new(scene: Scene, scene_dir: &Path) -> Result<Luminaire, SimulationError> {
-        let Some(luminaire) = Luminaire::build(scene, scene_dir, BvhQuality::Final, &|| false)?
+        let Some(luminaire) =
+            Luminaire::build(scene, scene_dir, BvhQuality::Final, &|| false, None)?
         else {
             unreachable!("a build that is never stale finishes");
         };
@@ -42,12 +43,18 @@ impl Luminaire {
     /// together: 150 ms of the parabolic spot's 170). `None` if `stale`
     /// says, once the scene is tessellated, that a newer edit has come: its
     /// BVH is not built.
+    ///
+    /// Where `previous` (the scene before the edit) has the same triangles
+    /// in the same order, only moved (a focal length or a profile point
+    /// dragged), its BVH is refitted instead of built: 1–2 ms instead of
+    /// 20–40 on the 18k-triangle parabolic spot.
     pub fn for_edit(
         scene: Scene,
         scene_dir: &Path,
         stale: &dyn Fn() -> bool,
+        previous: Option<&Luminaire>,
     ) -> Result<Option<Luminaire>, SimulationError> {
-        Luminaire::build(scene, scene_dir, BvhQuality::Preview, stale)
+        Luminaire::build(scene, scene_dir, BvhQuality::Preview, stale, previous)
     }
 
     fn build(
@@ -55,15 +62,27 @@ impl Luminaire {
         scene_dir: &Path,
         quality: BvhQuality,
         stale: &dyn Fn() -> bool,
+        previous: Option<&Luminaire>,
     ) -> Result<Option<Luminaire>, SimulationError> {
         let tessellated = tessellate(&scene, scene_dir)?;
         if stale() {
             return Ok(None);
         }
+        let same_triangles = previous.filter(|p| {
+            p.tessellated.mesh.triangles == tessellated.mesh.triangles
+                && p.tessellated.triangle_material == tessellated.triangle_material
+        });
+        let refitted = match same_triangles {
+            Some(p) => PreparedScene::refitted(&p.prepared, &scene, &tessellated, scene_dir)?,
+            None => None,
+        };
         // Once the BVH is built the luminaire is shown, even if a newer
         // edit came meanwhile: edits faster than builds would otherwise
         // never show anything.
-        let prepared = PreparedScene::with_quality(&scene, &tessellated, scene_dir, quality)?;
+        let prepared = match refitted {
+            Some(p) => p,
+            None => PreparedScene::with_quality(&scene, &tessellated, scene_dir, quality)?,
+        };
         Ok(Some(Luminaire {
             scene,
             scene_dir: scene_dir.to_path_buf(),

@@ -403,7 +403,8 @@ impl Worker {
                 let generation = self.generation;
                 let newest = self.newest.clone();
                 let stale = move || newest.load(Ordering::SeqCst) > generation;
-                match Luminaire::for_edit(*scene, &dir, &stale) {
+                let previous = self.luminaire.clone();
+                match Luminaire::for_edit(*scene, &dir, &stale, previous.as_deref()) {
                     Ok(Some(l)) => {
                         self.shared.lock().scenes_built += 1;
                         let l = Arc::new(l);
@@ -506,7 +507,8 @@ impl Worker {
     /// acts on the run, such as Finish).
     fn flush(&mut self, pending: &mut Pending) {
         if let Some((scene, dir)) = pending.edit.take() {
-            match Luminaire::for_edit(*scene, &dir, &|| false) {
+            let previous = self.luminaire.clone();
+            match Luminaire::for_edit(*scene, &dir, &|| false, previous.as_deref()) {
                 Ok(Some(l)) => {
                     self.shared.lock().scenes_built += 1;
                     let l = Arc::new(l);

@@ -201,6 +201,37 @@ impl PreparedScene {
         scene_dir: &Path,
         quality: BvhQuality,
     ) -> Result<PreparedScene, PrepareError> {
+        let built = PreparedScene::with_bvh(scene, tessellated, scene_dir, |corners, tags| {
+            Some(Bvh::build_with(corners, tags, quality))
+        })?;
+        let Some(prepared) = built else {
+            unreachable!("a build always makes a BVH");
+        };
+        Ok(prepared)
+    }
+
+    /// The scene prepared with `previous`'s BVH refitted to its moved
+    /// triangles ([`Bvh::refit`]), where the tessellation has the same
+    /// triangles as `previous`'s; `Ok(None)` where it cannot be refitted.
+    pub fn refitted(
+        previous: &PreparedScene,
+        scene: &Scene,
+        tessellated: &TessellatedScene,
+        scene_dir: &Path,
+    ) -> Result<Option<PreparedScene>, PrepareError> {
+        PreparedScene::with_bvh(scene, tessellated, scene_dir, |corners, tags| {
+            previous.bvh.refit(corners, tags)
+        })
+    }
+
+    /// Prepares the scene with the BVH `make_bvh` makes of its corners and
+    /// tags (`Ok(None)` if it makes none).
+    fn with_bvh(
+        scene: &Scene,
+        tessellated: &TessellatedScene,
+        scene_dir: &Path,
+        make_bvh: impl FnOnce(&[[Vec3; 3]], &[u32]) -> Option<Bvh>,
+    ) -> Result<Option<PreparedScene>, PrepareError> {
         let mesh = &tessellated.mesh;
         let corners: Vec<[Vec3; 3]> = mesh
             .triangles
@@ -227,7 +258,9 @@ impl PreparedScene {
             .collect();
         let tags: Vec<u32> = shading.iter().map(TriangleShading::tag).collect();
         let start = Instant::now();
-        let bvh = Bvh::build_with(&corners, &tags, quality);
+        let Some(bvh) = make_bvh(&corners, &tags) else {
+            return Ok(None);
+        };
         let bvh_build_time = start.elapsed();
         let materials = tessellated
             .materials
@@ -308,7 +341,7 @@ impl PreparedScene {
         let extent = mesh
             .bounds()
             .map_or(0.1, |(lo, hi)| (hi - lo).max_element());
-        Ok(PreparedScene {
+        Ok(Some(PreparedScene {
             bvh,
             shading,
             materials,
@@ -317,7 +350,7 @@ impl PreparedScene {
             total_flux_lm,
             epsilon: (2e-6 * extent).max(1e-7),
             bvh_build_time,
-        })
+        }))
     }
 }
 

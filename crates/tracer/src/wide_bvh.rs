@@ -235,6 +235,67 @@ impl WideBvh {
     }
 }
 
+impl WideBvh {
+    /// The same tree over new triangles (`triangles` and `tags` per scene
+    /// triangle, as the blocks name them): blocks filled again, boxes
+    /// recomputed from the leaves up (nodes are in depth-first order, so a
+    /// node's children come after it). A leaf's box is now its triangles'
+    /// whole box, where a spatial split had clipped it: looser, never
+    /// wrong. `None` if a block names a triangle `triangles` lacks.
+    pub fn refitted(&self, triangles: &[BvhTriangle], tags: &[u32]) -> Option<WideBvh> {
+        let mut out = self.clone();
+        let mut block_boxes = Vec::with_capacity(out.blocks.len());
+        for block in &mut out.blocks {
+            let lanes: Vec<u32> = block
+                .triangle
+                .iter()
+                .copied()
+                .filter(|&t| t != u32::MAX)
+                .collect();
+            for (lane, &t) in lanes.iter().enumerate() {
+                let tri = triangles.get(t as usize)?;
+                for axis in 0..3 {
+                    block.rows[axis][lane] = tri.v0[axis];
+                    block.rows[3 + axis][lane] = tri.e1[axis];
+                    block.rows[6 + axis][lane] = tri.e2[axis];
+                }
+                block.tag[lane] = *tags.get(t as usize)?;
+            }
+            let b = lanes
+                .iter()
+                .map(|&t| slots_box(std::slice::from_ref(&triangles[t as usize]), &[0]))
+                .try_fold(EMPTY_BOX, |acc, b| Some(union_boxes(acc, b?)))?;
+            block_boxes.push(b);
+        }
+        let mut node_boxes = vec![EMPTY_BOX; out.nodes.len()];
+        for index in (0..out.nodes.len()).rev() {
+            let mut union = EMPTY_BOX;
+            for slot in 0..8 {
+                let child = out.nodes[index].children[slot];
+                let (lo, hi) = if child == EMPTY {
+                    EMPTY_BOX
+                } else if child & LEAF != 0 {
+                    *block_boxes.get((child & !LEAF) as usize)?
+                } else {
+                    // A child before its parent would be a cycle.
+                    if child as usize <= index {
+                        return None;
+                    }
+                    *node_boxes.get(child as usize)?
+                };
+                let node = &mut out.nodes[index];
+                for axis in 0..3 {
+                    node.planes[2 * axis][slot] = lo[axis];
+                    node.planes[2 * axis + 1][slot] = hi[axis];
+                }
+                union = union_boxes(union, (lo, hi));
+            }
+            node_boxes[index] = union;
+        }
+        Some(out)
+    }
+}
+
 /// Drops slots that name a triangle already in the list (spatial splits
 /// put one triangle in several leaves).
 fn dedup_triangles(slots: &mut Vec<u32>, slot_scene_triangle: &[u32]) {
