@@ -102,26 +102,95 @@ pub fn trace_photon_recorded(
     rng: &mut PhotonRng,
     mut record: impl FnMut(Vec3A),
 ) -> (Fate, u32, u32) {
-    let (mut origin, mut dir) = emit(scene, rng);
-    record(origin);
-    // Absorption coefficient of the medium the photon travels in (1/m).
-    let mut medium_absorption = 0.0f32;
-    let mut rays = 0u32;
-    for bounce in 0..=max_bounces {
-        rays += 1;
-        let Some(hit) = scene.bvh.intersect(origin, dir, f32::INFINITY) else {
-            return (Fate::Escaped(dir), bounce, rays);
+    let mut photon = Photon::emit(scene, rng.clone(), &mut record);
+    let fate = loop {
+        let (origin, dir) = photon.ray();
+        let hit = scene.bvh.intersect(origin, dir, f32::INFINITY);
+        if let Some(fate) = photon.advance(scene, max_bounces, hit, &mut record) {
+            break fate;
+        }
+    };
+    *rng = photon.rng.clone();
+    (fate, photon.bounces, photon.rays)
+}
+
+/// A photon between two rays: the ray it casts next, the medium it is in,
+/// and its random stream. [`trace_photon`] advances one photon ray by ray;
+/// the batch loop two at once, so that their traversals overlap
+/// ([`crate::bvh::Bvh::intersect_pair`]); both run this code.
+#[derive(Debug, Clone)]
+pub struct Photon {
+    rng: PhotonRng,
+    origin: Vec3A,
+    dir: Vec3A,
+    /// Absorption coefficient of the medium the photon travels in (1/m).
+    medium_absorption: f32,
+    /// Surface interactions survived.
+    bounces: u32,
+    /// Rays cast.
+    rays: u32,
+}
+
+impl Photon {
+    /// A new photon from the scene's emitters, its start recorded.
+    #[inline(always)]
+    pub fn emit(
+        scene: &PreparedScene,
+        mut rng: PhotonRng,
+        record: &mut impl FnMut(Vec3A),
+    ) -> Photon {
+        let (origin, dir) = emit(scene, &mut rng);
+        record(origin);
+        Photon {
+            rng,
+            origin,
+            dir,
+            medium_absorption: 0.0,
+            bounces: 0,
+            rays: 0,
+        }
+    }
+
+    /// The ray it casts next: origin and unit direction (m, luminaire
+    /// coordinates).
+    #[inline(always)]
+    pub fn ray(&self) -> (Vec3A, Vec3A) {
+        (self.origin, self.dir)
+    }
+
+    /// Surface interactions survived so far, and rays cast.
+    pub fn counts(&self) -> (u32, u32) {
+        (self.bounces, self.rays)
+    }
+
+    /// Goes on from `hit`, the closest hit of its ray: `Some(fate)` once
+    /// the photon is done, else it has a new ray. Every surface point it
+    /// reaches is recorded.
+    #[inline(always)]
+    pub fn advance(
+        &mut self,
+        scene: &PreparedScene,
+        max_bounces: u32,
+        hit: Option<crate::bvh::Hit>,
+        record: &mut impl FnMut(Vec3A),
+    ) -> Option<Fate> {
+        let (origin, dir) = (self.origin, self.dir);
+        let rng = &mut self.rng;
+        self.rays += 1;
+        let Some(hit) = hit else {
+            return Some(Fate::Escaped(dir));
         };
         let position = origin + dir * hit.t;
-        if medium_absorption > 0.0 && rng.next_f32() >= (-medium_absorption * hit.t).exp() {
+        if self.medium_absorption > 0.0 && rng.next_f32() >= (-self.medium_absorption * hit.t).exp()
+        {
             // Absorbed inside the medium: somewhere along this segment;
             // the path is drawn to the surface ahead.
             record(position);
-            return (Fate::Absorbed, bounce, rays);
+            return Some(Fate::Absorbed);
         }
         record(position);
-        if bounce == max_bounces {
-            return (Fate::CutOff, bounce, rays);
+        if self.bounces >= max_bounces {
+            return Some(Fate::CutOff);
         }
         // The material and geometric normal come with the hit; a smooth
         // triangle's vertex normals from its shading record.
@@ -165,7 +234,7 @@ pub fn trace_photon_recorded(
             }
             kind::DIELECTRIC => {
                 let (d, inside_after) = dielectric(m, dir, geometric, shading_normal, rng);
-                medium_absorption = if inside_after {
+                self.medium_absorption = if inside_after {
                     m.absorption_per_m
                 } else {
                     0.0
@@ -175,7 +244,7 @@ pub fn trace_photon_recorded(
             _ => None,
         };
         let Some(next) = next else {
-            return (Fate::Absorbed, bounce, rays);
+            return Some(Fate::Absorbed);
         };
         // Leave the surface on the side the new direction goes.
         let side = if next.dot(geometric) > 0.0 {
@@ -183,10 +252,11 @@ pub fn trace_photon_recorded(
         } else {
             -geometric
         };
-        origin = position + side * scene.epsilon;
-        dir = next;
+        self.origin = position + side * scene.epsilon;
+        self.dir = next;
+        self.bounces += 1;
+        None
     }
-    (Fate::CutOff, max_bounces, rays)
 }
 
 /// The shading normal, kept in the geometric normal's hemisphere.
@@ -488,8 +558,10 @@ pub fn trace_batch(
 /// ahead, the waits overlap.
 const PENDING_ESCAPES: usize = 256;
 
-/// Traces photons `photons` of `iteration` into `counts` and `totals`, one
-/// after another.
+/// Traces photons `photons` of `iteration` into `counts` and `totals`, two
+/// at a time: both photons' rays are traced together, and a finished
+/// photon's place goes to the next one. Which photon finishes first never
+/// changes a count (each has its own random stream).
 #[inline(always)]
 fn trace_range(
     scene: &PreparedScene,
@@ -501,28 +573,57 @@ fn trace_range(
 ) {
     let mut pending = [0u32; PENDING_ESCAPES];
     let mut held = 0usize;
-    for photon in photons {
-        let mut rng = PhotonRng::new(settings.seed, iteration, photon);
-        let (fate, bounces, rays) = trace_photon(scene, settings.max_bounces, &mut rng);
-        totals.emitted += 1;
-        totals.bounces += u64::from(bounces);
-        totals.rays += u64::from(rays);
-        match fate {
-            Fate::Escaped(d) => {
-                let texel = settings.layout.texel_of_direction([
-                    f64::from(d.x),
-                    f64::from(d.y),
-                    f64::from(d.z),
-                ]);
-                pending[held] = texel as u32;
-                held += 1;
-                if held == PENDING_ESCAPES {
-                    count_escapes(counts, &pending);
-                    held = 0;
-                }
+    let mut next = photons.start;
+    let start = |next: &mut u32| {
+        (*next < photons.end).then(|| {
+            let rng = PhotonRng::new(settings.seed, iteration, *next);
+            *next += 1;
+            Photon::emit(scene, rng, &mut |_| {})
+        })
+    };
+    let mut lanes = [start(&mut next), start(&mut next)];
+    loop {
+        let hits = match &lanes {
+            [Some(a), Some(b)] => scene.bvh.intersect_pair([a.ray(), b.ray()], f32::INFINITY),
+            [Some(a), None] => {
+                let (o, d) = a.ray();
+                [scene.bvh.intersect(o, d, f32::INFINITY), None]
             }
-            Fate::Absorbed => totals.absorbed += 1,
-            Fate::CutOff => totals.cut_off += 1,
+            [None, Some(b)] => {
+                let (o, d) = b.ray();
+                [None, scene.bvh.intersect(o, d, f32::INFINITY)]
+            }
+            [None, None] => break,
+        };
+        for (lane, hit) in lanes.iter_mut().zip(hits) {
+            let Some(photon) = lane.as_mut() else {
+                continue;
+            };
+            let Some(fate) = photon.advance(scene, settings.max_bounces, hit, &mut |_| {}) else {
+                continue;
+            };
+            let (bounces, rays) = photon.counts();
+            totals.emitted += 1;
+            totals.bounces += u64::from(bounces);
+            totals.rays += u64::from(rays);
+            match fate {
+                Fate::Escaped(d) => {
+                    let texel = settings.layout.texel_of_direction([
+                        f64::from(d.x),
+                        f64::from(d.y),
+                        f64::from(d.z),
+                    ]);
+                    pending[held] = texel as u32;
+                    held += 1;
+                    if held == PENDING_ESCAPES {
+                        count_escapes(counts, &pending);
+                        held = 0;
+                    }
+                }
+                Fate::Absorbed => totals.absorbed += 1,
+                Fate::CutOff => totals.cut_off += 1,
+            }
+            *lane = start(&mut next);
         }
     }
     count_escapes(counts, &pending[..held]);

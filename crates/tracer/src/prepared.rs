@@ -45,6 +45,12 @@ pub struct TraceMaterial {
 const _: () = assert!(std::mem::size_of::<TraceMaterial>() == 32);
 
 impl TraceMaterial {
+    /// A dielectric of index 1 that absorbs nothing: photons cross it as
+    /// if it were not there (no Fresnel reflection, no bending).
+    pub fn is_index_matched(&self) -> bool {
+        self.kind == kind::DIELECTRIC && self.ior == 1.0 && self.absorption_per_m == 0.0
+    }
+
     pub fn from_material(m: &Material) -> TraceMaterial {
         let mut t = TraceMaterial::zeroed();
         match *m {
@@ -109,17 +115,28 @@ const _: () = assert!(std::mem::size_of::<TriangleShading>() == 64);
 pub const FLAT_TAG: u32 = 1 << 31;
 
 impl TriangleShading {
-    /// The BVH tag of this triangle: its material, and [`FLAT_TAG`].
-    pub fn tag(&self) -> u32 {
+    /// The BVH tag of this triangle: its material, [`FLAT_TAG`], and
+    /// [`crate::bvh::PASS_THROUGH_TAG`] for a material photons cross
+    /// unchanged.
+    pub fn tag(&self, materials: &[TraceMaterial]) -> u32 {
         let g = Vec3A::from_array(self.geometric_normal);
         let n0 = Vec3A::from_slice(&self.n0[..3]);
         let flat = self.n0 == self.n1 && self.n0 == self.n2 && (n0 - g).length() < 1e-5;
-        self.material | if flat { FLAT_TAG } else { 0 }
+        let pass_through = materials
+            .get(self.material as usize)
+            .is_some_and(TraceMaterial::is_index_matched);
+        self.material
+            | if flat { FLAT_TAG } else { 0 }
+            | if pass_through {
+                crate::bvh::PASS_THROUGH_TAG
+            } else {
+                0
+            }
     }
 
     /// The material index without the tag bits.
     pub fn material_of_tag(tag: u32) -> u32 {
-        tag & !FLAT_TAG
+        tag & !(FLAT_TAG | crate::bvh::PASS_THROUGH_TAG)
     }
 }
 
@@ -256,17 +273,17 @@ impl PreparedScene {
                 }
             })
             .collect();
-        let tags: Vec<u32> = shading.iter().map(TriangleShading::tag).collect();
+        let materials: Vec<TraceMaterial> = tessellated
+            .materials
+            .iter()
+            .map(|(_, m)| TraceMaterial::from_material(m))
+            .collect();
+        let tags: Vec<u32> = shading.iter().map(|s| s.tag(&materials)).collect();
         let start = Instant::now();
         let Some(bvh) = make_bvh(&corners, &tags) else {
             return Ok(None);
         };
         let bvh_build_time = start.elapsed();
-        let materials = tessellated
-            .materials
-            .iter()
-            .map(|(_, m)| TraceMaterial::from_material(m))
-            .collect();
         let mut emitters = Vec::new();
         // Each file is read once however many emitters name it (an LED
         // array of hundreds shares one profile).

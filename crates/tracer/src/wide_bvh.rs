@@ -59,6 +59,11 @@ pub struct TriangleBlock {
     pub triangle: [u32; 4],
     /// The tag [`crate::bvh::Bvh::build`] was given per triangle.
     pub tag: [u32; 4],
+    /// Lanes photons can hit: used, and not
+    /// [`crate::bvh::PASS_THROUGH_TAG`] (bit `l` for lane `l`).
+    pub photon_lanes: u32,
+    /// Lanes in use.
+    pub all_lanes: u32,
 }
 const _: () = assert!(std::mem::size_of::<TriangleBlock>() == 192);
 
@@ -235,6 +240,16 @@ impl WideBvh {
     }
 }
 
+impl TriangleBlock {
+    fn set_photon_lanes(&mut self) {
+        self.photon_lanes = (0..4)
+            .filter(|&l| {
+                self.all_lanes & (1 << l) != 0 && self.tag[l] & crate::bvh::PASS_THROUGH_TAG == 0
+            })
+            .fold(0, |m, l| m | (1 << l));
+    }
+}
+
 impl WideBvh {
     /// The same tree over new triangles (`triangles` and `tags` per scene
     /// triangle, as the blocks name them): blocks filled again, boxes
@@ -261,6 +276,7 @@ impl WideBvh {
                 }
                 block.tag[lane] = *tags.get(t as usize)?;
             }
+            block.set_photon_lanes();
             let b = lanes
                 .iter()
                 .map(|&t| slots_box(std::slice::from_ref(&triangles[t as usize]), &[0]))
@@ -442,6 +458,8 @@ fn pack_block(
         rows: [[0.0; 4]; 9],
         triangle: [u32::MAX; 4],
         tag: [0; 4],
+        photon_lanes: 0,
+        all_lanes: 0,
     };
     for (lane, &slot) in slots.iter().enumerate() {
         let t = slot_triangles.get(slot as usize)?;
@@ -453,7 +471,9 @@ fn pack_block(
         let triangle = *slot_scene_triangle.get(slot as usize)?;
         block.triangle[lane] = triangle;
         block.tag[lane] = *tags.get(triangle as usize)?;
+        block.all_lanes |= 1 << lane;
     }
+    block.set_photon_lanes();
     Some(block)
 }
 
@@ -467,6 +487,15 @@ fn safe_reciprocal(x: f32) -> f32 {
     } else {
         1.0 / x
     }
+}
+
+/// Which surfaces a query sees.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Surfaces {
+    /// Those that scatter photons: not [`crate::bvh::PASS_THROUGH_TAG`].
+    ForPhotons,
+    /// All of them (picking in the editor).
+    All,
 }
 
 /// A closest hit in BVH units.
@@ -488,175 +517,295 @@ pub struct WideHit {
 /// The CPU must have AVX2 and FMA ([`crate::wide_traversal::available`]).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,bmi1")]
-pub unsafe fn closest_hit(bvh: &WideBvh, origin: Vec3A, dir: Vec3A, t_max: f32) -> Option<WideHit> {
-    use std::arch::x86_64::*;
-    use std::mem::MaybeUninit;
-
-    let inv = Vec3A::new(
-        safe_reciprocal(dir.x),
-        safe_reciprocal(dir.y),
-        safe_reciprocal(dir.z),
-    );
-    let origin_inv = origin * inv;
-    // Row of the plane the ray enters each axis through: a negative
-    // direction component enters through the max plane.
-    let near = [
-        usize::from(inv.x < 0.0),
-        2 + usize::from(inv.y < 0.0),
-        4 + usize::from(inv.z < 0.0),
-    ];
-    let far = [near[0] ^ 1, near[1] ^ 1, near[2] ^ 1];
-
-    let mut t_best = t_max;
-    let mut best: Option<(f32, u32, f32, f32)> = None;
-    // The block and lane of the best hit, for its tag and normal.
-    let mut best_at: (usize, usize) = (0, 0);
-    // Entries are written before they are read (`sp` counts them).
-    let mut stack_ref: [MaybeUninit<u32>; STACK_ENTRIES] = [MaybeUninit::uninit(); STACK_ENTRIES];
-    let mut stack_dist: [MaybeUninit<f32>; STACK_ENTRIES] = [MaybeUninit::uninit(); STACK_ENTRIES];
-    let mut sp = 0usize;
-    let mut current = 0u32;
-    let mut distances = [0.0f32; 8];
-
-    // SAFETY: the features are enabled on this function; node and block
-    // indices come from the converter, which checked them; the stack holds
-    // at most 7·depth + 1 ≤ STACK_ENTRIES entries (checked at build).
+pub unsafe fn closest_hit(
+    bvh: &WideBvh,
+    origin: Vec3A,
+    dir: Vec3A,
+    t_max: f32,
+    surfaces: Surfaces,
+) -> Option<WideHit> {
+    // SAFETY: the caller guarantees the features.
     unsafe {
-        let inv_x = _mm256_set1_ps(inv.x);
-        let inv_y = _mm256_set1_ps(inv.y);
-        let inv_z = _mm256_set1_ps(inv.z);
-        let oi_x = _mm256_set1_ps(origin_inv.x);
-        let oi_y = _mm256_set1_ps(origin_inv.y);
-        let oi_z = _mm256_set1_ps(origin_inv.z);
-        let zero = _mm256_setzero_ps();
-        'traversal: loop {
-            // Descend through inner nodes, nearest hit child first.
-            while current & LEAF == 0 {
-                let node = bvh.nodes.get_unchecked(current as usize);
-                let row = |r: usize| _mm256_load_ps(node.planes.get_unchecked(r).as_ptr());
-                let t_near = _mm256_max_ps(
-                    _mm256_max_ps(
-                        _mm256_fmsub_ps(row(near[0]), inv_x, oi_x),
-                        _mm256_fmsub_ps(row(near[1]), inv_y, oi_y),
-                    ),
-                    _mm256_max_ps(_mm256_fmsub_ps(row(near[2]), inv_z, oi_z), zero),
-                );
-                let t_far = _mm256_min_ps(
-                    _mm256_min_ps(
-                        _mm256_fmsub_ps(row(far[0]), inv_x, oi_x),
-                        _mm256_fmsub_ps(row(far[1]), inv_y, oi_y),
-                    ),
-                    _mm256_min_ps(
-                        _mm256_fmsub_ps(row(far[2]), inv_z, oi_z),
-                        _mm256_set1_ps(t_best),
-                    ),
-                );
-                let mut mask =
-                    _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(t_near, t_far)) as u32;
-                if mask == 0 {
-                    break;
-                }
-                _mm256_storeu_ps(distances.as_mut_ptr(), t_near);
-                let a = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                if mask == 0 {
-                    current = *node.children.get_unchecked(a);
-                    continue;
-                }
-                let b = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                let (da, db) = (distances[a], distances[b]);
-                if mask == 0 {
-                    let (near_child, far_child, far_dist) =
-                        if da <= db { (a, b, db) } else { (b, a, da) };
-                    stack_ref
-                        .get_unchecked_mut(sp)
-                        .write(*node.children.get_unchecked(far_child));
-                    stack_dist.get_unchecked_mut(sp).write(far_dist);
-                    sp += 1;
-                    current = *node.children.get_unchecked(near_child);
-                    continue;
-                }
-                // Three or more: push them all, sorted so that the nearest
-                // ends on top (insertion sort of at most eight).
-                let base = sp;
-                for child in [a, b] {
-                    stack_ref
-                        .get_unchecked_mut(sp)
-                        .write(*node.children.get_unchecked(child));
-                    stack_dist.get_unchecked_mut(sp).write(distances[child]);
-                    sp += 1;
-                }
-                while mask != 0 {
-                    let c = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    stack_ref
-                        .get_unchecked_mut(sp)
-                        .write(*node.children.get_unchecked(c));
-                    stack_dist.get_unchecked_mut(sp).write(distances[c]);
-                    sp += 1;
-                }
-                for i in base + 1..sp {
-                    let r = stack_ref.get_unchecked(i).assume_init();
-                    let d = stack_dist.get_unchecked(i).assume_init();
-                    let mut j = i;
-                    while j > base && stack_dist.get_unchecked(j - 1).assume_init() < d {
-                        let prev_r = stack_ref.get_unchecked(j - 1).assume_init();
-                        let prev_d = stack_dist.get_unchecked(j - 1).assume_init();
-                        stack_ref.get_unchecked_mut(j).write(prev_r);
-                        stack_dist.get_unchecked_mut(j).write(prev_d);
-                        j -= 1;
-                    }
-                    stack_ref.get_unchecked_mut(j).write(r);
-                    stack_dist.get_unchecked_mut(j).write(d);
-                }
-                sp -= 1;
-                current = stack_ref.get_unchecked(sp).assume_init();
+        let mut ray = RayTraversal::new(origin, dir, t_max, surfaces);
+        while ray.step(bvh) {}
+        ray.hit(bvh)
+    }
+}
+
+/// [`closest_hit`] of two rays at once, their traversals interleaved a
+/// node or leaf at a time: one ray's wait for memory (a node, a block)
+/// overlaps the other's work, where one ray alone stalls.
+///
+/// # Safety
+/// The CPU must have AVX2 and FMA ([`crate::wide_traversal::available`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,bmi1")]
+pub unsafe fn closest_hit_pair(
+    bvh: &WideBvh,
+    rays: [(Vec3A, Vec3A); 2],
+    t_max: f32,
+    surfaces: Surfaces,
+) -> [Option<WideHit>; 2] {
+    // SAFETY: the caller guarantees the features.
+    unsafe {
+        let mut a = RayTraversal::new(rays[0].0, rays[0].1, t_max, surfaces);
+        let mut b = RayTraversal::new(rays[1].0, rays[1].1, t_max, surfaces);
+        loop {
+            let more_a = a.step(bvh);
+            let more_b = b.step(bvh);
+            if !more_a {
+                while b.step(bvh) {}
+                break;
             }
-            if current & LEAF != 0 && current != EMPTY {
-                let block = bvh.blocks.get_unchecked((current & !LEAF) as usize);
-                if let Some((t, lane, u, v)) = block_hit(block, origin, dir, t_best) {
-                    let triangle = *block.triangle.get_unchecked(lane);
-                    // Equal distances (a ray through a shared edge) go to
-                    // the lower triangle index, whatever the visiting
-                    // order: the hit is brute force's.
-                    if best.is_none_or(|(bt, bi, _, _)| t < bt || triangle < bi) {
-                        t_best = t;
-                        best = Some((t, triangle, u, v));
-                        best_at = ((current & !LEAF) as usize, lane);
-                    }
-                }
+            if !more_b {
+                while a.step(bvh) {}
+                break;
             }
-            // Next entry that can still hold a closer hit.
-            loop {
-                if sp == 0 {
-                    break 'traversal;
-                }
-                sp -= 1;
-                if stack_dist.get_unchecked(sp).assume_init() <= t_best {
-                    current = stack_ref.get_unchecked(sp).assume_init();
-                    break;
+        }
+        [a.hit(bvh), b.hit(bvh)]
+    }
+}
+
+/// One ray's closest-hit traversal, advanced a node or a leaf at a time.
+#[cfg(target_arch = "x86_64")]
+struct RayTraversal {
+    origin: Vec3A,
+    dir: Vec3A,
+    surfaces: Surfaces,
+    /// 1/d and o/d per axis, in all eight lanes.
+    inv: [std::arch::x86_64::__m256; 3],
+    origin_inv: [std::arch::x86_64::__m256; 3],
+    /// Rows of the planes the ray enters and leaves each axis through (a
+    /// negative direction component enters through the max plane).
+    near: [usize; 3],
+    far: [usize; 3],
+    t_best: f32,
+    /// (t, triangle, u, v) of the closest hit so far, and its block and
+    /// lane.
+    best: Option<(f32, u32, f32, f32)>,
+    best_at: (usize, usize),
+    /// The node or leaf the next step visits.
+    current: u32,
+    sp: usize,
+    /// Entries are written before they are read (`sp` counts them).
+    stack_ref: [std::mem::MaybeUninit<u32>; STACK_ENTRIES],
+    stack_dist: [std::mem::MaybeUninit<f32>; STACK_ENTRIES],
+}
+
+#[cfg(target_arch = "x86_64")]
+impl RayTraversal {
+    /// Inlined into [`closest_hit`] and [`closest_hit_pair`], which enable
+    /// the features its intrinsics need: a call per step would cost more
+    /// than the interleaving gains.
+    #[inline(always)]
+    unsafe fn new(origin: Vec3A, dir: Vec3A, t_max: f32, surfaces: Surfaces) -> RayTraversal {
+        use std::arch::x86_64::*;
+        use std::mem::MaybeUninit;
+        let inv = Vec3A::new(
+            safe_reciprocal(dir.x),
+            safe_reciprocal(dir.y),
+            safe_reciprocal(dir.z),
+        );
+        let origin_inv = origin * inv;
+        let near = [
+            usize::from(inv.x < 0.0),
+            2 + usize::from(inv.y < 0.0),
+            4 + usize::from(inv.z < 0.0),
+        ];
+        // SAFETY: the caller's function enables AVX.
+        unsafe {
+            RayTraversal {
+                origin,
+                dir,
+                surfaces,
+                inv: [
+                    _mm256_set1_ps(inv.x),
+                    _mm256_set1_ps(inv.y),
+                    _mm256_set1_ps(inv.z),
+                ],
+                origin_inv: [
+                    _mm256_set1_ps(origin_inv.x),
+                    _mm256_set1_ps(origin_inv.y),
+                    _mm256_set1_ps(origin_inv.z),
+                ],
+                near,
+                far: [near[0] ^ 1, near[1] ^ 1, near[2] ^ 1],
+                t_best: t_max,
+                best: None,
+                best_at: (0, 0),
+                current: 0,
+                sp: 0,
+                stack_ref: [MaybeUninit::uninit(); STACK_ENTRIES],
+                stack_dist: [MaybeUninit::uninit(); STACK_ENTRIES],
+            }
+        }
+    }
+
+    #[inline(always)]
+    unsafe fn push(&mut self, reference: u32, distance: f32) {
+        // SAFETY: at most 7·depth + 1 ≤ STACK_ENTRIES entries (checked
+        // when the tree was built).
+        unsafe {
+            self.stack_ref.get_unchecked_mut(self.sp).write(reference);
+            self.stack_dist.get_unchecked_mut(self.sp).write(distance);
+        }
+        self.sp += 1;
+    }
+
+    /// Moves to the next stacked entry that can still hold a closer hit;
+    /// false when there is none.
+    #[inline(always)]
+    unsafe fn pop(&mut self) -> bool {
+        while self.sp > 0 {
+            self.sp -= 1;
+            // SAFETY: entries below `sp` were written.
+            unsafe {
+                if self.stack_dist.get_unchecked(self.sp).assume_init() <= self.t_best {
+                    self.current = self.stack_ref.get_unchecked(self.sp).assume_init();
+                    return true;
                 }
             }
         }
-        let (t, triangle, u, v) = best?;
-        let (block, lane) = best_at;
-        let block = bvh.blocks.get_unchecked(block);
-        let edge = |r: usize| {
-            Vec3A::new(
-                *block.rows.get_unchecked(r).get_unchecked(lane),
-                *block.rows.get_unchecked(r + 1).get_unchecked(lane),
-                *block.rows.get_unchecked(r + 2).get_unchecked(lane),
-            )
-        };
-        Some(WideHit {
-            t,
-            triangle,
-            u,
-            v,
-            tag: *block.tag.get_unchecked(lane),
-            normal: crate::bvh::unit_normal(edge(3), edge(6)),
-        })
+        false
+    }
+
+    /// Visits the current node (its hit children, nearest next) or leaf;
+    /// false when the traversal has ended. Inlined like
+    /// [`RayTraversal::new`].
+    #[inline(always)]
+    unsafe fn step(&mut self, bvh: &WideBvh) -> bool {
+        use std::arch::x86_64::*;
+        // SAFETY: the caller's function enables the features; node and
+        // block indices come from the converter, which checked them.
+        unsafe {
+            if self.current & LEAF != 0 {
+                if self.current != EMPTY {
+                    let index = (self.current & !LEAF) as usize;
+                    let block = bvh.blocks.get_unchecked(index);
+                    let lanes = match self.surfaces {
+                        Surfaces::ForPhotons => block.photon_lanes,
+                        Surfaces::All => block.all_lanes,
+                    };
+                    if let Some((t, lane, u, v)) =
+                        block_hit(block, self.origin, self.dir, self.t_best, lanes)
+                    {
+                        let triangle = *block.triangle.get_unchecked(lane);
+                        // Equal distances (a ray through a shared edge) go
+                        // to the lower triangle index, whatever the
+                        // visiting order: the hit is brute force's.
+                        if self
+                            .best
+                            .is_none_or(|(bt, bi, _, _)| t < bt || triangle < bi)
+                        {
+                            self.t_best = t;
+                            self.best = Some((t, triangle, u, v));
+                            self.best_at = (index, lane);
+                        }
+                    }
+                }
+                return self.pop();
+            }
+            let node = bvh.nodes.get_unchecked(self.current as usize);
+            let row = |r: usize| _mm256_load_ps(node.planes.get_unchecked(r).as_ptr());
+            let [inv_x, inv_y, inv_z] = self.inv;
+            let [oi_x, oi_y, oi_z] = self.origin_inv;
+            let t_near = _mm256_max_ps(
+                _mm256_max_ps(
+                    _mm256_fmsub_ps(row(self.near[0]), inv_x, oi_x),
+                    _mm256_fmsub_ps(row(self.near[1]), inv_y, oi_y),
+                ),
+                _mm256_max_ps(
+                    _mm256_fmsub_ps(row(self.near[2]), inv_z, oi_z),
+                    _mm256_setzero_ps(),
+                ),
+            );
+            let t_far = _mm256_min_ps(
+                _mm256_min_ps(
+                    _mm256_fmsub_ps(row(self.far[0]), inv_x, oi_x),
+                    _mm256_fmsub_ps(row(self.far[1]), inv_y, oi_y),
+                ),
+                _mm256_min_ps(
+                    _mm256_fmsub_ps(row(self.far[2]), inv_z, oi_z),
+                    _mm256_set1_ps(self.t_best),
+                ),
+            );
+            let mut mask = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(t_near, t_far)) as u32;
+            if mask == 0 {
+                return self.pop();
+            }
+            let mut distances = [0.0f32; 8];
+            _mm256_storeu_ps(distances.as_mut_ptr(), t_near);
+            let a = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            if mask == 0 {
+                self.current = *node.children.get_unchecked(a);
+                return true;
+            }
+            let b = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            let (da, db) = (distances[a], distances[b]);
+            if mask == 0 {
+                let (near_child, far_child, far_dist) =
+                    if da <= db { (a, b, db) } else { (b, a, da) };
+                self.push(*node.children.get_unchecked(far_child), far_dist);
+                self.current = *node.children.get_unchecked(near_child);
+                return true;
+            }
+            // Three or more: push them all, sorted so that the nearest
+            // ends on top (insertion sort of at most eight).
+            let base = self.sp;
+            self.push(*node.children.get_unchecked(a), da);
+            self.push(*node.children.get_unchecked(b), db);
+            while mask != 0 {
+                let c = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                self.push(*node.children.get_unchecked(c), distances[c]);
+            }
+            for i in base + 1..self.sp {
+                let r = self.stack_ref.get_unchecked(i).assume_init();
+                let d = self.stack_dist.get_unchecked(i).assume_init();
+                let mut j = i;
+                while j > base && self.stack_dist.get_unchecked(j - 1).assume_init() < d {
+                    let prev_r = self.stack_ref.get_unchecked(j - 1).assume_init();
+                    let prev_d = self.stack_dist.get_unchecked(j - 1).assume_init();
+                    self.stack_ref.get_unchecked_mut(j).write(prev_r);
+                    self.stack_dist.get_unchecked_mut(j).write(prev_d);
+                    j -= 1;
+                }
+                self.stack_ref.get_unchecked_mut(j).write(r);
+                self.stack_dist.get_unchecked_mut(j).write(d);
+            }
+            self.sp -= 1;
+            self.current = self.stack_ref.get_unchecked(self.sp).assume_init();
+            true
+        }
+    }
+
+    /// The closest hit found, with its tag and normal (from the block the
+    /// test just read).
+    #[inline(always)]
+    unsafe fn hit(&self, bvh: &WideBvh) -> Option<WideHit> {
+        let (t, triangle, u, v) = self.best?;
+        let (block, lane) = self.best_at;
+        // SAFETY: the block and lane were those of a hit.
+        unsafe {
+            let block = bvh.blocks.get_unchecked(block);
+            let edge = |r: usize| {
+                Vec3A::new(
+                    *block.rows.get_unchecked(r).get_unchecked(lane),
+                    *block.rows.get_unchecked(r + 1).get_unchecked(lane),
+                    *block.rows.get_unchecked(r + 2).get_unchecked(lane),
+                )
+            };
+            Some(WideHit {
+                t,
+                triangle,
+                u,
+                v,
+                tag: *block.tag.get_unchecked(lane),
+                normal: crate::bvh::unit_normal(edge(3), edge(6)),
+            })
+        }
     }
 }
 
@@ -672,6 +821,7 @@ unsafe fn block_hit(
     origin: Vec3A,
     dir: Vec3A,
     t_best: f32,
+    lanes: u32,
 ) -> Option<(f32, usize, f32, f32)> {
     use std::arch::x86_64::*;
     // SAFETY: the features are enabled on this function; rows are
@@ -724,7 +874,7 @@ unsafe fn block_hit(
                 _mm_and_ps(_mm_cmpgt_ps(t, zero), _mm_cmple_ps(t, _mm_set1_ps(t_best))),
             ),
         );
-        let mut mask = _mm_movemask_ps(ok) as u32;
+        let mut mask = _mm_movemask_ps(ok) as u32 & lanes;
         if mask == 0 {
             return None;
         }
@@ -753,6 +903,6 @@ unsafe fn block_hit(
 /// # Safety
 /// Never to be called: it panics.
 #[cfg(not(target_arch = "x86_64"))]
-pub unsafe fn closest_hit(_: &WideBvh, _: Vec3A, _: Vec3A, _: f32) -> Option<WideHit> {
+pub unsafe fn closest_hit(_: &WideBvh, _: Vec3A, _: Vec3A, _: f32, _: Surfaces) -> Option<WideHit> {
     unreachable!("wide_traversal::available() is false off x86-64")
 }

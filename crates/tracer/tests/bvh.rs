@@ -74,7 +74,11 @@ fn both_hierarchies_agree_with_brute_force() {
                     unit_normal(Vec3A::from_array(tri.e1), Vec3A::from_array(tri.e2)),
                     "{name}: normal"
                 );
-                assert_eq!(h.tag, p.shading[h.triangle as usize].tag(), "{name}: tag");
+                assert_eq!(
+                    h.tag,
+                    p.shading[h.triangle as usize].tag(&p.materials),
+                    "{name}: tag"
+                );
             }
             let cw = full.map(|h| (h.t, h.triangle));
             let b2 = bvh
@@ -182,4 +186,41 @@ fn a_refitted_tree_traces_what_a_fresh_build_does() {
             .unwrap()
             .is_none()
     );
+}
+
+/// Photons pass through a pass-through triangle (an index-matched clear
+/// surface) on every traversal; picking sees it.
+#[test]
+fn photons_pass_through_index_matched_surfaces_and_picking_sees_them() {
+    use glam::Vec3;
+    use lucerna_tracer::bvh::{Bvh, PASS_THROUGH_TAG};
+    let square = |z: f32| {
+        [
+            [
+                Vec3::new(-1.0, -1.0, z),
+                Vec3::new(1.0, -1.0, z),
+                Vec3::new(1.0, 1.0, z),
+            ],
+            [
+                Vec3::new(-1.0, -1.0, z),
+                Vec3::new(1.0, 1.0, z),
+                Vec3::new(-1.0, 1.0, z),
+            ],
+        ]
+    };
+    let corners: Vec<[Vec3; 3]> = [square(-0.1), square(-0.5)].concat();
+    let tags = [PASS_THROUGH_TAG | 1, PASS_THROUGH_TAG | 1, 2, 2];
+    let mut bvh = Bvh::build(&corners, &tags);
+    for traversal in [CpuTraversal::best(), CpuTraversal::Scalar] {
+        bvh.traversal = traversal;
+        let (o, d) = (Vec3A::new(0.1, 0.2, 0.0), Vec3A::NEG_Z);
+        let photon = bvh.intersect(o, d, f32::INFINITY).expect("the far square");
+        assert!((photon.t - 0.5).abs() < 1e-6, "{traversal:?}: {photon:?}");
+        assert_eq!(photon.tag, 2);
+        let pick = bvh
+            .intersect_any_surface(o, d, f32::INFINITY)
+            .expect("the near square");
+        assert!((pick.t - 0.1).abs() < 1e-6, "{traversal:?}: {pick:?}");
+        assert_eq!(pick.tag & PASS_THROUGH_TAG, PASS_THROUGH_TAG);
+    }
 }

@@ -242,10 +242,11 @@ pub fn pick(
     depth_bounds: Bounds,
 ) -> Option<Selection> {
     let (origin, dir) = camera.ray(ndc, aspect, depth_bounds);
-    let hit = luminaire
-        .prepared
-        .bvh
-        .intersect(origin.into(), dir.into(), f32::INFINITY)?;
+    let hit =
+        luminaire
+            .prepared
+            .bvh
+            .intersect_any_surface(origin.into(), dir.into(), f32::INFINITY)?;
     selection_of_triangle(luminaire, hit.triangle as usize)
 }
 
