@@ -6,14 +6,23 @@
 //! The keywords are fields of the scene (its name, manufacturer and
 //! `[export]` section), edited in place like any panel's: each edit is an
 //! undo step, saved with the scene, and never restarts the run.
+//!
+//! An export runs on its own thread ([`ExportJob`]): with the automatic
+//! filter it chooses its rule afresh (about a second at 256²), which in
+//! the dialog's frame froze the window. The dialog shows its stage and
+//! time meanwhile, and the result when it ends.
 
 use std::path::{Path, PathBuf};
+use std::sync::mpsc::{Receiver, TryRecvError, channel};
+use std::sync::{Arc, Mutex, PoisonError};
+use std::time::{Duration, Instant};
 
 use egui::Ui;
 use lucerna_photometry::{CPlaneSymmetry, IesVersion};
 use lucerna_simulation::export::luminous_opening;
 use lucerna_simulation::{
-    ExportFormats, ExportOptions, ExportRequest, FilterChoice, Labels, Snapshot, TableGrid,
+    ExportFormats, ExportOptions, ExportRequest, ExportStage, FilterChoice, Labels, Snapshot,
+    TableGrid,
 };
 
 use crate::dialogs::DialogKind;
@@ -86,6 +95,68 @@ pub struct ExportDialog {
     base_name: String,
     /// What the last export wrote, or why it failed.
     result: Option<Result<Vec<PathBuf>, String>>,
+    /// The export running now.
+    job: Option<ExportJob>,
+    /// The luminous opening described for the snapshot's luminaire, found
+    /// once per luminaire rather than every frame.
+    opening: Option<(Arc<lucerna_simulation::Luminaire>, String)>,
+}
+
+/// An export on its own thread: its stage as it goes, its result at the
+/// end.
+#[derive(Debug)]
+pub struct ExportJob {
+    started: Instant,
+    stage: Arc<Mutex<ExportStage>>,
+    done: Receiver<Result<Vec<PathBuf>, String>>,
+}
+
+impl ExportJob {
+    /// Starts writing `request` of `snapshot`; `repaint` is called at each
+    /// stage and at the end.
+    fn start(
+        request: ExportRequest,
+        snapshot: Arc<Snapshot>,
+        repaint: impl Fn() + Send + 'static,
+    ) -> Result<ExportJob, String> {
+        let stage = Arc::new(Mutex::new(ExportStage::Tabulating));
+        let (send, done) = channel();
+        let reported = stage.clone();
+        std::thread::Builder::new()
+            .name("lucerna-export".to_owned())
+            .spawn(move || {
+                let report = |s: ExportStage| {
+                    *reported.lock().unwrap_or_else(PoisonError::into_inner) = s;
+                    repaint();
+                };
+                let result = request
+                    .write_reporting(&snapshot, &report)
+                    .map_err(|e| error_chain(&e));
+                let _ = send.send(result);
+                repaint();
+            })
+            .map_err(|e| format!("cannot start the export: {e}"))?;
+        Ok(ExportJob {
+            started: Instant::now(),
+            stage,
+            done,
+        })
+    }
+
+    fn stage(&self) -> ExportStage {
+        *self.stage.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// The result, once the job has ended.
+    fn finished(&self) -> Option<Result<Vec<PathBuf>, String>> {
+        match self.done.try_recv() {
+            Ok(result) => Some(result),
+            Err(TryRecvError::Empty) => None,
+            Err(TryRecvError::Disconnected) => {
+                Some(Err("the export stopped without a result".to_owned()))
+            }
+        }
+    }
 }
 
 impl ExportDialog {
@@ -235,7 +306,7 @@ fn dialog_ui(ui: &mut Ui, state: &mut EditorState, dialog: &mut ExportDialog) {
 
     ui.separator();
     ui.strong("Keywords (saved in the scene)");
-    keywords_ui(ui, state);
+    keywords_ui(ui, state, &mut dialog.opening);
 
     ui.separator();
     ui.strong("Output");
@@ -257,12 +328,35 @@ fn dialog_ui(ui: &mut Ui, state: &mut EditorState, dialog: &mut ExportDialog) {
         }
     });
     text_field(ui, "Base name", &mut dialog.base_name, "");
+    if let Some(result) = dialog.job.as_ref().and_then(ExportJob::finished) {
+        dialog.job = None;
+        dialog.result = Some(result);
+    }
     if ui
-        .button("Export")
+        .add_enabled(dialog.job.is_none(), egui::Button::new("Export"))
         .on_hover_text("Write the chosen files, all or none")
         .clicked()
     {
-        dialog.result = Some(export(state, dialog));
+        let ctx = ui.ctx().clone();
+        match start_export(state, dialog, move || ctx.request_repaint()) {
+            Ok(job) => {
+                dialog.job = Some(job);
+                dialog.result = None;
+            }
+            Err(e) => dialog.result = Some(Err(e)),
+        }
+    }
+    if let Some(job) = &dialog.job {
+        ui.horizontal(|ui| {
+            ui.spinner();
+            ui.label(format!(
+                "Exporting: {} ({:.1} s)",
+                job.stage(),
+                job.started.elapsed().as_secs_f64()
+            ));
+        });
+        // The elapsed time moves on between the job's own repaints.
+        ui.ctx().request_repaint_after(Duration::from_millis(200));
     }
     match &dialog.result {
         Some(Ok(files)) => {
@@ -294,10 +388,19 @@ fn text_field(ui: &mut Ui, label: &str, value: &mut String, hint: &str) {
 
 /// The scene's labels, edited in place: the frame's end makes each edit
 /// an undo step, and the simulation goes on (`Scene::same_light`).
-fn keywords_ui(ui: &mut Ui, state: &mut EditorState) {
-    let opening = state.snapshot().map(|s| {
-        let d = luminous_opening(&s.luminaire.scene, &s.luminaire.tessellated);
-        describe_opening(d)
+fn keywords_ui(
+    ui: &mut Ui,
+    state: &mut EditorState,
+    cache: &mut Option<(Arc<lucerna_simulation::Luminaire>, String)>,
+) {
+    let opening = state.snapshot().map(|s| match cache {
+        Some((luminaire, described)) if Arc::ptr_eq(luminaire, &s.luminaire) => described.clone(),
+        _ => {
+            let d = luminous_opening(&s.luminaire.scene, &s.luminaire.tessellated);
+            let described = describe_opening(d);
+            *cache = Some((s.luminaire.clone(), described.clone()));
+            described
+        }
     });
     let Some(scene) = state.scene.as_mut() else {
         ui.label("No scene.");
@@ -455,7 +558,7 @@ fn describe_opening(d: lucerna_photometry::Dimensions) -> String {
 }
 
 /// The snapshot to export, if it shows the scene as edited now.
-fn current_snapshot(state: &EditorState) -> Result<&Snapshot, String> {
+fn current_snapshot(state: &EditorState) -> Result<&Arc<Snapshot>, String> {
     if !state.problems().is_empty() {
         return Err(
             "the scene has problems (see the scene panel); the result shown is of an earlier version"
@@ -480,9 +583,13 @@ fn current_snapshot(state: &EditorState) -> Result<&Snapshot, String> {
     Ok(snapshot)
 }
 
-/// Writes the chosen files of the current snapshot; the paths written, or
-/// a message.
-fn export(state: &EditorState, dialog: &ExportDialog) -> Result<Vec<PathBuf>, String> {
+/// Starts writing the chosen files of the current snapshot on their own
+/// thread, or says why not.
+fn start_export(
+    state: &EditorState,
+    dialog: &ExportDialog,
+    repaint: impl Fn() + Send + 'static,
+) -> Result<ExportJob, String> {
     let scene = state.scene().ok_or("no scene".to_owned())?;
     let snapshot = current_snapshot(state)?;
     let folder = dialog.folder.trim();
@@ -513,5 +620,5 @@ fn export(state: &EditorState, dialog: &ExportDialog) -> Result<Vec<PathBuf>, St
     request.formats = dialog.formats();
     request.filter = filter;
     request.grid = dialog.grid.unwrap_or(run.table);
-    request.write(snapshot).map_err(|e| error_chain(&e))
+    ExportJob::start(request, snapshot.clone(), repaint)
 }

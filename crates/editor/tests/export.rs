@@ -83,6 +83,23 @@ fn open_dialog(h: &mut Harness<'_, EditorApp>, out: &Path, base: &str) {
     type_into(h, "Issue date", "2026-05-06");
 }
 
+/// Clicks Export and steps frames until the export's thread has ended
+/// (its result shown).
+fn export(h: &mut Harness<'_, EditorApp>) {
+    click(h, "Export");
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while h.query_by_label_contains("Wrote ").is_none()
+        && h.query_by_label_contains("Export failed").is_none()
+    {
+        assert!(
+            Instant::now() < deadline,
+            "timed out waiting for the export"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+        h.step();
+    }
+}
+
 fn names_in(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(dir)
         .map(|d| {
@@ -102,7 +119,7 @@ fn exported_files_read_back_with_the_editors_figures_and_are_the_bakes_bytes() {
     let snapshot = finished_run(&mut h);
     let out = dir.path().join("out");
     open_dialog(&mut h, &out, "spot");
-    click(&mut h, "Export");
+    export(&mut h);
     h.get_by_label("Wrote 5 files:");
     assert_eq!(
         names_in(&out),
@@ -143,7 +160,7 @@ fn exported_files_read_back_with_the_editors_figures_and_are_the_bakes_bytes() {
     click(&mut h, "EXR of the map");
     click(&mut h, "Cube map PNG");
     click(&mut h, "Polar diagram PNG");
-    click(&mut h, "Export");
+    export(&mut h);
     h.get_by_label("Wrote 2 files:");
     assert_eq!(names_in(&other), ["spot.ies", "spot.ldt"]);
     assert_eq!(
@@ -226,7 +243,7 @@ fn keywords_typed_in_the_dialog_are_saved_in_the_scene_undoable_and_restart_noth
     );
 
     // The export carries them, and they are saved with the scene.
-    click(&mut h, "Export");
+    export(&mut h);
     let ies = std::fs::read_to_string(out.join("spot.ies")).unwrap();
     for line in [
         "[LUMCAT] AC-25/100",
@@ -267,7 +284,7 @@ fn an_export_to_an_unwritable_folder_shows_an_error_and_writes_nothing() {
     let file = dir.path().join("plain.txt");
     std::fs::write(&file, b"not a folder").unwrap();
     open_dialog(&mut h, &file.join("out"), "spot");
-    click(&mut h, "Export");
+    export(&mut h);
     h.get_by_label_contains("Export failed, nothing written");
     assert_eq!(names_in(dir.path()), ["plain.txt", "spot.toml"]);
 
@@ -275,7 +292,7 @@ fn an_export_to_an_unwritable_folder_shows_an_error_and_writes_nothing() {
     let out = dir.path().join("out");
     type_into(&mut h, "Output folder", &out.display().to_string());
     type_into(&mut h, "Base name", "../spot");
-    click(&mut h, "Export");
+    export(&mut h);
     h.get_by_label_contains("is not a plain file name");
     assert!(names_in(&out).is_empty());
 }
@@ -302,7 +319,7 @@ fn the_luminous_opening_chosen_in_the_dialog_is_declared_in_the_files() {
     let generation = h.state().state.simulation().unwrap().generation();
     assert!(generation >= 1);
     finished_run_of(&mut h, generation);
-    click(&mut h, "Export");
+    export(&mut h);
     h.get_by_label("Wrote 5 files:");
     let ies = read_photometry(&std::fs::read(out.join("spot.ies")).unwrap()).unwrap();
     let area = ies.meta.luminous_area;
@@ -341,5 +358,41 @@ fn a_folder_chosen_in_the_native_dialog_fills_the_output_folder() {
     assert_eq!(
         h.get_by_label("Output folder").value(),
         Some(chosen.display().to_string())
+    );
+}
+
+/// The export runs beside the window: the frame after the click shows it
+/// under way (the automatic filter choosing its rule), not a frozen wait,
+/// and its result comes later.
+#[test]
+fn an_export_runs_on_its_own_thread_and_reports_its_stage() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_path = scene_copy(dir.path());
+    let mut h = editor(&scene_path);
+    finished_run(&mut h);
+    let out = dir.path().join("out");
+    open_dialog(&mut h, &out, "spot");
+    choose(&mut h, "Map", "Filtered");
+    h.get_by_label("Export").click();
+    h.step();
+    assert!(
+        h.query_by_label_contains("Exporting: ").is_some()
+            || h.query_by_label_contains("Wrote ").is_some(),
+        "the export neither runs nor has ended"
+    );
+    let running_seen = h.query_by_label_contains("Exporting: ").is_some();
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while h.query_by_label_contains("Wrote 5 files:").is_none() {
+        assert!(
+            Instant::now() < deadline,
+            "timed out waiting for the export"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+        h.step();
+    }
+    assert_eq!(names_in(&out).len(), 5);
+    assert!(
+        running_seen,
+        "the frame after the click waited for the export"
     );
 }

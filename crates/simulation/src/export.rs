@@ -285,6 +285,27 @@ pub struct ExportRequest {
     pub stem: String,
 }
 
+/// Where an export stands.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ExportStage {
+    /// Filtering (the automatic rule may be chosen afresh) and tabulating.
+    Tabulating,
+    /// Drawing one file in memory.
+    Drawing(&'static str),
+    /// Writing the files, all or none.
+    Writing,
+}
+
+impl std::fmt::Display for ExportStage {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ExportStage::Tabulating => write!(f, "filtering and tabulating"),
+            ExportStage::Drawing(what) => write!(f, "drawing the {what} file"),
+            ExportStage::Writing => write!(f, "writing the files"),
+        }
+    }
+}
+
 /// What an export writes before anything is written: the table and its
 /// photometry, and every file's path and bytes.
 #[derive(Debug, Clone)]
@@ -371,6 +392,16 @@ impl ExportRequest {
     /// Every file's path and bytes, drawn and written in memory: any
     /// failure comes before a file is touched.
     pub fn render(&self, snapshot: &Snapshot) -> Result<ExportedFiles, SimulationError> {
+        self.render_reporting(snapshot, &|_| {})
+    }
+
+    /// [`ExportRequest::render`], telling `report` each stage as it starts
+    /// (an editor shows them while the export runs on its own thread).
+    pub fn render_reporting(
+        &self,
+        snapshot: &Snapshot,
+        report: &dyn Fn(ExportStage),
+    ) -> Result<ExportedFiles, SimulationError> {
         if self.formats.is_empty() {
             return Err(ExportRequestError::NoFormat.into());
         }
@@ -380,6 +411,7 @@ impl ExportRequest {
         if self.stem.trim().is_empty() || !plain || self.stem == "." || self.stem == ".." {
             return Err(ExportRequestError::BadStem(self.stem.clone()).into());
         }
+        report(ExportStage::Tabulating);
         let (candela, table) = self.candela_and_table(snapshot)?;
         let photometry = photometry_of(snapshot, &table, &self.options);
         let map = &snapshot.map;
@@ -401,15 +433,18 @@ impl ExportRequest {
         let stem = &self.stem;
         let mut outputs: Vec<(String, Vec<u8>)> = Vec::new();
         if let Some(version) = self.formats.ies {
+            report(ExportStage::Drawing("IES"));
             outputs.push((
                 format!("{stem}.ies"),
                 write_ies(&photometry, version)?.into_bytes(),
             ));
         }
         if self.formats.ldt {
+            report(ExportStage::Drawing("EULUMDAT"));
             outputs.push((format!("{stem}.ldt"), to_latin1(&write_ldt(&photometry)?)));
         }
         if self.formats.exr {
+            report(ExportStage::Drawing("EXR"));
             let exr = lucerna_pictures::intensity_map_exr(
                 map,
                 &[
@@ -422,11 +457,13 @@ impl ExportRequest {
             outputs.push((format!("{stem}.exr"), exr));
         }
         if self.formats.cube_png {
+            report(ExportStage::Drawing("cube map"));
             let cube = lucerna_pictures::cube_map_png(map.layout, &candela, 200, &title)
                 .map_err(|e| picture("the cube map")(&e))?;
             outputs.push((format!("{stem}_cube.png"), cube));
         }
         if self.formats.polar_png {
+            report(ExportStage::Drawing("polar diagram"));
             let polar = lucerna_pictures::polar_png(&photometry.table, per_klm, 640, &title)
                 .map_err(|e| picture("the polar diagram")(&e))?;
             outputs.push((format!("{stem}_polar.png"), polar));
@@ -443,7 +480,17 @@ impl ExportRequest {
     /// Renders the files and writes them all or none (each atomically);
     /// returns their paths. The output folder must exist.
     pub fn write(&self, snapshot: &Snapshot) -> Result<Vec<PathBuf>, SimulationError> {
-        let exported = self.render(snapshot)?;
+        self.write_reporting(snapshot, &|_| {})
+    }
+
+    /// [`ExportRequest::write`], telling `report` each stage as it starts.
+    pub fn write_reporting(
+        &self,
+        snapshot: &Snapshot,
+        report: &dyn Fn(ExportStage),
+    ) -> Result<Vec<PathBuf>, SimulationError> {
+        let exported = self.render_reporting(snapshot, report)?;
+        report(ExportStage::Writing);
         write_all_atomically(&exported.files)
             .map_err(|(path, source)| SimulationError::Write { path, source })?;
         Ok(exported.files.into_iter().map(|(path, _)| path).collect())

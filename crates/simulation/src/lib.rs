@@ -19,8 +19,8 @@ mod worker;
 
 pub use error::SimulationError;
 pub use export::{
-    ExportFormats, ExportOptions, ExportRequest, ExportRequestError, ExportedFiles, Labels,
-    photometry, write_bake_files,
+    ExportFormats, ExportOptions, ExportRequest, ExportRequestError, ExportStage, ExportedFiles,
+    Labels, photometry, write_bake_files,
 };
 pub use live_filter::LiveFilter;
 pub use lucerna_gpu::BackendRequest;
