@@ -1,22 +1,35 @@
-//! The window: the panels around the views, one frame at a time.
+//! The window: the menu bar, the scene and simulation panels, the dock of
+//! views, the status bar, one frame at a time.
+
+use std::path::PathBuf;
 
 use crate::benchmark::Benchmark;
+use crate::dock::{Dock, Pane};
 use crate::drag_benchmark::DragBenchmark;
-use crate::export_dialog::{ExportDialog, export_dialog_ui};
-use crate::files_bar::files_bar_ui;
+use crate::export_dialog::export_dialog_ui;
+use crate::menu_bar::{
+    Windows, about_window_ui, has_notices, menu_bar_ui, notices_ui, shortcuts_window_ui,
+};
+use crate::profile_pane::ProfilePane;
 use crate::scene_panel::scene_panel_ui;
 use crate::simulation_panel::simulation_panel_ui;
+use crate::start_page::{examples, start_page_ui};
 use crate::state::EditorState;
-use crate::viewport::{GpuTarget, Viewport, viewport_ui};
-use crate::views::{ViewsState, views_ui};
+use crate::status_bar::status_bar_ui;
+use crate::ui_command::UiCommand;
+use crate::viewport::{GpuTarget, Viewport};
+use crate::views::ViewsState;
 
-/// The editor: its state and the textures only drawing needs.
+/// The editor: its state and what only drawing needs.
 #[derive(Debug)]
 pub struct EditorApp {
     pub state: EditorState,
     views: ViewsState,
-    export: ExportDialog,
+    windows: Windows,
     viewport: Viewport,
+    dock: Dock,
+    profile: ProfilePane,
+    examples: Vec<PathBuf>,
     benchmark: Option<Benchmark>,
     drag_benchmark: Option<DragBenchmark>,
 }
@@ -29,11 +42,21 @@ impl EditorApp {
 
     /// An editor drawing its 3D view for egui's wgpu pass of `target`.
     pub fn with_gpu_target(state: EditorState, target: Option<GpuTarget>) -> Self {
+        let layout = state
+            .paths()
+            .config_dir
+            .as_ref()
+            .map(|d| d.join("layout.json"));
+        let mut dock = Dock::load(layout);
+        dock.show(Pane::of_view(state.view));
         EditorApp {
             state,
             views: ViewsState::default(),
-            export: ExportDialog::default(),
+            windows: Windows::default(),
             viewport: Viewport::new(target),
+            dock,
+            profile: ProfilePane::default(),
+            examples: examples(),
             benchmark: None,
             drag_benchmark: None,
         }
@@ -93,6 +116,16 @@ impl EditorApp {
         &mut self.viewport
     }
 
+    /// Brings a pane of the dock to the front (the View menu does).
+    pub fn show_pane(&mut self, pane: Pane) {
+        self.dock.show(pane);
+    }
+
+    /// Carries out a menu item, as its click or shortcut would.
+    pub fn run_command(&mut self, command: UiCommand) {
+        crate::menu_bar::run(command, &mut self.state, &mut self.windows, &mut self.dock);
+    }
+
     /// One frame of the whole editor; the eframe app and the tests both
     /// drive this.
     pub fn ui(&mut self, ui: &mut egui::Ui) {
@@ -100,6 +133,62 @@ impl EditorApp {
         let frame_start = std::time::Instant::now();
         self.state.begin_frame(&ctx);
         let before = self.state.scene.clone();
+        self.benchmarks_begin_frame(&ctx, frame_start);
+        if let Some(command) = UiCommand::pressed(&ctx) {
+            self.run_command(command);
+        }
+        egui::Panel::top("menu").show(ui, |ui| {
+            menu_bar_ui(ui, &mut self.state, &mut self.windows, &mut self.dock);
+        });
+        if has_notices(&ctx, &self.state) {
+            egui::Panel::top("notices").show(ui, |ui| notices_ui(ui, &mut self.state));
+        }
+        egui::Panel::bottom("status").show(ui, |ui| status_bar_ui(ui, &self.state));
+        if self.state.scene().is_none() {
+            egui::CentralPanel::default().show(ui, |ui| {
+                start_page_ui(ui, &mut self.state, &self.examples);
+            });
+        } else {
+            egui::Panel::left("scene")
+                .resizable(true)
+                .default_size(300.0)
+                .show(ui, |ui| {
+                    egui::ScrollArea::vertical().show(ui, |ui| scene_panel_ui(ui, &mut self.state));
+                });
+            egui::Panel::right("simulation")
+                .resizable(true)
+                .default_size(270.0)
+                .show(ui, |ui| {
+                    egui::ScrollArea::vertical()
+                        .show(ui, |ui| simulation_panel_ui(ui, &mut self.state));
+                });
+            egui::CentralPanel::default().show(ui, |ui| {
+                self.dock.ui(
+                    ui,
+                    &mut self.state,
+                    &mut self.views,
+                    &mut self.viewport,
+                    &mut self.profile,
+                );
+            });
+        }
+        export_dialog_ui(&ctx, &mut self.state, &mut self.windows.export);
+        if let Some(chosen) = self.state.files.dialogs.prompt_ui(&ctx) {
+            self.state.push(chosen);
+        }
+        shortcuts_window_ui(&ctx, &mut self.windows.shortcuts);
+        about_window_ui(&ctx, &mut self.windows.about);
+        self.state.end_frame(&ctx, before);
+        if let Some(pane) = self.state.pane_request.take() {
+            self.dock.show(pane);
+        }
+        self.dock.save_if_changed();
+        if let Some(b) = &mut self.benchmark {
+            b.end_frame(frame_start.elapsed());
+        }
+    }
+
+    fn benchmarks_begin_frame(&mut self, ctx: &egui::Context, frame_start: std::time::Instant) {
         if let Some(b) = &mut self.benchmark {
             b.begin_frame(&mut self.state, frame_start);
             if b.is_finished() {
@@ -122,39 +211,6 @@ impl EditorApp {
                 ctx.request_repaint();
             }
             self.state.scripted_pointer = b.holds_pointer();
-        }
-        egui::Panel::top("files")
-            .show(ui, |ui| files_bar_ui(ui, &mut self.state, &mut self.export));
-        egui::Panel::left("scene")
-            .resizable(true)
-            .default_size(300.0)
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| scene_panel_ui(ui, &mut self.state));
-            });
-        egui::Panel::right("simulation")
-            .resizable(true)
-            .default_size(270.0)
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical()
-                    .show(ui, |ui| simulation_panel_ui(ui, &mut self.state));
-            });
-        egui::CentralPanel::default().show(ui, |ui| {
-            // The photometric views beside the 3D view: an edit shows in
-            // both at once.
-            let half = 0.5 * ui.available_width();
-            egui::Panel::right("photometry")
-                .resizable(true)
-                .default_size(half)
-                .size_range(200.0..=(ui.available_width() - 200.0).max(200.0))
-                .show(ui, |ui| views_ui(ui, &mut self.state, &mut self.views));
-            egui::CentralPanel::default().show(ui, |ui| {
-                viewport_ui(ui, &mut self.state, &mut self.viewport)
-            });
-        });
-        export_dialog_ui(&ctx, &mut self.state, &mut self.export);
-        self.state.end_frame(&ctx, before);
-        if let Some(b) = &mut self.benchmark {
-            b.end_frame(frame_start.elapsed());
         }
     }
 }

@@ -17,6 +17,9 @@ pub struct EditorPaths {
     /// `None`: remember nothing and write nothing (the default for tests
     /// that are not about it).
     pub config_dir: Option<PathBuf>,
+    /// Native file dialogs where the desktop has them; otherwise (and in
+    /// tests, which never open one) a path prompt in the window.
+    pub native_dialogs: bool,
 }
 
 impl EditorPaths {
@@ -25,6 +28,7 @@ impl EditorPaths {
     pub fn user() -> Self {
         EditorPaths {
             config_dir: dirs::config_dir().map(|d| d.join("lucerna")),
+            native_dialogs: true,
         }
     }
 
@@ -32,6 +36,7 @@ impl EditorPaths {
     pub fn in_dir(dir: impl Into<PathBuf>) -> Self {
         EditorPaths {
             config_dir: Some(dir.into()),
+            native_dialogs: false,
         }
     }
 

@@ -50,8 +50,6 @@ pub(crate) struct FileState {
     /// A message that is not an error (an import's units, a settings file
     /// that could not be read).
     pub notice: Option<String>,
-    /// The OBJ path field of "Import OBJ".
-    pub import_path: String,
     theme_applied: bool,
     /// Quitting was confirmed: a close request is let through.
     pub quitting: bool,
@@ -59,6 +57,7 @@ pub(crate) struct FileState {
 
 impl FileState {
     pub fn new(paths: EditorPaths) -> Self {
+        let native_dialogs = paths.native_dialogs;
         let mut notice = None;
         let config = EditorConfig::load(&paths).unwrap_or_else(|e| {
             notice = Some(format!("{}; using the defaults", error_chain(&e)));
@@ -81,9 +80,8 @@ impl FileState {
             last_autosave: None,
             autosaved: None,
             autosave_now: false,
-            dialogs: Dialogs::default(),
+            dialogs: Dialogs::new(native_dialogs),
             notice,
-            import_path: String::new(),
             theme_applied: false,
             quitting: false,
         }

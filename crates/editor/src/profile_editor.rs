@@ -46,6 +46,11 @@ pub struct Profile<'a> {
     /// The emitters' names and positions in this plane (mm), drawn so the
     /// profile is shaped around its lamp.
     pub lamps_mm: &'a [(String, [f64; 2])],
+    /// Traced photons' paths in this plane (mm), drawn faintly under the
+    /// profile so the light's way through it reads at a glance.
+    pub rays_mm: &'a [Vec<[f64; 2]>],
+    /// Height of the drawing (points).
+    pub drawing_height: f32,
 }
 
 /// The part of the data plane (mm) the drawing shows and how it maps to
@@ -236,6 +241,8 @@ pub fn profile_editor_ui(
         interpolation,
         segments_per_span,
         lamps_mm,
+        rays_mm,
+        drawing_height,
     } = profile;
     let id = Id::unique(("profile editor", part));
     let selected_id = id.with("selected");
@@ -258,6 +265,8 @@ pub fn profile_editor_ui(
             interpolation,
             segments_per_span,
             lamps_mm,
+            rays_mm,
+            drawing_height,
         },
         &found,
         &mut selected,
@@ -388,9 +397,14 @@ fn drawing_ui(
         interpolation,
         segments_per_span,
         lamps_mm,
+        rays_mm,
+        drawing_height,
     } = profile;
     let (total, _) = ui.allocate_exact_size(
-        vec2(ui.available_width().max(200.0), DRAWING_HEIGHT),
+        vec2(
+            ui.available_width().max(200.0),
+            drawing_height.max(DRAWING_HEIGHT),
+        ),
         Sense::hover(),
     );
     let plot = Rect::from_min_max(
@@ -431,6 +445,12 @@ fn drawing_ui(
     painter.rect_filled(plot, 2.0, visuals.extreme_bg_color);
     grid_ui(&painter, &plot_painter, &frame, plane, &visuals);
 
+    // The photons' paths, under everything else.
+    let ray_stroke = Stroke::new(1.0, visuals.warn_fg_color.gamma_multiply(0.35));
+    for ray in rays_mm {
+        let line: Vec<Pos2> = ray.iter().map(|&p| frame.screen_from_mm(p)).collect();
+        plot_painter.line(line, ray_stroke);
+    }
     // The curve the generator builds from the points.
     let finite = points_m.iter().flatten().all(|v| v.is_finite());
     if points_m.len() >= 2 && finite {

@@ -9,10 +9,9 @@ use lucerna_scene::{
 };
 
 use crate::modelling::{
-    EMITTER_SHAPES, NewPart, SceneEdit, emitter_shape_as, emitter_shape_kind,
-    lamps_in_profile_plane, material_users, profile_files_near, profile_mut,
+    EMITTER_SHAPES, NewPart, SceneEdit, emitter_shape_as, emitter_shape_kind, material_users,
+    profile_files_near, profile_mut,
 };
-use crate::profile_editor::{Profile, profile_editor_ui};
 use crate::state::{Command, EditorState, Selection};
 use crate::widgets::{degrees, flag, labelled, length_mm, number, offset_mm, segments, text};
 
@@ -51,17 +50,8 @@ pub fn scene_panel_ui(ui: &mut Ui, state: &mut EditorState) {
     let materials: Vec<String> = scene.materials.keys().cloned().collect();
     match state.selection.clone() {
         Some(Selection::Part(i)) => {
-            let lamps_mm = lamps_in_profile_plane(scene, i);
             if let Some(part) = scene.parts.get_mut(i) {
-                part_ui(
-                    ui,
-                    i,
-                    part,
-                    &materials,
-                    &state.problems,
-                    &lamps_mm,
-                    &mut commands,
-                );
+                part_ui(ui, i, part, &materials, &mut commands);
                 ui.horizontal(|ui| {
                     if ui.button("Duplicate part").clicked() {
                         commands.push(Command::DuplicatePart(i));
@@ -187,8 +177,6 @@ fn part_ui(
     index: usize,
     part: &mut Part,
     materials: &[String],
-    problems: &[String],
-    lamps_mm: &[(String, [f64; 2])],
     commands: &mut Vec<Command>,
 ) {
     ui.strong(format!("Part ({})", part.shape.generator().kind()));
@@ -211,20 +199,13 @@ fn part_ui(
             .response
     });
     ui.label("Shape");
-    shape_ui(ui, index, &mut part.shape, problems, lamps_mm, commands);
+    shape_ui(ui, &mut part.shape, commands);
     transform_ui(ui, &mut part.transform);
 }
 
-/// Every generator parameter with its unit; the profile shapes get the
-/// profile editor.
-fn shape_ui(
-    ui: &mut Ui,
-    index: usize,
-    shape: &mut Shape,
-    problems: &[String],
-    lamps_mm: &[(String, [f64; 2])],
-    commands: &mut Vec<Command>,
-) {
+/// Every generator parameter with its unit; the profile shapes point to
+/// the profile pane.
+fn shape_ui(ui: &mut Ui, shape: &mut Shape, commands: &mut Vec<Command>) {
     match shape {
         Shape::Paraboloid(s) => {
             length_mm(ui, "Focal length", &mut s.focal_length, MAX_MM);
@@ -304,26 +285,16 @@ fn shape_ui(
             }
         }
     }
-    let (interpolation, segments_per_span) = match shape {
-        Shape::Revolved(s) => (s.interpolation, s.segments_per_span),
-        Shape::Extruded(s) => (s.interpolation, s.segments_per_span),
-        _ => return,
-    };
-    if let Some((points_m, plane)) = profile_mut(shape) {
+    if let Some((points_m, _)) = profile_mut(shape) {
         ui.separator();
-        profile_editor_ui(
-            ui,
-            Profile {
-                part: index,
-                plane,
-                points_m,
-                interpolation,
-                segments_per_span,
-                lamps_mm,
-            },
-            problems,
-            commands,
-        );
+        ui.label(format!("Profile: {} points", points_m.len()));
+        if ui
+            .button("Edit the profile")
+            .on_hover_text("Shape it in the Profile pane, with the run's photons drawn through it")
+            .clicked()
+        {
+            commands.push(Command::ShowPane(crate::dock::Pane::Profile));
+        }
     }
 }
 

@@ -10,66 +10,12 @@ use egui::util::undoer::{Settings as UndoSettings, Undoer};
 use lucerna_scene::{Scene, load_scene, save_scene, validate};
 use lucerna_simulation::{Simulation, SimulationSettings, Snapshot};
 
-use crate::config::{EditorPaths, ThemeChoice};
-use crate::dialogs::DialogKind;
+pub use crate::command::{Command, Selection};
+use crate::config::EditorPaths;
 use crate::files::FileState;
 pub use crate::modelling::{NewPart, SceneEdit};
 use crate::modelling::{new_part, unique_name};
 use crate::pacer::RepaintPacer;
-
-/// What is selected in the scene panel.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Selection {
-    Emitter(usize),
-    Part(usize),
-    Material(String),
-}
-
-/// A UI action, queued by a panel and applied after the panels are drawn
-/// so that no panel mutates what another is still drawing.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Command {
-    /// Opens a file; with unsaved changes it asks first.
-    Open(PathBuf),
-    /// Opens a file, dropping unsaved changes.
-    OpenDiscarding(PathBuf),
-    /// Keeps the unsaved changes: the pending New, Open or Quit is dropped.
-    CancelPending,
-    Save,
-    SaveAs(PathBuf),
-    Undo,
-    Redo,
-    Select(Option<Selection>),
-    AddPart(NewPart),
-    DuplicatePart(usize),
-    DeletePart(usize),
-    /// An emitter, material or profile edit (one undo step), or its refusal.
-    Edit(SceneEdit),
-    Pause,
-    Resume,
-    SetSettings(SimulationSettings),
-    // File handling (files.rs).
-    /// Starts the starter scene; with unsaved changes it asks first.
-    New,
-    /// Starts the starter scene, dropping unsaved changes.
-    NewDiscarding,
-    /// Closes the editor; with unsaved changes it asks first.
-    Quit,
-    /// Closes the editor, dropping unsaved changes.
-    QuitDiscarding,
-    /// Takes the offered recovery file as the (unsaved) document.
-    Recover,
-    /// Drops the offered recovery file.
-    DiscardRecovery,
-    /// Adds an OBJ file as a mesh part (one undo step).
-    ImportMesh(PathBuf),
-    /// Opens a native file dialog; the chosen path comes back as a command.
-    FileDialog(DialogKind),
-    SetTheme(ThemeChoice),
-    ClearRecent,
-    /// The export dialog's output folder, chosen in a native dialog.
-    SetExportFolder(PathBuf),
-}
 
 /// Which view the central panel shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -98,8 +44,6 @@ pub struct EditorState {
     pub(crate) problems: Vec<String>,
     /// The last file error (load or save), shown until the next success.
     pub(crate) file_error: Option<String>,
-    pub(crate) open_path: String,
-    pub(crate) save_as_path: String,
     pub(crate) view: View,
     /// New, recent files, autosave and recovery, dialogs (files.rs).
     pub(crate) files: FileState,
@@ -113,6 +57,8 @@ pub struct EditorState {
     /// A scripted pointer is held down (the drag benchmark and tests): the
     /// edits it makes are a drag's.
     pub(crate) scripted_pointer: bool,
+    /// A pane the window should bring to the front (a panel asked).
+    pub(crate) pane_request: Option<crate::dock::Pane>,
     /// The last valid scene handed to the simulation.
     sent: Option<Scene>,
     sim: Option<Simulation>,
@@ -163,8 +109,6 @@ impl EditorState {
             selection: None,
             problems: Vec::new(),
             file_error: None,
-            open_path: String::new(),
-            save_as_path: String::new(),
             view: View::default(),
             files: FileState::new(paths),
             edit_error: None,
@@ -175,6 +119,7 @@ impl EditorState {
             }),
             gesture: false,
             scripted_pointer: false,
+            pane_request: None,
             sent: None,
             sim: None,
             settings,
@@ -188,7 +133,6 @@ impl EditorState {
             title: String::new(),
         };
         if let Some(path) = open {
-            state.open_path = path.display().to_string();
             state.push(Command::Open(path));
         }
         state
@@ -251,6 +195,16 @@ impl EditorState {
         self.snapshot.as_ref()
     }
 
+    /// Whether there is an edit to undo.
+    pub fn can_undo(&self) -> bool {
+        self.scene.as_ref().is_some_and(|s| self.undoer.has_undo(s))
+    }
+
+    /// Whether there is an undone edit to redo.
+    pub fn can_redo(&self) -> bool {
+        self.scene.as_ref().is_some_and(|s| self.undoer.has_redo(s))
+    }
+
     /// Unsaved changes since the last load or save.
     pub fn is_dirty(&self) -> bool {
         self.scene.is_some() && self.scene != self.saved
@@ -283,8 +237,6 @@ impl EditorState {
             self.ctx = Some(ctx.clone());
         }
         self.files_begin_frame(ctx);
-        self.apply_commands();
-        self.shortcuts(ctx);
         if let Some(sim) = &self.sim {
             let published = sim.published();
             // An error of an older generation is stale once a newer run
@@ -325,32 +277,6 @@ impl EditorState {
             ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
             self.title = title;
         }
-    }
-
-    fn shortcuts(&mut self, ctx: &egui::Context) {
-        use egui::{Key, KeyboardShortcut, Modifiers};
-        let redo = KeyboardShortcut::new(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z);
-        let undo = KeyboardShortcut::new(Modifiers::COMMAND, Key::Z);
-        let save = KeyboardShortcut::new(Modifiers::COMMAND, Key::S);
-        // Redo first: Ctrl+Z would also match Ctrl+Shift+Z.
-        if ctx.input_mut(|i| i.consume_shortcut(&redo)) {
-            self.push(Command::Redo);
-        } else if ctx.input_mut(|i| i.consume_shortcut(&undo)) {
-            self.push(Command::Undo);
-        }
-        if ctx.input_mut(|i| i.consume_shortcut(&save)) {
-            self.push(Command::Save);
-        }
-        let new = KeyboardShortcut::new(Modifiers::COMMAND, Key::N);
-        if ctx.input_mut(|i| i.consume_shortcut(&new)) {
-            self.push(Command::New);
-        }
-        // A clean way out even without a window manager (Xvfb in CI).
-        let quit = KeyboardShortcut::new(Modifiers::COMMAND, Key::Q);
-        if ctx.input_mut(|i| i.consume_shortcut(&quit)) {
-            self.push(Command::Quit);
-        }
-        self.apply_commands();
     }
 
     fn apply_commands(&mut self) {
@@ -452,6 +378,13 @@ impl EditorState {
                 }
             }
             Command::SetExportFolder(path) => self.chosen_export_folder = Some(path),
+            Command::ShowPane(pane) => self.pane_request = Some(pane),
+            Command::Restart => {
+                if let Some(sim) = &mut self.sim {
+                    self.pacer.reset();
+                    sim.restart();
+                }
+            }
             command @ (Command::New
             | Command::NewDiscarding
             | Command::Quit

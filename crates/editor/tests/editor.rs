@@ -8,6 +8,9 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+mod common;
+
+use common::{command, menu};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use lucerna_editor::{EditorApp, EditorState};
@@ -127,9 +130,7 @@ fn a_longer_focal_length_restarts_the_run_and_narrows_the_beam_and_undo_restores
         "beam {beam_before:.2}° at f = 25 mm, {beam_after:.2}° at f = 50 mm"
     );
 
-    h.get_by_label("Undo").click();
-    h.step();
-    h.step();
+    menu(&mut h, "Edit", "Undo");
     assert!(
         (focal_length(&h) - 0.025).abs() < 1e-12,
         "{}",
@@ -140,8 +141,7 @@ fn a_longer_focal_length_restarts_the_run_and_narrows_the_beam_and_undo_restores
     let undone = wait_for(&mut h, "the undone run", finished(2));
     assert_eq!(undone.figures.beam_angle_deg, before.figures.beam_angle_deg);
 
-    h.get_by_label("Redo").click();
-    h.step();
+    menu(&mut h, "Edit", "Redo");
     assert!((focal_length(&h) - 0.05).abs() < 1e-12);
 }
 
@@ -178,14 +178,8 @@ fn save_as_and_reopen_gives_the_same_scene() {
     select_reflector(&mut h);
     h.get_by_label("Focal length").set_value_accesskit(40.0);
     h.step();
-    h.get_by_label("Save as path").click();
-    h.step();
-    h.get_by_label("Save as path")
-        .type_text(&saved.display().to_string());
-    h.step();
-    h.get_by_label("Save as").click();
-    h.step();
-    h.step();
+    // What the Save As dialog delivers.
+    command(&mut h, lucerna_editor::Command::SaveAs(saved.clone()));
     assert_eq!(h.state().state.file_error(), None);
     assert!(!h.state().state.is_dirty());
     let edited = h.state().state.scene().unwrap().clone();
@@ -233,15 +227,8 @@ fn a_broken_scene_file_shows_its_error_and_the_editor_keeps_running() {
     let mut h = editor(Some(example()));
     h.step();
     let original = h.state().state.scene().unwrap().clone();
-    h.get_by_label("Scene file").click();
-    h.step();
-    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::A);
-    h.get_by_label("Scene file")
-        .type_text(&broken.display().to_string());
-    h.step();
-    h.get_by_label("Open").click();
-    h.step();
-    h.step();
+    // What the Open dialog delivers.
+    command(&mut h, lucerna_editor::Command::Open(broken.clone()));
     let error = h.state().state.file_error().expect("an error").to_owned();
     assert!(error.contains("broken.toml"), "{error}");
     assert!(error.contains("line 6"), "{error}");
@@ -256,8 +243,7 @@ fn a_broken_scene_file_shows_its_error_and_the_editor_keeps_running() {
 
     // A file that is not TOML at all.
     std::fs::write(&broken, "this is = = not toml").unwrap();
-    h.get_by_label("Open").click();
-    h.step();
+    command(&mut h, lucerna_editor::Command::Open(broken.clone()));
     let error = h.state().state.file_error().expect("an error").to_owned();
     assert!(error.contains("broken.toml:1"), "{error}");
 }
@@ -297,8 +283,7 @@ fn parts_are_added_duplicated_and_deleted_each_as_one_undo_step() {
     h.step();
     assert_eq!(parts(&h), 2);
     for expected in [3, 2, 1] {
-        h.get_by_label("Undo").click();
-        h.step();
+        menu(&mut h, "Edit", "Undo");
         assert_eq!(parts(&h), expected);
     }
 }
@@ -308,7 +293,7 @@ fn the_views_show_the_polar_diagram_and_the_cube_map() {
     let mut h = editor(Some(example()));
     wait_for(&mut h, "a snapshot", |_| true);
     h.step();
-    h.get_by_label("Polar diagram");
+    h.get_by_label("Polar");
     h.get_by_label("Cube map").click();
     h.step();
     h.step();
@@ -323,17 +308,13 @@ fn opening_over_unsaved_changes_asks_first() {
     select_reflector(&mut h);
     h.get_by_label("Focal length").set_value_accesskit(30.0);
     h.step();
-    h.get_by_label("Open").click();
-    h.step();
-    h.step();
+    command(&mut h, lucerna_editor::Command::Open(example()));
     assert!(h.state().state.pending_open().is_some());
     h.get_by_label("Keep editing").click();
     h.step();
     assert!(h.state().state.pending_open().is_none());
     assert!((focal_length(&h) - 0.03).abs() < 1e-12);
-    h.get_by_label("Open").click();
-    h.step();
-    h.step();
+    command(&mut h, lucerna_editor::Command::Open(example()));
     h.get_by_label("Discard changes and open").click();
     h.step();
     h.step();
@@ -414,15 +395,13 @@ fn a_drag_is_one_undo_step() {
     seen.dedup();
     assert!(seen.len() > 2, "{seen:?}");
     // …and one undo goes back to before it.
-    h.get_by_label("Undo").click();
-    h.step();
+    menu(&mut h, "Edit", "Undo");
     assert!(
         (focal_length(&h) - 0.025).abs() < 1e-12,
         "{}",
         focal_length(&h)
     );
-    h.get_by_label("Redo").click();
-    h.step();
+    menu(&mut h, "Edit", "Redo");
     assert!((focal_length(&h) - dragged).abs() < 1e-12);
 }
 

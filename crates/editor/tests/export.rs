@@ -77,7 +77,7 @@ fn finished_run(h: &mut Harness<'_, EditorApp>) -> Arc<Snapshot> {
 }
 
 fn open_dialog(h: &mut Harness<'_, EditorApp>, out: &Path, base: &str) {
-    click(h, "Export…");
+    common::menu(h, "File", "Export…");
     type_into(h, "Output folder", &out.display().to_string());
     type_into(h, "Base name", base);
     type_into(h, "Issue date", "2026-05-06");
@@ -262,7 +262,7 @@ fn keywords_typed_in_the_dialog_are_saved_in_the_scene_undoable_and_restart_noth
     // Reopened, the dialog shows them again.
     let mut again = editor(&scene_path);
     steps(&mut again, 2);
-    click(&mut again, "Export…");
+    common::menu(&mut again, "File", "Export…");
     assert_eq!(
         again.get_by_label("Catalogue number").value().as_deref(),
         Some("AC-25/100")
@@ -347,7 +347,7 @@ fn a_folder_chosen_in_the_native_dialog_fills_the_output_folder() {
     let scene_path = scene_copy(dir.path());
     let mut h = editor(&scene_path);
     steps(&mut h, 2);
-    click(&mut h, "Export…");
+    common::menu(&mut h, "File", "Export…");
     h.get_by_label("Choose folder…");
     // What the dialog's thread delivers when a folder is picked.
     let chosen = dir.path().join("chosen");

@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::steps;
+use common::{import_obj, menu, save_as, steps};
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -162,8 +162,7 @@ fn an_unanswered_recovery_offer_survives_quitting_and_new() {
     drop(h);
     let mut again = editor(None, &config);
     steps(&mut again, 2);
-    again.get_by_label("New").click();
-    steps(&mut again, 2);
+    menu(&mut again, "File", "New");
     again.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Q);
     steps(&mut again, 2);
     assert!(again.state().state.quit_requested());
@@ -203,8 +202,7 @@ fn new_starts_a_valid_scene_and_asks_before_dropping_unsaved_changes() {
     h.get_by_label("Add disk").click();
     steps(&mut h, 2);
     let edited = h.state().state.scene().unwrap().clone();
-    h.get_by_label("New").click();
-    steps(&mut h, 2);
+    menu(&mut h, "File", "New");
     assert_eq!(h.state().state.pending(), Some(&PendingAction::New));
     assert_eq!(h.state().state.scene(), Some(&edited));
     h.get_by_label("Keep editing").click();
@@ -230,9 +228,9 @@ fn new_starts_a_valid_scene_and_asks_before_dropping_unsaved_changes() {
     );
     wait_for_snapshot(&mut h);
     // Unsaved and pathless: Save asks for a path.
-    h.get_by_label("Save").click();
-    steps(&mut h, 2);
-    assert!(h.state().state.file_error().unwrap().contains("Save as"));
+    menu(&mut h, "File", "Save");
+    h.get_by_label("Save as path");
+    assert_eq!(h.state().state.path(), None);
 }
 
 #[test]
@@ -281,8 +279,7 @@ fn the_close_button_asks_with_unsaved_changes_and_closes_without() {
     assert!(!h.state().state.quit_requested());
     h.get_by_label("Keep editing").click();
     steps(&mut h, 2);
-    h.get_by_label("Undo").click();
-    steps(&mut h, 2);
+    menu(&mut h, "Edit", "Undo");
     assert!(!h.state().state.is_dirty());
     close_window(&mut h);
     assert_eq!(h.state().state.pending(), None);
@@ -301,11 +298,7 @@ fn recent_files_follow_open_and_save_and_persist() {
         vec![(canonical_example.clone(), true)]
     );
     let saved = work.path().join("copy.toml");
-    h.get_by_label("Save as path")
-        .set_text_value_accesskit(&saved.display().to_string());
-    steps(&mut h, 1);
-    h.get_by_label("Save as").click();
-    steps(&mut h, 2);
+    save_as(&mut h, &saved);
     assert_eq!(h.state().state.file_error(), None);
     let canonical_saved = saved.canonicalize().unwrap();
     let expected = vec![
@@ -320,11 +313,13 @@ fn recent_files_follow_open_and_save_and_persist() {
     let mut again = editor(None, &config);
     steps(&mut again, 2);
     assert_eq!(again.state().state.recent_files(), expected);
-    again.get_by_label("Recent").click();
-    steps(&mut again, 2);
-    again
-        .get_by_label(&canonical_example.display().to_string())
-        .click();
+    // The start page lists them too; File ▸ Open Recent opens one.
+    again.get_by_label(&canonical_example.display().to_string());
+    common::click(&mut again, "File");
+    common::click(&mut again, "Open Recent");
+    let label = canonical_example.display().to_string();
+    let items: Vec<_> = again.query_all_by_label(&label).collect();
+    items.last().unwrap().click();
     steps(&mut again, 2);
     assert_eq!(
         again.state().state.path(),
@@ -347,11 +342,7 @@ fn save_as_elsewhere_keeps_relative_mesh_paths_pointing_at_the_same_file() {
     std::fs::create_dir_all(moved.parent().unwrap()).unwrap();
     let mut h = editor(Some(scene_path), &work.path().join("config"));
     steps(&mut h, 2);
-    h.get_by_label("Save as path")
-        .set_text_value_accesskit(&moved.display().to_string());
-    steps(&mut h, 1);
-    h.get_by_label("Save as").click();
-    steps(&mut h, 2);
+    save_as(&mut h, &moved);
     assert_eq!(h.state().state.file_error(), None);
     assert!(!h.state().state.is_dirty());
     let saved = lucerna_scene::load_scene(&moved).unwrap();
@@ -366,11 +357,7 @@ fn save_as_elsewhere_keeps_relative_mesh_paths_pointing_at_the_same_file() {
 }
 
 fn import_through_the_field(h: &mut Harness<'_, EditorApp>, obj: &Path) {
-    h.get_by_label("OBJ file")
-        .set_text_value_accesskit(&obj.display().to_string());
-    steps(h, 1);
-    h.get_by_label("Import OBJ").click();
-    steps(h, 2);
+    import_obj(h, obj);
 }
 
 #[test]
@@ -404,11 +391,9 @@ fn an_imported_obj_is_one_mesh_part_that_undo_removes() {
     );
     wait_for_snapshot(&mut h);
 
-    h.get_by_label("Undo").click();
-    steps(&mut h, 2);
+    menu(&mut h, "Edit", "Undo");
     assert_eq!(parts(&h), 2);
-    h.get_by_label("Undo").click();
-    steps(&mut h, 2);
+    menu(&mut h, "Edit", "Undo");
     assert_eq!(h.state().state.scene(), Some(&before));
 }
 
@@ -423,7 +408,8 @@ fn a_broken_obj_shows_its_error_and_changes_nothing() {
     import_through_the_field(&mut h, &broken);
     let error = h.state().state.file_error().expect("an error").to_owned();
     assert!(error.contains("broken.obj"), "{error}");
-    h.get_by_label_contains("cannot import");
+    // In the notices under the menu bar, and in the status bar.
+    assert!(h.query_all_by_label_contains("cannot import").count() >= 1);
     assert_eq!(h.state().state.scene(), Some(&before));
     assert!(!h.state().state.is_dirty());
     // An OBJ that parses but whose triangles are unusable (zero area) is
@@ -436,8 +422,7 @@ fn a_broken_obj_shows_its_error_and_changes_nothing() {
     assert!(error.contains("unusable mesh"), "{error}");
     assert_eq!(h.state().state.scene(), Some(&before));
     // No undo step was added either.
-    h.get_by_label("Undo").click();
-    steps(&mut h, 2);
+    menu(&mut h, "Edit", "Undo");
     assert_eq!(h.state().state.scene(), Some(&before));
 }
 

@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{choose, click, set, steps, type_into};
+use common::{choose, click, menu, set, steps, type_into};
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -122,6 +122,8 @@ fn with_revolved_part() -> Harness<'static, EditorApp> {
     let mut h = editor();
     add_part(&mut h, "revolved");
     assert_eq!(state(&h).scene().unwrap().parts[1].shape.kind(), "revolved");
+    // Its profile in the Profile pane.
+    click(&mut h, "Edit the profile");
     h
 }
 
@@ -144,7 +146,7 @@ fn every_shape_kind_is_added_valid_and_each_add_undoes_in_one_step() {
         );
     }
     for expected in (1..=NewPart::ALL.len()).rev() {
-        click(&mut h, "Undo");
+        menu(&mut h, "Edit", "Undo");
         assert_eq!(state(&h).scene().unwrap().parts.len(), expected);
     }
 }
@@ -173,6 +175,7 @@ fn the_louvre_and_extrusion_parameters_are_edited_in_millimetres_and_degrees() {
         other => panic!("{other:?}"),
     }
     // An extrusion's x may be negative.
+    click(&mut h, "Edit the profile");
     set(&mut h, "Point 1 x", -60.0);
     assert!((profile(&h, 2)[0][0] + 0.06).abs() < 1e-12);
     assert!(problems(&h).is_empty(), "{:?}", problems(&h));
@@ -211,9 +214,9 @@ fn dragging_a_profile_point_moves_it_in_one_undo_step() {
     assert!(seen.len() > 2, "the point followed the pointer: {seen:?}");
     // The reflector updated live.
     assert!(generation(&h) > before);
-    click(&mut h, "Undo");
+    menu(&mut h, "Edit", "Undo");
     assert_eq!(profile(&h, 1), original);
-    click(&mut h, "Redo");
+    menu(&mut h, "Edit", "Redo");
     assert_eq!(profile(&h, 1), dragged);
 }
 
@@ -248,8 +251,8 @@ fn the_profile_table_edits_points_in_millimetres_and_refuses_a_negative_radius()
     set(&mut h, "Point 3 r", -5.0);
     assert_eq!(profile(&h, 1)[2][0], 0.0, "a negative radius is clamped");
     assert!(problems(&h).is_empty(), "{:?}", problems(&h));
-    click(&mut h, "Undo");
-    click(&mut h, "Undo");
+    menu(&mut h, "Edit", "Undo");
+    menu(&mut h, "Edit", "Undo");
     assert_eq!(profile(&h, 1), with_revolved_part_profile());
 }
 
@@ -277,7 +280,7 @@ fn profile_points_are_added_and_deleted_each_in_one_undo_step() {
         "{m:?}"
     );
     assert_ne!(m, [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])]);
-    click(&mut h, "Undo");
+    menu(&mut h, "Edit", "Undo");
     assert_eq!(profile(&h, 1), original);
 
     // A double-click on the curve between points 2 and 3 inserts there.
@@ -301,7 +304,7 @@ fn profile_points_are_added_and_deleted_each_in_one_undo_step() {
         inserted[2][0] > original[1][0] && inserted[2][0] < original[2][0],
         "{inserted:?}"
     );
-    click(&mut h, "Undo");
+    menu(&mut h, "Edit", "Undo");
     assert_eq!(profile(&h, 1), original);
 
     // A right-click deletes a point; so does "Delete point" on the
@@ -329,9 +332,14 @@ fn profile_points_are_added_and_deleted_each_in_one_undo_step() {
     assert_eq!(profile(&h, 1).len(), 2);
     let refusal = state(&h).edit_error().expect("a refusal").to_owned();
     assert!(refusal.contains("at least 2"), "{refusal}");
-    h.get_by_label_contains("A profile needs at least 2 control points");
+    // Beside the action and in the status bar.
+    assert!(
+        h.query_all_by_label_contains("A profile needs at least 2 control points")
+            .count()
+            >= 1
+    );
     for expected in [original[1..].to_vec(), original.clone()] {
-        click(&mut h, "Undo");
+        menu(&mut h, "Edit", "Undo");
         assert_eq!(profile(&h, 1), expected);
     }
 }
@@ -351,7 +359,12 @@ fn a_bad_profile_edit_shows_the_validators_message_and_is_not_simulated() {
             .any(|p| p.starts_with("part[1].shape.profile[1]") && p.contains("on the axis")),
         "{found:?}"
     );
-    h.get_by_label_contains("Point 2: two consecutive points on the axis");
+    // Beside the action and in the status bar.
+    assert!(
+        h.query_all_by_label_contains("Point 2: two consecutive points on the axis")
+            .count()
+            >= 1
+    );
     assert_eq!(generation(&h), valid, "an invalid profile was simulated");
     set(&mut h, "Point 2 r", 10.0);
     assert!(problems(&h).is_empty(), "{:?}", problems(&h));
@@ -368,8 +381,13 @@ fn renaming_a_material_renames_it_in_the_parts_in_one_undo_step() {
     assert!(!scene.materials.contains_key("polished_alu"));
     assert_eq!(scene.parts[0].material, "anodised");
     assert!(problems(&h).is_empty(), "{:?}", problems(&h));
-    h.get_by_label_contains("Material anodised (mirror)");
-    click(&mut h, "Undo");
+    // Beside the action and in the status bar.
+    assert!(
+        h.query_all_by_label_contains("Material anodised (mirror)")
+            .count()
+            >= 1
+    );
+    menu(&mut h, "Edit", "Undo");
     let scene = state(&h).scene().unwrap();
     assert!(scene.materials.contains_key("polished_alu"));
     assert_eq!(scene.parts[0].material, "polished_alu");
@@ -399,7 +417,7 @@ fn renaming_a_part_renames_the_opening_that_names_it() {
         })
     );
     assert!(problems(&h).is_empty(), "{:?}", problems(&h));
-    click(&mut h, "Undo");
+    menu(&mut h, "Edit", "Undo");
     assert_eq!(state(&h).scene().unwrap().parts[0].name, "reflector");
     assert!(!state(&h).is_dirty());
     // An empty name is refused.
@@ -423,7 +441,12 @@ fn a_material_in_use_is_not_deleted_and_one_unused_is() {
     );
     let refusal = state(&h).edit_error().expect("a refusal").to_owned();
     assert!(refusal.contains("part reflector"), "{refusal}");
-    h.get_by_label_contains("Cannot delete material polished_alu");
+    // Beside the action and in the status bar.
+    assert!(
+        h.query_all_by_label_contains("Cannot delete material polished_alu")
+            .count()
+            >= 1
+    );
     assert!(!state(&h).is_dirty());
 
     click(&mut h, "Add material");
@@ -439,7 +462,7 @@ fn a_material_in_use_is_not_deleted_and_one_unused_is() {
     click(&mut h, "Delete material");
     assert_eq!(state(&h).scene().unwrap().materials.len(), 2);
     assert_eq!(state(&h).edit_error(), None);
-    click(&mut h, "Undo");
+    menu(&mut h, "Edit", "Undo");
     assert_eq!(state(&h).scene().unwrap().materials.len(), 3);
 }
 
@@ -478,7 +501,7 @@ fn emitters_are_added_duplicated_switched_disabled_and_deleted() {
     assert_eq!(state(&h).scene().unwrap().emitters.len(), 2);
     // Add, duplicate, three shape switches, disable, delete: seven steps.
     for _ in 0..7 {
-        click(&mut h, "Undo");
+        menu(&mut h, "Edit", "Undo");
     }
     assert_eq!(state(&h).scene().unwrap().emitters.len(), 1);
     assert!(!state(&h).is_dirty());
@@ -506,7 +529,8 @@ fn a_measured_emitter_profile_is_simulated_and_a_missing_one_is_an_error() {
         Emission::Profile(file.to_owned())
     );
     assert!(problems(&h).is_empty(), "{:?}", problems(&h));
-    h.get_by_label_contains("Reads ");
+    // Beside the action and in the status bar.
+    assert!(h.query_all_by_label_contains("Reads ").count() >= 1);
     let g = generation(&h);
     let measured = wait_for(&mut h, "the run with the measured profile", |s| {
         s.generation == g && matches!(s.state, RunState::Finished(_))
@@ -552,7 +576,8 @@ fn a_manual_filter_threshold_reaches_the_snapshot() {
     });
     let rule = &s.filter.as_ref().unwrap().rule;
     assert!(rule.contains("fixed threshold 250"), "{rule}");
-    h.get_by_label_contains("fixed threshold 250");
+    // Beside the action and in the status bar.
+    assert!(h.query_all_by_label_contains("fixed threshold 250").count() >= 1);
 }
 
 #[test]

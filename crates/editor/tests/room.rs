@@ -359,7 +359,7 @@ fn benchmark_room_renders_frame_time_and_edit_latency() {
                 frames.len()
             );
         };
-        frames_for(&mut painted, "Polar diagram");
+        frames_for(&mut painted, "Polar");
         open_room_tab(&mut painted);
         wait_until(&mut painted, "a first room picture", |h| shown(h).is_some());
         frames_for(&mut painted, "Room");
@@ -463,7 +463,12 @@ fn the_room_tab_with_a_converged_example_matches_its_snapshot() {
     wait_until(&mut h, "the fine picture", |h| {
         label_text(h, &fine).is_some()
     });
-    h.mask(h.get_by_label("Scene file").rect());
+    // The status bar: photons and photons/s follow wall time.
+    let status = h.get_by_label_contains(" M photons/s").rect();
+    h.mask(egui::Rect::from_min_max(
+        egui::pos2(0.0, status.min.y),
+        egui::pos2(4000.0, status.max.y),
+    ));
     for row in ["Iteration", "Photons/s"] {
         let label = h.get_by_label(row).rect();
         let wide = egui::Rect::from_min_max(label.min, egui::pos2(1366.0, label.max.y));

@@ -63,7 +63,7 @@ fn a_click_in_the_3d_view_selects_what_lies_under_it() {
     wait_for_snapshot(&mut h, |_| true);
     h.get_by_label("Below").click();
     h.run_steps(2);
-    let view = h.get_by_label("3D view").rect();
+    let view = h.get_by_label("Luminaire in 3D").rect();
     // From below, a ray next to the axis meets the 1.5 mm LED at the
     // reflector's focus (just off the axis: the axis runs along an edge
     // of the LED's triangle fan).
@@ -86,7 +86,7 @@ fn a_click_in_the_3d_view_selects_what_lies_under_it() {
 fn a_drag_orbits_the_camera_and_the_wheel_zooms() {
     let mut h = editor();
     wait_for_snapshot(&mut h, |_| true);
-    let view = h.get_by_label("3D view").rect();
+    let view = h.get_by_label("Luminaire in 3D").rect();
     let before = h.state().viewport().camera;
     let start = view.center();
     h.hover_at(start);
@@ -200,7 +200,7 @@ fn the_3d_view_draws_without_multisampling_too() {
         },
     );
     wait_for_snapshot(&mut h, |_| true);
-    let view = h.get_by_label("3D view").rect();
+    let view = h.get_by_label("Luminaire in 3D").rect();
     let image = h.render().expect("rendered");
     let ppp = image.width() as f32 / 1366.0;
     let mut colours = std::collections::HashSet::new();

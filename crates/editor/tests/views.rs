@@ -111,7 +111,7 @@ fn each_view_shows_the_current_figures() {
         "{iso}"
     );
     // cd/klm: the peak over the lamp flux in klm.
-    click(&mut h, "Polar diagram");
+    click(&mut h, "Polar");
     click(&mut h, "Unit");
     click(&mut h, "cd/klm");
     let peak = label_text(&h, "cd/klm at C");
@@ -239,7 +239,7 @@ fn each_view_matches_its_snapshot() {
     );
     wait_finished(&mut h, 0);
     for (tab, name) in [
-        ("Polar diagram", "view_polar"),
+        ("Polar", "view_polar"),
         ("Cartesian", "view_cartesian"),
         ("Isocandela", "view_isocandela"),
         ("Cube map", "view_cube_map"),

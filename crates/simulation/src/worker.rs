@@ -21,6 +21,8 @@ enum Command {
     Settings(SimulationSettings, u64),
     Pause,
     Resume,
+    /// The same scene and settings from zero photons.
+    Restart(u64),
     Finish,
     Cancel,
     Quit,
@@ -217,6 +219,15 @@ impl Simulation {
 
     pub fn pause(&self) {
         self.send(Command::Pause);
+    }
+
+    /// Starts the run again from zero photons (same scene and settings);
+    /// returns the new generation.
+    pub fn restart(&mut self) -> u64 {
+        self.generation += 1;
+        self.newest.store(self.generation, Ordering::SeqCst);
+        self.send(Command::Restart(self.generation));
+        self.generation
     }
 
     pub fn resume(&self) {
@@ -467,6 +478,11 @@ impl Worker {
                     }
                     _ => pending.restart = true,
                 }
+            }
+            Command::Restart(generation) => {
+                self.generation = generation;
+                self.shared.lock().error = None;
+                pending.restart = true;
             }
             Command::Pause => {
                 self.paused = true;

@@ -298,7 +298,7 @@ pub fn viewport_ui(ui: &mut Ui, state: &mut EditorState, vp: &mut Viewport) {
     let (rect, response) = ui.allocate_exact_size(size, Sense::click_and_drag());
     let aspect = rect.width() / rect.height().max(1.0);
     vp.aspect = aspect;
-    response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "3D view"));
+    response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "Luminaire in 3D"));
     let (Some(snapshot), Some(luminaire), Some((mesh, bounds))) = (snapshot, luminaire, mesh)
     else {
         ui.painter().text(

@@ -1,6 +1,8 @@
 //! The isocandela map: intensity over C (across) and γ (down, 0° at the
 //! top) in the cube-map view's false colour, with lines of equal intensity
-//! at fractions of the peak (marching squares, the `contour` crate).
+//! at fractions of the peak (marching squares, the `contour` crate). The
+//! γ axis spans the lit part of the distribution, so a 4° spot fills the
+//! chart rather than a strip at its top.
 
 use std::sync::Arc;
 
@@ -11,11 +13,65 @@ use lucerna_photometry::CandelaTable;
 use super::IntensityUnit;
 use crate::colour::{false_colour, log_scale};
 
-/// Grid of the map: C every 2°, γ every 1°.
+/// Grid of the map: C every 2°, 181 rows over the γ range shown.
 const C_STEP_DEG: f64 = 2.0;
-const GAMMA_STEP_DEG: f64 = 1.0;
 const COLUMNS: usize = 181;
 const ROWS: usize = 181;
+
+/// Intensity below this fraction of the peak is outside the range shown.
+const LIT_FRACTION: f64 = 0.01;
+/// The narrowest γ range shown (degrees).
+const MIN_RANGE_DEG: f64 = 10.0;
+
+/// The γ range (degrees) where the table reaches 1 % of its peak in some
+/// C-plane, widened by a fifth and rounded out to 5° (1° under 20°), at
+/// least 10° wide, within 0°–180°.
+pub fn lit_gamma_range(table: &CandelaTable) -> (f64, f64) {
+    let peak = table.peak().0;
+    if !(peak > 0.0) {
+        return (0.0, 180.0);
+    }
+    let lit: Vec<f64> = table
+        .gammas_deg
+        .iter()
+        .copied()
+        .filter(|&g| {
+            table
+                .c_planes_deg
+                .iter()
+                .any(|&c| table.intensity(c, g) >= LIT_FRACTION * peak)
+        })
+        .collect();
+    let (Some(&first), Some(&last)) = (lit.first(), lit.last()) else {
+        return (0.0, 180.0);
+    };
+    // The next grid angle beyond each end still falls off to below the
+    // threshold: include it.
+    let next = |g: f64, up: bool| {
+        let grid = &table.gammas_deg;
+        let found = if up {
+            grid.iter().copied().find(|&x| x > g)
+        } else {
+            grid.iter().rev().copied().find(|&x| x < g)
+        };
+        found.unwrap_or(g)
+    };
+    let (lo, hi) = (next(first, false), next(last, true));
+    let margin = 0.2 * (hi - lo);
+    let (lo, hi) = ((lo - margin).max(0.0), (hi + margin).min(180.0));
+    let step = if hi - lo < 20.0 { 1.0 } else { 5.0 };
+    let (mut lo, mut hi) = ((lo / step).floor() * step, (hi / step).ceil() * step);
+    if hi - lo < MIN_RANGE_DEG {
+        hi = (lo + MIN_RANGE_DEG).min(180.0);
+        lo = (hi - MIN_RANGE_DEG).max(0.0);
+    }
+    (lo, hi)
+}
+
+/// The γ of row `row` for the range shown.
+fn row_gamma(range: (f64, f64), row: f64) -> f64 {
+    range.0 + row * (range.1 - range.0) / (ROWS - 1) as f64
+}
 
 /// The lines drawn, as fractions of the peak.
 pub const LEVELS: [f64; 6] = [0.05, 0.1, 0.25, 0.5, 0.75, 0.9];
@@ -28,11 +84,11 @@ pub struct Isoline {
     pub polylines: Vec<Vec<[f64; 2]>>,
 }
 
-/// The table sampled on the map's grid, row by γ.
-fn sampled(table: &CandelaTable) -> Vec<f64> {
+/// The table sampled on the map's grid over the γ range, row by γ.
+fn sampled(table: &CandelaTable, range: (f64, f64)) -> Vec<f64> {
     let mut values = Vec::with_capacity(COLUMNS * ROWS);
     for j in 0..ROWS {
-        let gamma = j as f64 * GAMMA_STEP_DEG;
+        let gamma = row_gamma(range, j as f64);
         for i in 0..COLUMNS {
             values.push(table.intensity(i as f64 * C_STEP_DEG, gamma));
         }
@@ -40,9 +96,10 @@ fn sampled(table: &CandelaTable) -> Vec<f64> {
     values
 }
 
-/// Lines of equal intensity at `LEVELS` of the peak, in (C, γ) degrees.
-pub fn isolines(table: &CandelaTable) -> Vec<Isoline> {
-    let values = sampled(table);
+/// Lines of equal intensity at `LEVELS` of the peak, in (C, γ) degrees,
+/// on the grid over the γ `range`.
+pub fn isolines(table: &CandelaTable, range: (f64, f64)) -> Vec<Isoline> {
+    let values = sampled(table, range);
     let peak = values.iter().copied().fold(0.0, f64::max);
     if !(peak > 0.0) {
         return Vec::new();
@@ -71,7 +128,7 @@ pub fn isolines(table: &CandelaTable) -> Vec<Isoline> {
                         }
                         run.clear();
                     } else {
-                        run.push([(p.x - 0.5) * C_STEP_DEG, (p.y - 0.5) * GAMMA_STEP_DEG]);
+                        run.push([(p.x - 0.5) * C_STEP_DEG, row_gamma(range, p.y - 0.5)]);
                     }
                 }
                 if run.len() > 1 {
@@ -92,6 +149,7 @@ pub struct IsocandelaCache {
     shown: Option<Arc<CandelaTable>>,
     texture: Option<TextureHandle>,
     lines: Vec<Isoline>,
+    range: (f64, f64),
 }
 
 impl std::fmt::Debug for IsocandelaCache {
@@ -108,7 +166,8 @@ pub fn isocandela_ui(
     cache: &mut IsocandelaCache,
 ) {
     if !cache.shown.as_ref().is_some_and(|t| Arc::ptr_eq(t, table)) || cache.texture.is_none() {
-        let values = sampled(table);
+        cache.range = lit_gamma_range(table);
+        let values = sampled(table, cache.range);
         let peak = values.iter().copied().fold(0.0, f64::max);
         let mut image = ColorImage::filled([COLUMNS, ROWS], Color32::BLACK);
         for (pixel, v) in image.pixels.iter_mut().zip(&values) {
@@ -124,15 +183,16 @@ pub fn isocandela_ui(
                 ));
             }
         }
-        cache.lines = isolines(table);
+        cache.lines = isolines(table, cache.range);
         cache.shown = Some(table.clone());
     }
     let Some(texture) = &cache.texture else {
         return;
     };
     let peak = factor * table.peak().0;
+    let (g0, g1) = cache.range;
     ui.label(format!(
-        "Lines at {} % of the peak ({peak:.0} {}); colour: log scale as on the cube map",
+        "Lines at {} % of the peak ({peak:.0} {}); colour: log scale as on the cube map; γ {g0:.0}°–{g1:.0}°, where the light is",
         LEVELS.map(|l| format!("{:.0}", 100.0 * l)).join(", "),
         unit.label()
     ));
@@ -144,8 +204,8 @@ pub fn isocandela_ui(
         .y_axis_formatter(|mark, _| format!("{:.0}", (-mark.value).max(0.0)))
         .include_x(0.0)
         .include_x(360.0)
-        .include_y(0.0)
-        .include_y(-180.0)
+        .include_y(-g0)
+        .include_y(-g1)
         .label_formatter(move |hover| {
             let p = match hover {
                 egui_plot::HoverPosition::NearDataPoint { position, .. }
@@ -158,13 +218,16 @@ pub fn isocandela_ui(
             ))
         })
         .show(ui, |plot| {
+            // Rows are samples at their centres: the image spans half a
+            // row beyond the first and last.
+            let row_deg = (g1 - g0) / (ROWS - 1) as f64;
             plot.image(PlotImage::new(
                 "",
                 texture.id(),
-                PlotPoint::new(180.0, -90.0),
+                PlotPoint::new(180.0, -(0.5 * (g0 + g1))),
                 egui::vec2(
                     (COLUMNS as f64 * C_STEP_DEG) as f32,
-                    (ROWS as f64 * GAMMA_STEP_DEG) as f32,
+                    ((g1 - g0) + row_deg) as f32,
                 ),
             ));
             for line in &cache.lines {
@@ -202,14 +265,16 @@ mod tests {
                 0.0
             }
         });
-        let lines = isolines(&table);
+        let range = lit_gamma_range(&table);
+        assert_eq!(range, (0.0, 110.0));
+        let lines = isolines(&table, range);
         assert_eq!(lines.len(), LEVELS.len());
         for line in &lines {
             let expected = line.level.acos().to_degrees();
             let points: Vec<&[f64; 2]> = line.polylines.iter().flatten().collect();
             assert!(!points.is_empty());
             for p in points {
-                // Linear interpolation between 1° rows of a cosine.
+                // Linear interpolation between 0.6° rows of a cosine.
                 assert!(
                     (p[1] - expected).abs() < 0.05,
                     "{} % at γ {}: {}",
@@ -219,6 +284,30 @@ mod tests {
                 );
                 assert!((-1e-9..=360.0 + 1e-9).contains(&p[0]), "C {}", p[0]);
             }
+        }
+    }
+
+    /// A 3.7° spot (half peak at 1.85°) fills the chart: γ up to 10°, its
+    /// half-peak line at 1.85° to a tenth of a degree.
+    #[test]
+    fn a_narrow_beam_zooms_the_gamma_axis_to_where_the_light_is() {
+        let half_angle = 1.85_f64;
+        let table = CandelaTable::from_fn(5.0, 0.1, |_, g| {
+            // A Gaussian beam: I = peak / 2 at the half angle.
+            100_000.0 * (-(g / half_angle).powi(2) * std::f64::consts::LN_2).exp()
+        });
+        let range = lit_gamma_range(&table);
+        assert_eq!(range, (0.0, 10.0), "{range:?}");
+        let half = isolines(&table, range)
+            .into_iter()
+            .find(|l| (l.level - 0.5).abs() < 1e-9)
+            .expect("a half-peak line");
+        for p in half.polylines.iter().flatten() {
+            assert!(
+                (p[1] - half_angle).abs() < 0.1,
+                "γ {} vs {half_angle}",
+                p[1]
+            );
         }
     }
 }

@@ -1,7 +1,7 @@
-//! The photometric views beside the 3D view, one file each, redrawn from
-//! each snapshot; the tab row picks one. The polar and cartesian plots
-//! share the options row: unit, raw or exported table, an extra C-plane,
-//! and a reference to compare with.
+//! The photometric views, one file each, redrawn from each snapshot, each
+//! a pane of the dock. The polar, cartesian and isocandela views share the
+//! options row: unit, raw or exported table, an extra C-plane, and a
+//! reference to compare with.
 
 mod cartesian;
 mod cube_map;
@@ -116,21 +116,16 @@ impl ViewsState {
     }
 }
 
-pub fn views_ui(ui: &mut Ui, state: &mut EditorState, views: &mut ViewsState) {
-    ui.horizontal_wrapped(|ui| {
-        for (view, label) in [
-            (View::Polar, "Polar diagram"),
-            (View::Cartesian, "Cartesian"),
-            (View::Isocandela, "Isocandela"),
-            (View::CubeMap, "Cube map"),
-            (View::Figures, "Figures"),
-            (View::Room, "Room"),
-        ] {
-            ui.selectable_value(&mut state.view, view, label);
-        }
-    });
-    ui.separator();
-    if state.view == View::Room {
+/// One photometric view, as its pane of the dock draws it.
+pub fn photometric_view_ui(
+    ui: &mut Ui,
+    state: &mut EditorState,
+    views: &mut ViewsState,
+    view: View,
+) {
+    // The view in front (a benchmark and the room preview ask).
+    state.view = view;
+    if view == View::Room {
         room_ui(ui, state, &mut views.room);
         return;
     }
@@ -138,10 +133,10 @@ pub fn views_ui(ui: &mut Ui, state: &mut EditorState, views: &mut ViewsState) {
         ui.label("No light distribution yet.");
         return;
     };
-    if matches!(state.view, View::Polar | View::Cartesian | View::Isocandela) {
+    if matches!(view, View::Polar | View::Cartesian | View::Isocandela) {
         options_ui(ui, &snapshot, views);
     }
-    match state.view {
+    match view {
         View::Polar => polar::polar_ui(ui, &views.plot_tables(&snapshot), &snapshot),
         View::Cartesian => {
             let options = views.cartesian;

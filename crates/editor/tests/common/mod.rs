@@ -40,10 +40,15 @@ pub fn wgpu_editor_with(
         )
 }
 
-/// Masks the checkout's path and the figures that follow wall time
-/// (iterations, photons/s), then hides the cursor.
+/// Masks the figures that follow wall time (iterations, photons/s, the
+/// status bar), then hides the cursor.
 pub fn mask_time_dependent(h: &mut Harness<'_, EditorApp>) {
-    h.mask(h.get_by_label("Scene file").rect());
+    // The status bar: photons and photons/s follow wall time.
+    let status = h.get_by_label_contains(" M photons/s").rect();
+    h.mask(egui::Rect::from_min_max(
+        egui::pos2(0.0, status.min.y),
+        egui::pos2(4000.0, status.max.y),
+    ));
     for row in ["Iteration", "Photons/s"] {
         let label = h.get_by_label(row).rect();
         let wide = egui::Rect::from_min_max(label.min, egui::pos2(4000.0, label.max.y));
@@ -97,4 +102,69 @@ pub fn type_into(h: &mut Harness<'_, EditorApp>, label: &str, text: &str) {
 pub fn set(h: &mut Harness<'_, EditorApp>, label: &str, value: f64) {
     h.get_by_label(label).set_value_accesskit(value);
     steps(h, 2);
+}
+
+/// Queues `command` as a panel or a native dialog would, then lets two
+/// frames pass.
+pub fn command(h: &mut Harness<'_, EditorApp>, command: lucerna_editor::Command) {
+    h.state_mut().state.push(command);
+    steps(h, 2);
+}
+
+/// Chooses `item` in the menu bar's `top` menu (its accessible name is
+/// the label and the shortcut: "Undo Ctrl+Z").
+pub fn menu(h: &mut Harness<'_, EditorApp>, top: &str, item: &str) {
+    click(h, top);
+    // An item with a shortcut is named "Save Ctrl+S"; "Save" alone must
+    // not find "Save As… Ctrl+Shift+S".
+    let found = h.query_by_label(item).or_else(|| {
+        h.query_by(|n| {
+            n.label().is_some_and(|l| {
+                l.strip_prefix(item)
+                    .and_then(|rest| rest.strip_prefix(' '))
+                    .is_some_and(|keys| {
+                        !keys.contains(' ')
+                            && (keys.contains('+') || keys[1..].parse::<u8>().is_ok())
+                    })
+            })
+        })
+    });
+    found
+        .unwrap_or_else(|| panic!("no menu item {item} in {top}"))
+        .click();
+    // The click is taken the frame after, its command applied at that
+    // frame's end, and what it opens drawn the frame after that.
+    steps(h, 3);
+}
+
+/// Answers the window's path prompt (what stands in for a native file
+/// dialog in tests): types `path` into its `field` and clicks `confirm`.
+pub fn answer_prompt(
+    h: &mut Harness<'_, EditorApp>,
+    field: &str,
+    path: &std::path::Path,
+    confirm: &str,
+) {
+    h.get_by_label(field)
+        .set_text_value_accesskit(&path.display().to_string());
+    steps(h, 1);
+    click(h, confirm);
+}
+
+/// File ▸ Save As…, answered with `path`.
+pub fn save_as(h: &mut Harness<'_, EditorApp>, path: &std::path::Path) {
+    menu(h, "File", "Save As…");
+    answer_prompt(h, "Save as path", path, "Save");
+}
+
+/// File ▸ Open…, answered with `path`.
+pub fn open(h: &mut Harness<'_, EditorApp>, path: &std::path::Path) {
+    menu(h, "File", "Open…");
+    answer_prompt(h, "Scene file", path, "Open");
+}
+
+/// File ▸ Import OBJ…, answered with `path`.
+pub fn import_obj(h: &mut Harness<'_, EditorApp>, path: &std::path::Path) {
+    menu(h, "File", "Import OBJ…");
+    answer_prompt(h, "OBJ file", path, "Import");
 }

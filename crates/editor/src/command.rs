@@ -1,0 +1,70 @@
+//! What the panels ask of the editor: the selection and the commands they
+//! queue, applied once a frame by [`crate::state::EditorState`]. Their own
+//! module, so that state, files, dialogs and modelling all name them
+//! without naming each other.
+
+use std::path::PathBuf;
+
+use lucerna_simulation::SimulationSettings;
+
+use crate::config::ThemeChoice;
+use crate::dialogs::DialogKind;
+use crate::modelling::{NewPart, SceneEdit};
+
+/// What is selected in the scene panel.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Selection {
+    Emitter(usize),
+    Part(usize),
+    Material(String),
+}
+
+/// A UI action, queued by a panel and applied after the panels are drawn
+/// so that no panel mutates what another is still drawing.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Command {
+    /// Opens a file; with unsaved changes it asks first.
+    Open(PathBuf),
+    /// Opens a file, dropping unsaved changes.
+    OpenDiscarding(PathBuf),
+    /// Keeps the unsaved changes: the pending New, Open or Quit is dropped.
+    CancelPending,
+    Save,
+    SaveAs(PathBuf),
+    Undo,
+    Redo,
+    Select(Option<Selection>),
+    AddPart(NewPart),
+    DuplicatePart(usize),
+    DeletePart(usize),
+    /// An emitter, material or profile edit (one undo step), or its refusal.
+    Edit(SceneEdit),
+    Pause,
+    Resume,
+    SetSettings(SimulationSettings),
+    // File handling (files.rs).
+    /// Starts the starter scene; with unsaved changes it asks first.
+    New,
+    /// Starts the starter scene, dropping unsaved changes.
+    NewDiscarding,
+    /// Closes the editor; with unsaved changes it asks first.
+    Quit,
+    /// Closes the editor, dropping unsaved changes.
+    QuitDiscarding,
+    /// Takes the offered recovery file as the (unsaved) document.
+    Recover,
+    /// Drops the offered recovery file.
+    DiscardRecovery,
+    /// Adds an OBJ file as a mesh part (one undo step).
+    ImportMesh(PathBuf),
+    /// Opens a native file dialog; the chosen path comes back as a command.
+    FileDialog(DialogKind),
+    SetTheme(ThemeChoice),
+    ClearRecent,
+    /// The export dialog's output folder, chosen in a native dialog.
+    SetExportFolder(PathBuf),
+    /// Traces the current scene again from zero photons.
+    Restart,
+    /// Brings a pane of the dock to the front.
+    ShowPane(crate::dock::Pane),
+}

@@ -1,0 +1,192 @@
+//! The profile pane: the selected reflector's profile, large enough to
+//! shape it, with the run's own photons drawn through it (those that
+//! travel in the profile's plane: a revolved part's meridional rays, an
+//! extruded part's section).
+
+use std::sync::Arc;
+
+use egui::Ui;
+use glam::Vec3;
+use lucerna_scene::Shape;
+use lucerna_simulation::Luminaire;
+use lucerna_tracer::{Fate, sample_photon_paths};
+
+use crate::command::Selection;
+use crate::modelling::{lamps_in_profile_plane, profile_mut};
+use crate::profile_editor::{Profile, profile_editor_ui};
+use crate::state::EditorState;
+
+/// Photons traced for the drawing, and at most how many are drawn.
+const PHOTONS_SAMPLED: u32 = 4000;
+const RAYS_DRAWN: usize = 60;
+/// A revolved part's ray is drawn if it stays this close to a meridional
+/// plane (mm).
+const MERIDIONAL_MM: f64 = 1.5;
+/// Length of an escaped photon's last leg (mm).
+const EXIT_LEG_MM: f64 = 120.0;
+
+/// A path in a profile's plane (mm).
+type PlanePath = Vec<[f64; 2]>;
+
+/// The rays drawn, kept per luminaire and part.
+#[derive(Debug, Default)]
+pub struct ProfilePane {
+    rays: Option<(Arc<Luminaire>, usize, Vec<PlanePath>)>,
+}
+
+impl ProfilePane {
+    fn rays_for(&mut self, luminaire: &Arc<Luminaire>, part: usize) -> &[PlanePath] {
+        let fresh = self
+            .rays
+            .as_ref()
+            .is_some_and(|(l, p, _)| Arc::ptr_eq(l, luminaire) && *p == part);
+        if !fresh {
+            self.rays = Some((luminaire.clone(), part, profile_rays(luminaire, part)));
+        }
+        self.rays.as_ref().map_or(&[], |(_, _, r)| r.as_slice())
+    }
+}
+
+/// The run's first photons in part `part`'s profile plane (mm, the part's
+/// frame), for a part placed by translation alone.
+fn profile_rays(luminaire: &Luminaire, part: usize) -> Vec<PlanePath> {
+    let Some(p) = luminaire.scene.parts.get(part) else {
+        return Vec::new();
+    };
+    let t = &p.transform;
+    if t.rotate_deg != [0.0; 3] || t.scale != [1.0; 3] {
+        return Vec::new();
+    }
+    let offset = Vec3::new(
+        t.translate[0] as f32,
+        t.translate[1] as f32,
+        t.translate[2] as f32,
+    );
+    let revolved = matches!(p.shape, Shape::Revolved(_));
+    let paths = sample_photon_paths(&luminaire.prepared, 1, 64, PHOTONS_SAMPLED);
+    let mut rays = Vec::new();
+    for path in paths {
+        if rays.len() >= RAYS_DRAWN || path.points.len() < 2 {
+            continue;
+        }
+        let mut points: Vec<Vec3> = path.points.iter().map(|&q| q - offset).collect();
+        if let Some(d) = path.escape_direction()
+            && let Some(&last) = points.last()
+        {
+            points.push(last + d * (EXIT_LEG_MM as f32 / 1000.0));
+        }
+        let plane: Option<Vec<[f64; 2]>> = if revolved {
+            // The meridional plane of the first leg's azimuth: signed
+            // radius along it, and the distance off it.
+            let first = points[1] - points[0];
+            let azimuth = f64::from(first.y).atan2(f64::from(first.x));
+            let (s, c) = azimuth.sin_cos();
+            points
+                .iter()
+                .map(|q| {
+                    let (x, y) = (f64::from(q.x), f64::from(q.y));
+                    let off = (-x * s + y * c) * 1000.0;
+                    (off.abs() <= MERIDIONAL_MM)
+                        .then_some([(x * c + y * s) * 1000.0, f64::from(q.z) * 1000.0])
+                })
+                .collect()
+        } else {
+            Some(
+                points
+                    .iter()
+                    .map(|q| [f64::from(q.x) * 1000.0, f64::from(q.z) * 1000.0])
+                    .collect(),
+            )
+        };
+        if let Some(ray) = plane
+            && !matches!(path.fate, Fate::CutOff)
+        {
+            rays.push(ray);
+        }
+    }
+    rays
+}
+
+pub fn profile_pane_ui(ui: &mut Ui, state: &mut EditorState, pane: &mut ProfilePane) {
+    let part = match state.selection() {
+        Some(Selection::Part(i)) => Some(*i),
+        _ => None,
+    };
+    let has_profile = |state: &EditorState, i: usize| {
+        state
+            .scene()
+            .and_then(|s| s.parts.get(i))
+            .is_some_and(|p| matches!(p.shape, Shape::Revolved(_) | Shape::Extruded(_)))
+    };
+    let Some(index) = part.filter(|&i| has_profile(state, i)) else {
+        ui.label("Select a revolved or extruded part to shape its profile here.");
+        let with_profiles: Vec<(usize, String)> = state.scene().map_or(Vec::new(), |s| {
+            s.parts
+                .iter()
+                .enumerate()
+                .filter(|(_, p)| matches!(p.shape, Shape::Revolved(_) | Shape::Extruded(_)))
+                .map(|(i, p)| (i, p.name.clone()))
+                .collect()
+        });
+        for (i, name) in with_profiles {
+            if ui.button(format!("Edit the profile of {name}")).clicked() {
+                state.push(crate::command::Command::Select(Some(Selection::Part(i))));
+            }
+        }
+        return;
+    };
+    let rays = match state.snapshot() {
+        Some(s) if ui.input(|i| !i.pointer.any_down()) || pane.rays.is_some() => {
+            let luminaire = s.luminaire.clone();
+            pane.rays_for(&luminaire, index).to_vec()
+        }
+        _ => Vec::new(),
+    };
+    let problems = state.problems().to_vec();
+    let mut commands = Vec::new();
+    let Some(scene) = state.scene.as_mut() else {
+        return;
+    };
+    let lamps_mm = lamps_in_profile_plane(scene, index);
+    let Some(part) = scene.parts.get_mut(index) else {
+        return;
+    };
+    let name = part.name.clone();
+    let (interpolation, segments_per_span) = match &part.shape {
+        Shape::Revolved(s) => (s.interpolation, s.segments_per_span),
+        Shape::Extruded(s) => (s.interpolation, s.segments_per_span),
+        _ => return,
+    };
+    let Some((points_m, plane)) = profile_mut(&mut part.shape) else {
+        return;
+    };
+    ui.strong(format!("Profile of {name}"));
+    ui.label(format!(
+        "{} photons of the run drawn through it (those in the profile's plane).",
+        rays.len()
+    ));
+    // The table of points needs about 200 points of height below.
+    let drawing_height = (ui.available_height() - 230.0).clamp(300.0, 1200.0);
+    egui::ScrollArea::vertical()
+        .auto_shrink([false, false])
+        .show(ui, |ui| {
+            profile_editor_ui(
+                ui,
+                Profile {
+                    part: index,
+                    plane,
+                    points_m,
+                    interpolation,
+                    segments_per_span,
+                    lamps_mm: &lamps_mm,
+                    rays_mm: &rays,
+                    drawing_height,
+                },
+                &problems,
+                &mut commands,
+            );
+        });
+    for c in commands {
+        state.push(c);
+    }
+}
