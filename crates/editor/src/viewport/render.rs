@@ -133,6 +133,9 @@ struct Uploaded<T> {
 struct Resources {
     target: GpuTarget,
     mesh_pipeline: wgpu::RenderPipeline,
+    /// The selected surface again over everything, faint: a reflector
+    /// inside a housing stays visible when selected.
+    xray_pipeline: wgpu::RenderPipeline,
     cube_pipeline: wgpu::RenderPipeline,
     line_pipeline: wgpu::RenderPipeline,
     blit_pipeline: wgpu::RenderPipeline,
@@ -292,21 +295,28 @@ impl Resources {
             &[Some(&uniform_layout), Some(&cube_layout)],
         );
         let blit_pipeline_layout = layout("viewport blit", &[Some(&blit_layout)]);
-        let depth = |write: bool| {
+        // An overlay is drawn over everything, blended, writing no depth
+        // (the selection seen through the parts in front of it).
+        let depth = |write: bool, overlay: bool| {
             Some(wgpu::DepthStencilState {
                 format: DEPTH_FORMAT,
-                depth_write_enabled: Some(write),
-                depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                depth_write_enabled: Some(write && !overlay),
+                depth_compare: Some(if overlay {
+                    wgpu::CompareFunction::Always
+                } else {
+                    wgpu::CompareFunction::LessEqual
+                }),
                 stencil: wgpu::StencilState::default(),
                 bias: wgpu::DepthBiasState::default(),
             })
         };
-        let scene_pipeline = |label: &str,
-                              pipeline_layout: &wgpu::PipelineLayout,
-                              vs: &str,
-                              fs: &str,
-                              buffer: wgpu::VertexBufferLayout<'_>,
-                              topology: wgpu::PrimitiveTopology| {
+        let scene_pipeline_with = |label: &str,
+                                   pipeline_layout: &wgpu::PipelineLayout,
+                                   vs: &str,
+                                   fs: &str,
+                                   buffer: wgpu::VertexBufferLayout<'_>,
+                                   topology: wgpu::PrimitiveTopology,
+                                   overlay: bool| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(label),
                 layout: Some(pipeline_layout),
@@ -321,7 +331,7 @@ impl Resources {
                     cull_mode: None,
                     ..wgpu::PrimitiveState::default()
                 },
-                depth_stencil: depth(true),
+                depth_stencil: depth(true, overlay),
                 multisample: wgpu::MultisampleState {
                     count: target.picture_samples,
                     mask: !0,
@@ -333,13 +343,21 @@ impl Resources {
                     compilation_options: wgpu::PipelineCompilationOptions::default(),
                     targets: &[Some(wgpu::ColorTargetState {
                         format: PICTURE_FORMAT,
-                        blend: None,
+                        blend: overlay.then_some(wgpu::BlendState::ALPHA_BLENDING),
                         write_mask: wgpu::ColorWrites::ALL,
                     })],
                 }),
                 multiview_mask: None,
                 cache: None,
             })
+        };
+        let scene_pipeline = |label: &str,
+                              pipeline_layout: &wgpu::PipelineLayout,
+                              vs: &str,
+                              fs: &str,
+                              buffer: wgpu::VertexBufferLayout<'_>,
+                              topology: wgpu::PrimitiveTopology| {
+            scene_pipeline_with(label, pipeline_layout, vs, fs, buffer, topology, false)
         };
         let mesh_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Uint32, 4 => Uint32];
         let cube_attributes =
@@ -357,6 +375,15 @@ impl Resources {
             "fs_mesh",
             buffer_layout(size_of::<MeshVertex>(), &mesh_attributes),
             wgpu::PrimitiveTopology::TriangleList,
+        );
+        let xray_pipeline = scene_pipeline_with(
+            "viewport x-ray",
+            &scene_layout,
+            "vs_mesh",
+            "fs_xray",
+            buffer_layout(size_of::<MeshVertex>(), &mesh_attributes),
+            wgpu::PrimitiveTopology::TriangleList,
+            true,
         );
         let cube_pipeline = scene_pipeline(
             "viewport cube",
@@ -437,6 +464,7 @@ impl Resources {
         Resources {
             target,
             mesh_pipeline,
+            xray_pipeline,
             cube_pipeline,
             line_pipeline,
             blit_pipeline,
@@ -655,6 +683,10 @@ impl Resources {
             pass.set_bind_group(1, group, &[]);
             pass.set_vertex_buffer(0, self.cube_vertices.slice(..));
             pass.draw(0..36, 0..1);
+        }
+        if frame.uniforms.selected_surface != u32::MAX {
+            pass.set_pipeline(&self.xray_pipeline);
+            draw(&mut pass, self.mesh.as_ref());
         }
         drop(pass);
         self.rendered = Some(key);

@@ -89,6 +89,19 @@ fn fs_mesh(v: MeshOut) -> @location(0) vec4<f32> {
     return vec4<f32>(colour, 1.0);
 }
 
+// The selected surface drawn again over everything in front of it (depth
+// test off, blended): a reflector inside its housing stays visible.
+@fragment
+fn fs_xray(v: MeshOut) -> @location(0) vec4<f32> {
+    if v.surface != u.selected_surface {
+        discard;
+    }
+    let to_eye = normalize(u.eye.xyz - v.world);
+    let facing = abs(dot(normalize(v.normal), to_eye));
+    // Brighter at grazing angles, so the outline reads.
+    return vec4<f32>(1.0, 0.55, 0.1, 0.18 + 0.3 * (1.0 - facing));
+}
+
 // ---- intensity cube -----------------------------------------------------
 
 // The six faces in a 3 × 2 atlas (face k at column k mod 3, row k / 3).
