@@ -347,3 +347,125 @@ fn an_image_too_large_for_the_adapter_is_refused_clearly() {
     assert!(err.contains("MB of GPU storage needed"), "{err}");
     assert!(!png.exists());
 }
+
+/// `lucerna render` and the editor's live room preview share one
+/// pipeline (`lucerna_room::RoomSetup`, `RoomRenderer`): for the same room
+/// and table, the editor's figures are the CLI's to the printed digit and
+/// its work-plane grid is the CLI's CSV byte for byte.
+#[test]
+fn the_editor_preview_gives_lucerna_renders_figures_for_the_same_room_and_table() {
+    use std::sync::Arc;
+
+    use lucerna_editor::{RenderRequest, Renderer, RoomLight};
+    use lucerna_room::RoomSetup;
+    use lucerna_room::scene::opening_from_dimensions;
+    use lucerna_simulation::BackendRequest;
+
+    let dir = tempfile::tempdir().unwrap();
+    let room = assets().join("rooms/office.toml");
+    let csv = dir.path().join("grid.csv");
+    let out = lucerna(&[
+        "render",
+        room.to_str().unwrap(),
+        "--out",
+        dir.path().join("office.png").to_str().unwrap(),
+        "--lux-grid",
+        csv.to_str().unwrap(),
+        "--size",
+        "64x40",
+        "--backend",
+        "cpu",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+
+    // The editor lit by the table of the office's own profile file, from
+    // that file's luminous opening, as the room file gives it.
+    let bytes = std::fs::read(assets().join("profiles/examples/faceted_downlight.ies")).unwrap();
+    let photometry = lucerna_photometry::read_photometry(&bytes).unwrap();
+    let light = RoomLight {
+        table: Arc::new(photometry.table.clone()),
+        opening: opening_from_dimensions(photometry.meta.luminous_area),
+        generation: 0,
+        photons: 0,
+    };
+    let request = RenderRequest {
+        light,
+        room: Arc::new(RoomSetup::load(&room).unwrap()),
+        room_revision: 0,
+        size: [64, 40],
+    };
+    let picture = Renderer::open(BackendRequest::Cpu)
+        .render(&request, 1, &|| false)
+        .unwrap();
+    let f = picture.figures;
+    let editor = format!(
+        "{} points (0.50 m border): Emin {:.1} lx, Eavg {:.1} lx, Emax {:.1} lx, U0 = Emin/Eavg {:.2}",
+        f.points, f.e_min_lx, f.e_avg_lx, f.e_max_lx, f.u0
+    );
+    assert!(stdout.contains(&editor), "CLI: {stdout}\neditor: {editor}");
+    assert_eq!(
+        std::fs::read(&csv).unwrap(),
+        picture.grid.csv().unwrap(),
+        "the work-plane grids differ"
+    );
+}
+
+#[test]
+fn render_judges_the_work_plane_against_the_task_area_asked_or_suggested() {
+    let dir = tempfile::tempdir().unwrap();
+    let room = assets().join("rooms/office.toml");
+    let png = dir.path().join("office.png");
+    let run = |task: Option<&str>| {
+        let mut args = vec![
+            "render",
+            room.to_str().unwrap(),
+            "--out",
+            png.to_str().unwrap(),
+            "--size",
+            "32x20",
+            "--backend",
+            "cpu",
+        ];
+        if let Some(t) = task {
+            args.extend(["--task", t]);
+        }
+        lucerna(&args)
+    };
+    // The office's name suggests writing and reading: 500 lx, U0 0.60.
+    let out = run(None);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    let verdict = stdout
+        .lines()
+        .find(|l| l.starts_with("EN 12464-1 "))
+        .unwrap_or_else(|| panic!("no verdict in {stdout}"));
+    assert!(
+        verdict.contains("writing, reading") && verdict.contains("Em 500 lx, U0 0.60"),
+        "{verdict}"
+    );
+    let (e_avg, u0) = (figure(&stdout, "Eavg"), figure(&stdout, "Emin/Eavg"));
+    let meets = e_avg >= 500.0 && u0 >= 0.60;
+    assert!(
+        verdict.ends_with(if meets { "meets" } else { "fails" }),
+        "{verdict}"
+    );
+    // Corridors ask 100 lx and U0 0.40.
+    let out = run(Some("corridors"));
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.contains("Corridors, circulation areas (Em 100 lx, U0 0.40)"),
+        "{stdout}"
+    );
+    // An unknown task is refused before anything is rendered, naming the
+    // task areas there are.
+    let _ = std::fs::remove_file(&png);
+    let out = run(Some("spaceship bridge"));
+    assert!(!out.status.success());
+    let stderr = text(&out.stderr);
+    assert!(
+        stderr.contains("spaceship bridge") && stderr.contains("Classrooms"),
+        "{stderr}"
+    );
+    assert!(!png.exists());
+}

@@ -1,52 +1,52 @@
-//! The false-colour scale every intensity picture shares (cube-map view,
-//! 3D cube), so the same colour means the same candela everywhere.
+//! The visual rules of `lucerna_pictures::scale` in egui's colours: the
+//! editor's cube-map view, isocandela map, 3D cube and room use the same
+//! palette and scales as the exported pictures, so the same colour means
+//! the same candela or lux in a PNG and in the window.
 
 use egui::{Color32, Ui};
+use lucerna_pictures::scale::log_colour;
+pub use lucerna_pictures::scale::{DECADES, LUX_PARTS, LinearScale, ticks_125};
 
-/// Decades below the peak the colour scale spans: stray light a thousand
-/// times dimmer than the beam still shows.
-pub const DECADES: f64 = 3.0;
-
-/// Position of `v` on the logarithmic colour scale of a map peaking at
-/// `peak`, in [0, 1].
-pub fn log_scale(v: f64, peak: f64) -> f32 {
-    if v <= 0.0 || peak <= 0.0 {
-        0.0
-    } else {
-        ((v / peak).log10() / DECADES + 1.0).clamp(0.0, 1.0) as f32
-    }
-}
-
-/// A perceptually ordered false colour (black, blue, magenta, orange,
-/// yellow, white) for t in [0, 1].
-pub fn false_colour(t: f32) -> Color32 {
-    const STOPS: [[f32; 3]; 6] = [
-        [0.0, 0.0, 0.0],
-        [0.1, 0.1, 0.6],
-        [0.7, 0.1, 0.6],
-        [0.95, 0.4, 0.1],
-        [1.0, 0.85, 0.2],
-        [1.0, 1.0, 1.0],
-    ];
-    let x = t.clamp(0.0, 1.0) * (STOPS.len() - 1) as f32;
-    let i = (x as usize).min(STOPS.len() - 2);
-    let f = x - i as f32;
-    let [r, g, b] = [0, 1, 2].map(|k| {
-        let v = STOPS[i][k] + f * (STOPS[i + 1][k] - STOPS[i][k]);
-        (v * 255.0).round() as u8
-    });
+/// egui's colour of an sRGB triple.
+pub fn colour32([r, g, b]: [u8; 3]) -> Color32 {
     Color32::from_rgb(r, g, b)
 }
 
-/// One swatch per decade below the peak, labelled in cd.
+/// The false colour of `v` on the logarithmic scale over [`DECADES`]
+/// below `peak`, as an exported cube map draws it.
+pub fn intensity_colour(v: f64, peak: f64) -> Color32 {
+    colour32(log_colour(v, peak))
+}
+
+/// Swatches at the 1-2-5 ticks of the scale below `peak`, labelled in cd
+/// (the exported cube map's legend).
 pub fn legend_ui(ui: &mut Ui, peak: f64) {
-    ui.horizontal(|ui| {
-        for k in (0..=DECADES as i32).rev() {
-            let v = peak / 10f64.powi(k);
+    ui.horizontal_wrapped(|ui| {
+        for v in ticks_125(peak / 10f64.powf(DECADES), peak)
+            .into_iter()
+            .rev()
+        {
             let (rect, _) = ui.allocate_exact_size(egui::vec2(14.0, 14.0), egui::Sense::hover());
             ui.painter()
-                .rect_filled(rect, 2.0, false_colour(log_scale(v, peak)));
-            ui.label(format!("{v:.0} cd"));
+                .rect_filled(rect, 2.0, intensity_colour(v, peak));
+            ui.label(lucerna_pictures::canvas::label(v) + " cd");
+        }
+    });
+}
+
+/// The false colour of `lux` on a linear illuminance scale, white for a
+/// luminaire (negative), as `lucerna render --false-colour` draws it.
+pub fn lux_colour(scale: &LinearScale, lux: f64) -> Color32 {
+    colour32(scale.colour(lux))
+}
+
+/// Swatches at the scale's ticks, each labelled in lux.
+pub fn lux_legend_ui(ui: &mut Ui, scale: &LinearScale) {
+    ui.horizontal_wrapped(|ui| {
+        for v in scale.ticks() {
+            let (rect, _) = ui.allocate_exact_size(egui::vec2(14.0, 14.0), egui::Sense::hover());
+            ui.painter().rect_filled(rect, 2.0, lux_colour(scale, v));
+            ui.label(lucerna_pictures::canvas::label(v) + " lx");
         }
     });
 }

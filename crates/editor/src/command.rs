@@ -67,4 +67,6 @@ pub enum Command {
     Restart,
     /// Brings a pane of the dock to the front.
     ShowPane(crate::dock::Pane),
+    /// A change to the preview room (room_state.rs).
+    Room(crate::room_state::RoomCommand),
 }

@@ -19,7 +19,6 @@ use std::time::{Duration, Instant};
 
 use egui::Ui;
 use lucerna_photometry::{CPlaneSymmetry, IesVersion};
-use lucerna_simulation::export::luminous_opening;
 use lucerna_simulation::{
     ExportFormats, ExportOptions, ExportRequest, ExportStage, FilterChoice, Labels, Snapshot,
     TableGrid,
@@ -97,9 +96,6 @@ pub struct ExportDialog {
     result: Option<Result<Vec<PathBuf>, String>>,
     /// The export running now.
     job: Option<ExportJob>,
-    /// The luminous opening described for the snapshot's luminaire, found
-    /// once per luminaire rather than every frame.
-    opening: Option<(Arc<lucerna_simulation::Luminaire>, String)>,
 }
 
 /// An export on its own thread: its stage as it goes, its result at the
@@ -306,7 +302,7 @@ fn dialog_ui(ui: &mut Ui, state: &mut EditorState, dialog: &mut ExportDialog) {
 
     ui.separator();
     ui.strong("Keywords (saved in the scene)");
-    keywords_ui(ui, state, &mut dialog.opening);
+    keywords_ui(ui, state);
 
     ui.separator();
     ui.strong("Output");
@@ -388,20 +384,12 @@ fn text_field(ui: &mut Ui, label: &str, value: &mut String, hint: &str) {
 
 /// The scene's labels, edited in place: the frame's end makes each edit
 /// an undo step, and the simulation goes on (`Scene::same_light`).
-fn keywords_ui(
-    ui: &mut Ui,
-    state: &mut EditorState,
-    cache: &mut Option<(Arc<lucerna_simulation::Luminaire>, String)>,
-) {
-    let opening = state.snapshot().map(|s| match cache {
-        Some((luminaire, described)) if Arc::ptr_eq(luminaire, &s.luminaire) => described.clone(),
-        _ => {
-            let d = luminous_opening(&s.luminaire.scene, &s.luminaire.tessellated);
-            let described = describe_opening(d);
-            *cache = Some((s.luminaire.clone(), described.clone()));
-            described
-        }
-    });
+/// The luminous opening shown is the traced luminaire's, found once when
+/// it was built (`Luminaire::luminous_opening`), not in a frame.
+fn keywords_ui(ui: &mut Ui, state: &mut EditorState) {
+    let opening = state
+        .snapshot()
+        .map(|s| describe_opening(s.luminaire.luminous_opening));
     let Some(scene) = state.scene.as_mut() else {
         ui.label("No scene.");
         return;

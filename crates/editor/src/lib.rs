@@ -23,6 +23,7 @@ mod profile_pane;
 mod recovery;
 mod reference;
 mod room_preview;
+mod room_state;
 mod room_view;
 mod scene_panel;
 mod simulation_panel;
@@ -42,8 +43,8 @@ pub use dialogs::DialogKind;
 pub use files::{ImportMeshError, PendingAction, starter_scene};
 pub use recovery::RecoveryOffer;
 pub use room_preview::{
-    DRAFT_SIZE, FINE_SIZE, RenderRequest, Renderer, RoomBackend, RoomPicture, RoomPreview,
-    RoomSetup, TASK_TARGETS, TaskTarget, default_rooms_dir,
+    DRAFT_SIZE, FINE_SIZE, RenderRequest, Renderer, RoomLight, RoomPicture, RoomPreview,
+    default_rooms_dir,
 };
 pub use state::{Command, EditorState, NewPart, SceneEdit, Selection, View};
 pub use viewport::{Bounds, CubeShown, GpuTarget, OrbitCamera, StandardView, Viewport, pick};

@@ -1,19 +1,18 @@
-//! The live preview room: a room of `crates/room` lit by the current
-//! distribution, updated as the simulation converges and after each edit.
-//! The worker, the room being edited and the refinement rule live in
-//! `room_preview.rs`; this file only draws them.
+//! The Room tab: draws the live preview room of `room_state.rs` (the room
+//! chosen, its fields, the picture and its figures) and queues a
+//! [`RoomCommand`] for each change. Nothing here reads a file or renders.
 
-use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::path::Path;
 use std::time::Instant;
 
 use egui::{Color32, ColorImage, TextureHandle, TextureOptions, Ui};
+use lucerna_gpu::BackendRequest;
+use lucerna_room::TASK_TARGETS;
 
-use crate::colour::false_colour;
-use crate::room_preview::{
-    Refinement, RenderRequest, RoomBackend, RoomPicture, RoomPreview, RoomSetup, TASK_TARGETS,
-    TaskTarget, default_rooms_dir, lux_scale, room_files,
-};
+use crate::colour::{LUX_PARTS, LinearScale, lux_colour, lux_legend_ui};
+use crate::command::Command;
+use crate::room_preview::RoomPicture;
+use crate::room_state::{RoomCommand, RoomLive, RoomSurface};
 use crate::state::EditorState;
 use crate::widgets::{labelled, number};
 
@@ -29,72 +28,18 @@ pub enum RoomShown {
     WorkPlane,
 }
 
-/// The room view's own state (its room, renderer and last picture).
+/// What the Room tab keeps of its own: the picture shown and its texture.
 #[derive(Default)]
 pub struct RoomView {
-    /// The room files offered (found on first use).
-    rooms: Option<Vec<PathBuf>>,
-    /// The room as edited in the fields (may be invalid while typing).
-    draft: Option<RoomSetup>,
-    /// The last valid room, as rendered; `revision` counts its changes.
-    room: Option<Arc<RoomSetup>>,
-    revision: u64,
-    /// Why the last chosen room file could not be used.
-    load_error: Option<String>,
-    backend: RoomBackend,
-    preview: Option<RoomPreview>,
-    refinement: Refinement,
-    picture: Option<RoomPicture>,
     shown: RoomShown,
-    /// Index into [`TASK_TARGETS`]; `None` until a room suggests one.
-    target: Option<usize>,
     texture: Option<(u64, RoomShown, TextureHandle)>,
 }
 
 impl std::fmt::Debug for RoomView {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("RoomView")
-            .field("room", &self.room.as_ref().map(|r| r.path.clone()))
-            .field("revision", &self.revision)
-            .field("preview", &self.preview)
+            .field("shown", &self.shown)
             .finish_non_exhaustive()
-    }
-}
-
-impl RoomView {
-    /// Takes `path` as the previewed room; on failure the current room
-    /// stays and the error is shown.
-    fn choose_room(&mut self, path: &Path) {
-        match RoomSetup::load(path) {
-            Ok(setup) => {
-                self.target = Some(TaskTarget::for_room(&format!(
-                    "{} {}",
-                    path.display(),
-                    setup.file.name
-                )));
-                self.draft = Some(setup.clone());
-                self.room = Some(Arc::new(setup));
-                self.revision += 1;
-                self.load_error = None;
-            }
-            Err(e) => self.load_error = Some(crate::state::error_chain(&e)),
-        }
-    }
-
-    /// The draft becomes the rendered room when it changed and is valid.
-    fn commit_draft(&mut self) -> Vec<String> {
-        let (Some(draft), Some(room)) = (&self.draft, &self.room) else {
-            return Vec::new();
-        };
-        if draft.file == room.file {
-            return Vec::new();
-        }
-        let problems = draft.problems();
-        if problems.is_empty() {
-            self.room = Some(Arc::new(draft.clone()));
-            self.revision += 1;
-        }
-        problems
     }
 }
 
@@ -106,72 +51,46 @@ fn file_label(path: &Path) -> String {
 }
 
 pub fn room_ui(ui: &mut Ui, state: &mut EditorState, view: &mut RoomView) {
+    state.room.watch();
+    let mut commands = Vec::new();
     egui::ScrollArea::vertical()
         .auto_shrink([false, false])
-        .show(ui, |ui| room_contents_ui(ui, state, view));
+        .show(ui, |ui| {
+            room_contents_ui(
+                ui,
+                &state.room,
+                state.snapshot().is_none(),
+                view,
+                &mut commands,
+            );
+        });
+    for c in commands {
+        state.push(Command::Room(c));
+    }
 }
 
-fn room_contents_ui(ui: &mut Ui, state: &mut EditorState, view: &mut RoomView) {
+fn room_contents_ui(
+    ui: &mut Ui,
+    room: &RoomLive,
+    no_snapshot: bool,
+    view: &mut RoomView,
+    commands: &mut Vec<RoomCommand>,
+) {
     let now = Instant::now();
-    if view.rooms.is_none() {
-        let rooms = room_files(&default_rooms_dir());
-        let first = rooms
-            .iter()
-            .find(|p| p.file_stem().is_some_and(|s| s == "office"))
-            .or(rooms.first())
-            .cloned();
-        view.rooms = Some(rooms);
-        match first {
-            Some(path) => view.choose_room(&path),
-            None => {
-                view.load_error = Some(format!(
-                    "no room files (*.toml) in {}",
-                    default_rooms_dir().display()
-                ));
-            }
-        }
-    }
-    if view.preview.is_none() {
-        let ctx = ui.ctx().clone();
-        view.preview = Some(RoomPreview::start(view.backend, move || {
-            ctx.request_repaint()
-        }));
-        view.refinement.reset();
-    }
-    if let Some(preview) = &mut view.preview
-        && let Some(picture) = preview.poll()
-    {
-        view.picture = Some(picture);
-    }
-
-    room_choice_ui(ui, view);
-    if let Some(e) = &view.load_error {
+    room_choice_ui(ui, room, commands);
+    if let Some(e) = room.error() {
         ui.colored_label(ui.visuals().error_fg_color, e);
     }
-    let problems = room_fields_ui(ui, view);
-    for p in &problems {
+    if let Some(path) = room.loading() {
+        ui.label(format!("reading {}…", file_label(path)));
+    }
+    room_fields_ui(ui, room, commands);
+    for p in room.problems() {
         ui.colored_label(ui.visuals().error_fg_color, p);
     }
-
-    // Ask for a picture of the newest table and room when one is due.
-    let snapshot = state.snapshot().cloned();
-    if let (Some(snapshot), Some(room), Some(preview)) = (&snapshot, &view.room, &mut view.preview)
-    {
-        if let Some(size) = view.refinement.due(snapshot, view.revision, now) {
-            preview.request(RenderRequest {
-                snapshot: snapshot.clone(),
-                room: room.clone(),
-                room_revision: view.revision,
-                size,
-            });
-        }
-        if let Some(wait) = view.refinement.fine_due_in(now) {
-            ui.ctx().request_repaint_after(wait);
-        }
-    }
     ui.separator();
-    status_ui(ui, view, snapshot.is_none(), now);
-    figures_ui(ui, view);
+    status_ui(ui, room, no_snapshot, now);
+    figures_ui(ui, room, commands);
     ui.horizontal(|ui| {
         for (shown, label) in [
             (RoomShown::Picture, "Picture"),
@@ -181,12 +100,11 @@ fn room_contents_ui(ui: &mut Ui, state: &mut EditorState, view: &mut RoomView) {
             ui.selectable_value(&mut view.shown, shown, label);
         }
     });
-    picture_ui(ui, view);
+    picture_ui(ui, room, view);
 }
 
-fn room_choice_ui(ui: &mut Ui, view: &mut RoomView) {
-    let current = view.room.as_ref().map(|r| r.path.clone());
-    let rooms = view.rooms.clone().unwrap_or_default();
+fn room_choice_ui(ui: &mut Ui, room: &RoomLive, commands: &mut Vec<RoomCommand>) {
+    let current = room.room().map(|r| r.path.clone());
     let mut chosen = current.clone();
     labelled(ui, "Room", |ui| {
         egui::ComboBox::from_id_salt("room file")
@@ -196,7 +114,7 @@ fn room_choice_ui(ui: &mut Ui, view: &mut RoomView) {
                     .map_or_else(|| "none".to_owned(), file_label),
             )
             .show_ui(ui, |ui| {
-                for path in &rooms {
+                for path in room.rooms() {
                     ui.selectable_value(&mut chosen, Some(path.clone()), file_label(path));
                 }
             })
@@ -205,39 +123,54 @@ fn room_choice_ui(ui: &mut Ui, view: &mut RoomView) {
     if chosen != current
         && let Some(path) = chosen
     {
-        view.choose_room(&path);
+        commands.push(RoomCommand::Choose(path));
     }
-    let mut backend = view.backend;
+    let mut backend = room.renderer();
     labelled(ui, "Renderer", |ui| {
         egui::ComboBox::from_id_salt("room renderer")
             .selected_text(backend_name(backend))
             .show_ui(ui, |ui| {
-                for b in [RoomBackend::Auto, RoomBackend::Cpu, RoomBackend::Gpu] {
+                for b in [
+                    BackendRequest::Auto,
+                    BackendRequest::Cpu,
+                    BackendRequest::Gpu,
+                ] {
                     ui.selectable_value(&mut backend, b, backend_name(b));
                 }
             })
             .response
     });
-    if backend != view.backend {
-        view.backend = backend;
-        // A fresh worker opens the chosen renderer; the old one stops.
-        view.preview = None;
+    if backend != room.renderer() {
+        commands.push(RoomCommand::Renderer(backend));
     }
 }
 
-fn backend_name(b: RoomBackend) -> &'static str {
+fn backend_name(b: BackendRequest) -> &'static str {
     match b {
-        RoomBackend::Auto => "Auto (hardware GPU, else CPU)",
-        RoomBackend::Cpu => "CPU",
-        RoomBackend::Gpu => "GPU (any adapter)",
+        BackendRequest::Auto => "Auto (hardware GPU, else CPU)",
+        BackendRequest::Cpu => "CPU",
+        BackendRequest::Gpu => "GPU (any adapter)",
     }
 }
 
-/// Room size and surface reflectances; returns the draft's problems.
-fn room_fields_ui(ui: &mut Ui, view: &mut RoomView) -> Vec<String> {
-    let Some(draft) = &mut view.draft else {
-        return Vec::new();
-    };
+/// One reflectance field; a change is queued.
+fn reflectance_ui(
+    ui: &mut Ui,
+    label: &str,
+    value: f64,
+    surface: RoomSurface,
+    commands: &mut Vec<RoomCommand>,
+) {
+    let mut edited = value;
+    number(ui, label, &mut edited, 0.0..=1.0, 0.005, "");
+    if edited != value {
+        commands.push(RoomCommand::Reflectance(surface, edited));
+    }
+}
+
+/// Room size and surface reflectances.
+fn room_fields_ui(ui: &mut Ui, room: &RoomLive, commands: &mut Vec<RoomCommand>) {
+    let Some(draft) = room.draft() else { return };
     let name = &draft.file.name;
     let name = if name.is_empty() {
         "The room"
@@ -247,65 +180,64 @@ fn room_fields_ui(ui: &mut Ui, view: &mut RoomView) -> Vec<String> {
     ui.label(format!(
         "{name}: every luminaire it places is the edited one, with its own opening"
     ));
+    let r = &draft.file.room;
     if draft.mesh.is_none() {
-        let r = &draft.file.room;
-        let mut size = [r.width_m, r.depth_m, r.height_m];
+        let size = [r.width_m, r.depth_m, r.height_m];
+        let mut edited = size;
         ui.horizontal_wrapped(|ui| {
-            for (value, label) in size.iter_mut().zip(["Width", "Depth", "Height"]) {
+            for (value, label) in edited.iter_mut().zip(["Width", "Depth", "Height"]) {
                 number(ui, label, value, 1.0..=50.0, 0.02, " m");
             }
         });
-        if size != [r.width_m, r.depth_m, r.height_m] {
-            draft.resize(size);
+        if edited != size {
+            commands.push(RoomCommand::Resize(edited));
         }
-        let r = &mut draft.file.room;
         ui.horizontal_wrapped(|ui| {
-            for (surface, label) in [
-                (&mut r.floor, "Floor reflectance"),
-                (&mut r.walls, "Wall reflectance"),
-                (&mut r.ceiling, "Ceiling reflectance"),
+            for (value, label, surface) in [
+                (r.floor.reflectance, "Floor reflectance", RoomSurface::Floor),
+                (r.walls.reflectance, "Wall reflectance", RoomSurface::Walls),
+                (
+                    r.ceiling.reflectance,
+                    "Ceiling reflectance",
+                    RoomSurface::Ceiling,
+                ),
             ] {
-                number(ui, label, &mut surface.reflectance, 0.0..=1.0, 0.005, "");
+                reflectance_ui(ui, label, value, surface, commands);
             }
         });
     } else {
         ui.label("Size and surfaces from the room's OBJ.");
-        let r = &mut draft.file.room;
         ui.horizontal_wrapped(|ui| {
-            number(
+            reflectance_ui(
                 ui,
                 "Wall reflectance",
-                &mut r.walls.reflectance,
-                0.0..=1.0,
-                0.005,
-                "",
+                r.walls.reflectance,
+                RoomSurface::Walls,
+                commands,
             );
-            for (name, surface) in &mut r.materials {
-                number(
+            for (name, surface) in &r.materials {
+                reflectance_ui(
                     ui,
                     &format!("{name} reflectance"),
-                    &mut surface.reflectance,
-                    0.0..=1.0,
-                    0.005,
-                    "",
+                    surface.reflectance,
+                    RoomSurface::Material(name.clone()),
+                    commands,
                 );
             }
         });
     }
-    view.commit_draft()
 }
 
-fn status_ui(ui: &mut Ui, view: &RoomView, no_snapshot: bool, now: Instant) {
-    if let Some(e) = view.preview.as_ref().and_then(RoomPreview::start_error) {
+fn status_ui(ui: &mut Ui, room: &RoomLive, no_snapshot: bool, now: Instant) {
+    if let Some(e) = room.start_error() {
         ui.colored_label(ui.visuals().error_fg_color, e);
     }
-    let rendering = view.preview.as_ref().is_some_and(RoomPreview::is_rendering);
     if no_snapshot {
         ui.label("No light distribution yet.");
-    } else if rendering {
+    } else if room.is_rendering() {
         ui.label("rendering…");
     }
-    match &view.picture {
+    match room.picture() {
         Some(p) => {
             ui.label(format!(
                 "Shown: generation {}, {} photons, room revision {}",
@@ -330,8 +262,9 @@ fn status_ui(ui: &mut Ui, view: &RoomView, no_snapshot: bool, now: Instant) {
     }
 }
 
-fn figures_ui(ui: &mut Ui, view: &mut RoomView) {
-    let mut target = view.target.unwrap_or(0).min(TASK_TARGETS.len() - 1);
+fn figures_ui(ui: &mut Ui, room: &RoomLive, commands: &mut Vec<RoomCommand>) {
+    let current = room.target_index();
+    let mut target = current;
     labelled(ui, "Task area (EN 12464-1)", |ui| {
         egui::ComboBox::from_id_salt("task area")
             .selected_text(TASK_TARGETS[target].name)
@@ -347,8 +280,10 @@ fn figures_ui(ui: &mut Ui, view: &mut RoomView) {
             })
             .response
     });
-    view.target = Some(target);
-    let Some(p) = &view.picture else { return };
+    if target != current {
+        commands.push(RoomCommand::Task(target));
+    }
+    let Some(p) = room.picture() else { return };
     let f = p.figures;
     let t = TASK_TARGETS[target];
     ui.horizontal_wrapped(|ui| {
@@ -375,14 +310,16 @@ fn figures_ui(ui: &mut Ui, view: &mut RoomView) {
     ));
 }
 
-fn picture_ui(ui: &mut Ui, view: &mut RoomView) {
-    let Some(p) = &view.picture else { return };
+fn picture_ui(ui: &mut Ui, room: &RoomLive, view: &mut RoomView) {
+    let Some(p) = room.picture() else { return };
     if view.shown == RoomShown::WorkPlane {
         work_plane_ui(ui, p);
         return;
     }
     let [w, h] = p.size;
-    let top = lux_top(p.illuminance_lx.iter().map(|&v| f64::from(v)));
+    // `lucerna render --false-colour`'s scale: linear up to a round
+    // number above the 99th percentile.
+    let scale = LinearScale::over_p99(p.illuminance_lx.iter().map(|&v| f64::from(v)), LUX_PARTS);
     let fresh = view
         .texture
         .as_ref()
@@ -394,7 +331,7 @@ fn picture_ui(ui: &mut Ui, view: &mut RoomView) {
                 [w as usize, h as usize],
                 p.illuminance_lx
                     .iter()
-                    .map(|&v| lux_colour(f64::from(v), top))
+                    .map(|&v| lux_colour(&scale, f64::from(v)))
                     .collect(),
             ),
         };
@@ -404,7 +341,7 @@ fn picture_ui(ui: &mut Ui, view: &mut RoomView) {
         view.texture = Some((p.serial, view.shown, texture));
     }
     if view.shown == RoomShown::FalseColour {
-        lux_legend_ui(ui, top);
+        lux_legend_ui(ui, &scale);
     }
     if let Some((_, _, texture)) = &view.texture {
         let width = ui.available_width().max(50.0);
@@ -413,60 +350,12 @@ fn picture_ui(ui: &mut Ui, view: &mut RoomView) {
     }
 }
 
-/// Decades of illuminance below the scale's top the false colour spans:
-/// a spot's pool and the walls a thousand times darker both read.
-const LUX_DECADES: f64 = 3.0;
-
-/// The top of the scale: a round number above the 99th percentile
-/// (`lucerna render`'s rule), so a few bright pixels do not set it.
-fn lux_top(lux: impl Iterator<Item = f64>) -> f64 {
-    let (top, _) = lux_scale(lux);
-    top
-}
-
-/// Logarithmic false colour over [`LUX_DECADES`] below `top` lx (the
-/// cube map's colours); luminaires (negative) white.
-fn lux_colour(lux: f64, top: f64) -> Color32 {
-    if lux < 0.0 {
-        Color32::WHITE
-    } else {
-        false_colour(((lux.max(1e-9) / top).log10() / LUX_DECADES + 1.0).clamp(0.0, 1.0) as f32)
-    }
-}
-
-/// Swatches at 1, 2 and 5 per decade up to the top, each labelled in lux.
-fn lux_legend_ui(ui: &mut Ui, top: f64) {
-    ui.horizontal_wrapped(|ui| {
-        let bottom = top / 10f64.powf(LUX_DECADES);
-        let mut ticks = Vec::new();
-        let mut decade = 10f64.powf(bottom.log10().floor());
-        while decade <= top * 1.0001 {
-            for m in [1.0, 2.0, 5.0] {
-                let v = decade * m;
-                if v >= bottom * 0.999 && v <= top * 1.0001 {
-                    ticks.push(v);
-                }
-            }
-            decade *= 10.0;
-        }
-        for v in ticks {
-            let (rect, _) = ui.allocate_exact_size(egui::vec2(14.0, 14.0), egui::Sense::hover());
-            ui.painter().rect_filled(rect, 2.0, lux_colour(v, top));
-            ui.label(if v < 10.0 {
-                format!("{v:.1} lx")
-            } else {
-                format!("{v:.0} lx")
-            });
-        }
-    });
-}
-
 /// The work-plane grid from above: each point's cell in false colour, the
 /// room's outline, the luminaires as crosses, the lux under the pointer.
 fn work_plane_ui(ui: &mut Ui, p: &RoomPicture) {
     let grid = &p.grid;
-    let top = lux_top(grid.lux.iter().copied());
-    lux_legend_ui(ui, top);
+    let lux_scale = LinearScale::over_max(grid.lux.iter().copied(), LUX_PARTS);
+    lux_legend_ui(ui, &lux_scale);
     let (room_w, room_d) = p.room_m;
     let width = ui.available_width().max(50.0);
     let scale = width / room_w.max(room_d).max(1e-3) as f32;
@@ -501,7 +390,7 @@ fn work_plane_ui(ui: &mut Ui, p: &RoomPicture) {
                 continue;
             };
             let r = egui::Rect::from_two_pos(to_screen(x0, y0), to_screen(x1, y1));
-            painter.rect_filled(r, 0.0, lux_colour(lux, top));
+            painter.rect_filled(r, 0.0, lux_colour(&lux_scale, lux));
             if response.hover_pos().is_some_and(|pos| r.contains(pos)) {
                 hovered = Some((grid.xs[i], grid.ys[j], lux));
             }

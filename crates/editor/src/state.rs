@@ -16,6 +16,7 @@ use crate::files::FileState;
 pub use crate::modelling::{NewPart, SceneEdit};
 use crate::modelling::{new_part, unique_name};
 use crate::pacer::RepaintPacer;
+use crate::room_state::RoomLive;
 
 /// Which view the central panel shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -75,6 +76,8 @@ pub struct EditorState {
     pub(crate) ctx: Option<egui::Context>,
     /// Paces the repaints the simulation's snapshots ask for.
     pub(crate) pacer: Arc<RepaintPacer>,
+    /// The preview room, lit by the snapshot's table.
+    pub(crate) room: RoomLive,
     title: String,
 }
 
@@ -130,6 +133,7 @@ impl EditorState {
             commands: Vec::new(),
             ctx: None,
             pacer: Arc::new(RepaintPacer::default()),
+            room: RoomLive::default(),
             title: String::new(),
         };
         if let Some(path) = open {
@@ -271,6 +275,8 @@ impl EditorState {
             self.end_coarse_preview();
         }
         self.apply_commands();
+        self.room
+            .tick(self.snapshot.as_ref(), ctx, std::time::Instant::now());
         self.autosave(ctx);
         let title = self.title();
         if title != self.title {
@@ -379,6 +385,7 @@ impl EditorState {
             }
             Command::SetExportFolder(path) => self.chosen_export_folder = Some(path),
             Command::ShowPane(pane) => self.pane_request = Some(pane),
+            Command::Room(command) => self.room.apply(command),
             Command::Restart => {
                 if let Some(sim) = &mut self.sim {
                     self.pacer.reset();

@@ -222,54 +222,6 @@ impl Canvas {
     }
 }
 
-/// A perceptually ordered false-colour scale (dark blue → cyan → green →
-/// yellow → red → white) for t in [0, 1].
-pub fn false_colour(t: f32) -> Colour {
-    const STOPS: [(f32, [f32; 3]); 7] = [
-        (0.0, [10.0, 10.0, 40.0]),
-        (0.15, [30.0, 40.0, 160.0]),
-        (0.35, [20.0, 170.0, 210.0]),
-        (0.55, [60.0, 200.0, 80.0]),
-        (0.75, [240.0, 220.0, 40.0]),
-        (0.9, [230.0, 60.0, 30.0]),
-        (1.0, [255.0, 250.0, 240.0]),
-    ];
-    let t = if t.is_finite() {
-        t.clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    for w in STOPS.windows(2) {
-        let ((t0, c0), (t1, c1)) = (w[0], w[1]);
-        if t <= t1 {
-            let s = (t - t0) / (t1 - t0);
-            return [0, 1, 2].map(|k| (c0[k] + (c1[k] - c0[k]) * s).round() as u8);
-        }
-    }
-    [255, 250, 240]
-}
-
-/// A round number near `v` for axis labels (1, 2, 2.5, 5 × 10ⁿ).
-pub fn nice_step(v: f64) -> f64 {
-    if v <= 0.0 || !v.is_finite() {
-        return 1.0;
-    }
-    let e = 10f64.powf(v.log10().floor());
-    let m = v / e;
-    let n = if m <= 1.0 {
-        1.0
-    } else if m <= 2.0 {
-        2.0
-    } else if m <= 2.5 {
-        2.5
-    } else if m <= 5.0 {
-        5.0
-    } else {
-        10.0
-    };
-    n * e
-}
-
 /// A number for a label: no trailing zeros, thousands as is.
 pub fn label(v: f64) -> String {
     lucerna_photometry::photometry::format_number(v, 4)

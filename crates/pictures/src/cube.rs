@@ -2,11 +2,13 @@
 
 use lucerna_photometry::{CubeFace, CubeMapLayout};
 
-use crate::canvas::{BLACK, Canvas, LABEL_PX, SMALL_PX, TITLE_PX, WHITE, false_colour, label};
+use crate::canvas::{BLACK, Canvas, LABEL_PX, SMALL_PX, TITLE_PX, WHITE, label};
+use crate::scale::{DECADES, false_colour, log_colour, log_position};
 
-/// Face positions in the cross (column, row), each face drawn with its own
-/// (u, v) axes (u right, v down), as the cube texture stores it.
-const CROSS: [(CubeFace, u32, u32, &str); 6] = [
+/// Face positions in the unwrapped cross (column, row) and their names,
+/// each face drawn with its own (u, v) axes (u right, v down), as the cube
+/// texture stores it; the editor's cube-map view lays it out the same.
+pub const CROSS: [(CubeFace, u32, u32, &str); 6] = [
     (CubeFace::PosY, 1, 0, "+Y"),
     (CubeFace::NegX, 0, 1, "−X"),
     (CubeFace::PosZ, 1, 1, "+Z up"),
@@ -15,18 +17,15 @@ const CROSS: [(CubeFace, u32, u32, &str); 6] = [
     (CubeFace::NegY, 1, 2, "−Y"),
 ];
 
-/// Decades shown below the peak: stray light a thousand times dimmer than
-/// the beam still shows.
-const DECADES: f64 = 3.0;
+/// Margin around the cross, and the title strip above it, in pixels.
+const MARGIN: u32 = 24;
+const TITLE_H: u32 = 16;
 
-/// Position on the logarithmic colour scale of `v` for a map peaking at
-/// `peak`.
-fn log_scale(v: f64, peak: f64) -> f32 {
-    if v <= 0.0 || peak <= 0.0 {
-        0.0
-    } else {
-        ((v / peak).log10() / DECADES + 1.0).clamp(0.0, 1.0) as f32
-    }
+/// The top-left pixel of `face` in a [`cube_map_png`] of faces `face_px`
+/// wide.
+pub fn face_origin_px(face: CubeFace, face_px: u32) -> Option<(u32, u32)> {
+    let (_, col, row, _) = CROSS.iter().find(|(f, ..)| *f == face)?;
+    Some((MARGIN + col * face_px, MARGIN + TITLE_H + row * face_px))
 }
 
 /// PNG of the candela map (`candela_per_texel` in texel order), faces
@@ -39,7 +38,7 @@ pub fn cube_map_png(
     title: &str,
 ) -> Result<Vec<u8>, image::ImageError> {
     let peak = candela_per_texel.iter().copied().fold(0.0, f64::max);
-    let margin = 24u32;
+    let margin = MARGIN;
     let legend_w = 150u32;
     let width = 4 * face_px + 2 * margin + legend_w;
     let height = 3 * face_px + 2 * margin + 24;
@@ -47,7 +46,7 @@ pub fn cube_map_png(
     let (title, title_px) = Canvas::fit_text(title, (width - 2 * margin) as f32, TITLE_PX);
     c.text(margin as f32, 8.0, &title, title_px, BLACK);
     let n = layout.resolution;
-    let top = i64::from(margin) + 16;
+    let top = i64::from(margin + TITLE_H);
     let mut labels = Vec::new();
     for (face, col, row, name) in CROSS {
         let x0 = i64::from(margin + col * face_px);
@@ -56,7 +55,7 @@ pub fn cube_map_png(
             for px in 0..face_px {
                 let (i, j) = (px * n / face_px, py * n / face_px);
                 let v = candela_per_texel[layout.texel_index(face, i, j)];
-                let colour = false_colour(log_scale(v, peak));
+                let colour = log_colour(v, peak);
                 c.blend(x0 + i64::from(px), y0 + i64::from(py), colour, 1.0);
             }
         }
@@ -85,7 +84,7 @@ pub fn cube_map_png(
     if peak > 0.0 {
         for k in 0..=DECADES as i32 {
             let v = peak / 10f64.powi(k);
-            let y = top + bar_h - (f64::from(log_scale(v, peak)) * bar_h as f64) as i64;
+            let y = top + bar_h - (f64::from(log_position(v, peak)) * bar_h as f64) as i64;
             c.fill_rect(bar_x + 24, y, 6, 1, BLACK);
             c.text(
                 (bar_x + 34) as f32,

@@ -7,6 +7,7 @@ pub mod cube;
 pub mod exr_map;
 pub mod polar;
 pub mod room;
+pub mod scale;
 
 pub use cube::cube_map_png;
 pub use exr_map::{ExrError, intensity_map_exr};

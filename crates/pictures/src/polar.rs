@@ -5,7 +5,8 @@ use std::f64::consts::PI;
 
 use lucerna_photometry::CandelaTable;
 
-use crate::canvas::{BLACK, Canvas, GREY, LABEL_PX, SMALL_PX, TITLE_PX, WHITE, label, nice_step};
+use crate::canvas::{BLACK, Canvas, GREY, LABEL_PX, SMALL_PX, TITLE_PX, WHITE, label};
+use crate::scale::round_step;
 
 const C0_C180: [u8; 3] = [200, 30, 40];
 const C90_C270: [u8; 3] = [30, 70, 200];
@@ -44,7 +45,7 @@ pub fn polar_png(
         .flat_map(|t| [profile(0.0, f64::from(t)), profile(90.0, f64::from(t))])
         .fold(0.0, f64::max)
         * per_klm;
-    let step = nice_step(max / 4.0);
+    let step = round_step(max / 4.0);
     let outer = (max / step).ceil().max(1.0) * step;
     // Grid: circles every `step`, radial lines every 30°.
     let mut rings = Vec::new();

@@ -1,10 +1,8 @@
 //! Pictures of the preview room: the tone-mapped view with a caption, and
 //! the false-colour illuminance view with a legend in lux.
 
-use crate::canvas::{
-    BLACK, Canvas, LABEL_PX, MIN_TEXT_PX, SMALL_PX, WHITE, contrasting, false_colour, label,
-    nice_step,
-};
+use crate::canvas::{BLACK, Canvas, LABEL_PX, MIN_TEXT_PX, SMALL_PX, WHITE, contrasting, label};
+use crate::scale::{LUX_PARTS, LinearScale, false_colour, log_colour};
 
 const CAPTION_H: u32 = 22;
 const LEGEND_W: u32 = 110;
@@ -14,9 +12,10 @@ fn put(c: &mut Canvas, x: u32, y: u32, rgb: [u8; 3]) {
 }
 
 /// A vertical colour bar from 0 to `top` lx at x = `bx`, `height` pixels
-/// tall below its "lux" title, ticked every `step` lx, or every few steps
+/// tall below its "lux" title, ticked every step of `scale`, or every few steps
 /// where the bar is too short for a label at every one.
-fn lux_legend(c: &mut Canvas, bx: i64, height: i64, top: f64, step: f64) {
+fn lux_legend(c: &mut Canvas, bx: i64, height: i64, scale: LinearScale) {
+    let LinearScale { top, step } = scale;
     let (by, bh) = (22i64, height.max(1));
     c.text(bx as f32, 4.0, "lux", LABEL_PX, BLACK);
     for k in 0..bh {
@@ -81,37 +80,15 @@ pub fn illuminance_png(
     lux: &[f32],
     caption: &str,
 ) -> Result<Vec<u8>, image::ImageError> {
-    let mut lit: Vec<f32> = lux
-        .iter()
-        .copied()
-        .filter(|v| *v >= 0.0 && v.is_finite())
-        .collect();
-    lit.sort_by(f32::total_cmp);
-    let p99 = lit
-        .get(lit.len().saturating_sub(1) * 99 / 100)
-        .copied()
-        .unwrap_or(1.0) as f64;
-    let step = nice_step(p99.max(1e-3) / 8.0);
-    let top = (p99 / step).ceil().max(1.0) * step;
+    let scale = LinearScale::over_p99(lux.iter().map(|&v| f64::from(v)), LUX_PARTS);
     let mut c = Canvas::new(width + LEGEND_W, height + CAPTION_H, WHITE);
     for y in 0..height {
         for x in 0..width {
             let v = lux[(y * width + x) as usize];
-            let colour = if v < 0.0 {
-                WHITE
-            } else {
-                false_colour((v as f64 / top) as f32)
-            };
-            put(&mut c, x, y, colour);
+            put(&mut c, x, y, scale.colour(f64::from(v)));
         }
     }
-    lux_legend(
-        &mut c,
-        i64::from(width) + 12,
-        i64::from(height) - 40,
-        top,
-        step,
-    );
+    lux_legend(&mut c, i64::from(width) + 12, i64::from(height) - 40, scale);
     caption_strip(&mut c, height, caption);
     c.png()
 }
@@ -140,9 +117,7 @@ pub fn work_plane_png(
         (w + 2 * margin + LEGEND_W).max(Canvas::text_width(caption, LABEL_PX).ceil() as u32 + 12);
     let height = h + 2 * margin + CAPTION_H;
     let mut c = Canvas::new(width, height, WHITE);
-    let max = lux.iter().copied().fold(0.0, f64::max);
-    let step = nice_step(max.max(1e-3) / 8.0);
-    let top = (max / step).ceil().max(1.0) * step;
+    let scale = LinearScale::over_max(lux.iter().copied(), LUX_PARTS);
     let cell = |v: &[f64], i: usize| -> (f64, f64) {
         // Cell edges halfway to the neighbours (or as wide as the step).
         let half = if v.len() > 1 {
@@ -175,7 +150,7 @@ pub fn work_plane_png(
             let (y0, y1) = cell(ys, j);
             let (px0, py1) = to_px(x0, y0);
             let (px1, py0) = to_px(x1, y1);
-            let colour = false_colour((v / top) as f32);
+            let colour = scale.colour(v);
             c.fill_rect(px0, py0, px1 - px0, py1 - py0, colour);
             // The value at the largest size the cell holds, if any.
             let text = format!("{v:.0}");
@@ -216,8 +191,7 @@ pub fn work_plane_png(
         &mut c,
         i64::from(w + 2 * margin) + 8,
         i64::from(h) - 20,
-        top,
-        step,
+        scale,
     );
     caption_strip(&mut c, h + 2 * margin, caption);
     c.png()
@@ -225,7 +199,7 @@ pub fn work_plane_png(
 
 /// Rows of square illuminance images side by side (each row `cols` images
 /// of `side` × `side` values, row-major, stitched horizontally), on one
-/// logarithmic false-colour scale over three decades below the first row's
+/// logarithmic false-colour scale over [`DECADES`](crate::scale::DECADES) below the first row's
 /// maximum, each row labelled: for comparing a method with its reference.
 pub fn image_rows_png(
     rows: &[(&str, &[f64])],
@@ -243,13 +217,6 @@ pub fn image_rows_png(
         .first()
         .map_or(1.0, |r| r.1.iter().copied().fold(0.0, f64::max))
         .max(1e-12);
-    let scale = |v: f64| -> f32 {
-        if v <= 0.0 {
-            0.0
-        } else {
-            ((v / max).log10() / 3.0 + 1.0).clamp(0.0, 1.0) as f32
-        }
-    };
     for (r, (name, values)) in rows.iter().enumerate() {
         let y0 = 2 + r as u32 * (px + 4);
         let (name, size) = Canvas::fit_text(name, label_w as f32 - 8.0, LABEL_PX);
@@ -265,7 +232,7 @@ pub fn image_rows_png(
                         .get(k * side * side + j * side + i)
                         .copied()
                         .unwrap_or(0.0);
-                    put(&mut c, x0 + pxi, y0 + py, false_colour(scale(v)));
+                    put(&mut c, x0 + pxi, y0 + py, log_colour(v, max));
                 }
             }
         }

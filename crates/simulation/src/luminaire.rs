@@ -3,11 +3,13 @@
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
+use lucerna_photometry::Dimensions;
 use lucerna_scene::{Scene, TessellatedScene, load_scene, tessellate};
 use lucerna_tracer::bvh::BvhQuality;
 use lucerna_tracer::{LuminaireSymmetry, PreparedScene, luminaire_symmetry};
 
 use crate::SimulationError;
+use crate::export::luminous_opening;
 
 /// What every run of one scene shares: the model, its triangles, the
 /// tracer's BVH and records, and its symmetry about the axis.
@@ -18,6 +20,10 @@ pub struct Luminaire {
     pub scene_dir: PathBuf,
     pub tessellated: TessellatedScene,
     pub prepared: PreparedScene,
+    /// The luminous opening the files declare and the preview room lights
+    /// from: the scene's, or the footprint of its triangles (found once,
+    /// on the thread that built it, not in a frame).
+    pub luminous_opening: Dimensions,
     /// Found once: at once by [`Luminaire::new`], later (on another
     /// thread) for [`Luminaire::for_edit`]'s.
     symmetry: OnceLock<LuminaireSymmetry>,
@@ -83,7 +89,9 @@ impl Luminaire {
             Some(p) => p,
             None => PreparedScene::with_quality(&scene, &tessellated, scene_dir, quality)?,
         };
+        let luminous_opening = luminous_opening(&scene, &tessellated);
         Ok(Some(Luminaire {
+            luminous_opening,
             scene,
             scene_dir: scene_dir.to_path_buf(),
             tessellated,

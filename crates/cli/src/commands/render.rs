@@ -8,8 +8,10 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use lucerna_photometry::Photometry;
 use lucerna_room::gpu::GpuRoomRenderer;
-use lucerna_room::model::{SourceKind, load_room};
-use lucerna_room::{RoomScene, Shading, render_cpu, tone_map, work_plane_cpu};
+use lucerna_room::model::SourceKind;
+use lucerna_room::{
+    RoomRenderer, RoomScene, RoomSetup, Shading, TASK_TARGETS, TaskTarget, render_cpu, tone_map,
+};
 use lucerna_scene::write_atomically;
 use lucerna_simulation::{
     BackendRequest, ExportOptions, FilterChoice, Luminaire, SimulationSettings, StoppingRule,
@@ -46,6 +48,11 @@ pub struct RenderArgs {
     /// Photons per luminaire given as a scene to bake.
     #[arg(long, default_value_t = 2_000_000)]
     pub photons: u64,
+    /// The EN 12464-1 task area the work plane is judged against: words of
+    /// its name ("writing", "corridors", "technical drawing"); by default
+    /// the one the room file's name suggests, as the editor picks it.
+    #[arg(long)]
+    pub task: Option<String>,
 }
 
 /// "1280x720".
@@ -93,12 +100,11 @@ fn bake_profile(path: &Path, photons: u64) -> Result<Photometry> {
 }
 
 /// Loads the room and every luminaire's profile.
-pub fn load_room_scene(path: &Path, photons: u64) -> Result<RoomScene> {
-    let room = load_room(path)?;
-    let base = path.parent().unwrap_or(Path::new("."));
+pub fn load_room_scene(path: &Path, photons: u64) -> Result<(RoomSetup, RoomScene)> {
+    let setup = RoomSetup::load(path)?;
     let mut profiles = Vec::new();
-    for (i, spec) in room.luminaires.iter().enumerate() {
-        let Some((kind, source)) = spec.source_path(base) else {
+    for (i, spec) in setup.file.luminaires.iter().enumerate() {
+        let Some((kind, source)) = spec.source_path(setup.base()) else {
             bail!("luminaire[{i}] has no profile");
         };
         let phot = match kind {
@@ -111,66 +117,73 @@ pub fn load_room_scene(path: &Path, photons: u64) -> Result<RoomScene> {
         };
         profiles.push(phot);
     }
-    let mut scene = RoomScene::new(&room, &profiles);
-    scene.mesh = lucerna_room::scene::load_room_mesh(&room, base)?;
-    Ok(scene)
+    let scene = setup.scene_with_profiles(&profiles);
+    Ok((setup, scene))
+}
+
+/// The task `words` name, or the one the room's file and name suggest.
+fn task_target(words: Option<&str>, room: &Path, room_name: &str) -> Result<TaskTarget> {
+    match words {
+        Some(words) => TaskTarget::find(words).with_context(|| {
+            let names: Vec<&str> = TASK_TARGETS.iter().map(|t| t.name).collect();
+            format!(
+                "no EN 12464-1 task area named like '{words}'; the task areas are: {}",
+                names.join("; ")
+            )
+        }),
+        None => Ok(TASK_TARGETS[TaskTarget::for_room(&format!("{} {room_name}", room.display()))]),
+    }
 }
 
 pub fn render(args: &RenderArgs) -> Result<()> {
-    let scene = load_room_scene(&args.room, args.photons)?;
+    // A task asked for by name is checked before any baking.
+    let asked = args
+        .task
+        .as_deref()
+        .map(|words| task_target(Some(words), &args.room, ""));
+    let asked = asked.transpose()?;
+    let (setup, scene) = load_room_scene(&args.room, args.photons)?;
+    let target = match asked {
+        Some(t) => t,
+        None => task_target(None, &args.room, &setup.file.name)?,
+    };
     let (w, h) = args.size;
     let shading = if args.point_lights {
         Shading::PointLight
     } else {
         Shading::Cubature
     };
-    let gpu = match args.backend {
-        BackendRequest::Cpu => None,
-        BackendRequest::Gpu => Some(GpuRoomRenderer::new(lucerna_gpu::open()?)?),
-        BackendRequest::Auto => lucerna_gpu::open()
-            .ok()
-            .filter(|ctx| !ctx.is_software())
-            .and_then(|ctx| GpuRoomRenderer::new(ctx).ok()),
-    };
+    let mut renderer = RoomRenderer::open(args.backend);
+    if args.backend == BackendRequest::Gpu && !renderer.is_gpu() {
+        bail!("--backend gpu: {}", renderer.description());
+    }
     let start = Instant::now();
-    // The view and the work-plane grid, both by the same backend.
-    let (frame, mut grid, backend) = match &gpu {
-        Some(r) => {
-            let uploaded = r.upload(&scene)?;
-            let (frame, _) = r.render(&scene, &uploaded, w, h, shading)?;
-            let grid = r.work_plane(&scene, &uploaded, shading)?;
-            (frame, grid, r.context().describe())
-        }
-        None => (
-            render_cpu(&scene, w, h, shading),
-            work_plane_cpu(&scene, shading),
-            "CPU".to_owned(),
-        ),
+    // The view and the work-plane grid, both by the same renderer.
+    let Some(lit) = renderer.light(&scene, [w, h], shading, &|| false) else {
+        bail!("the render was given up");
     };
     eprintln!(
-        "rendered {w}x{h}, {} luminaires, on {backend} in {:.0} ms",
+        "rendered {w}x{h}, {} luminaires, on {} in {:.0} ms",
         scene.lights.len(),
+        lit.backend,
         start.elapsed().as_secs_f64() * 1e3
     );
-    let indirect = scene.indirect_lux();
-    for e in &mut grid.lux {
-        *e += indirect;
-    }
-    let f = grid.figures();
+    let (frame, grid, f, indirect) = (&lit.frame, &lit.grid, lit.figures, lit.indirect_lux);
     let light = if indirect > 0.0 {
         format!("direct + {indirect:.1} lx uniform indirect")
     } else {
         "direct light only".to_owned()
     };
     println!(
-        "work plane at {:.2} m, {} points ({:.2} m border): Emin {:.1} lx, Eavg {:.1} lx, Emax {:.1} lx, U0 = Emin/Eavg {:.2} ({light})",
-        grid.height_m,
-        f.points,
-        scene.work_plane.border_m,
-        f.e_min_lx,
-        f.e_avg_lx,
-        f.e_max_lx,
-        f.u0
+        "{}",
+        figures_line(grid, &f, scene.work_plane.border_m, &light)
+    );
+    println!(
+        "EN 12464-1 {} (Em {:.0} lx, U0 {:.2}): {}",
+        target.name,
+        target.e_m_lx,
+        target.u0,
+        if target.met_by(&f) { "meets" } else { "fails" }
     );
     let name = args
         .room
@@ -190,7 +203,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     let png = if args.false_colour {
         lucerna_pictures::illuminance_png(w, h, &frame.illuminance, &caption)?
     } else {
-        lucerna_pictures::room_view_png(w, h, &tone_map(&frame), &caption)?
+        lucerna_pictures::room_view_png(w, h, &tone_map(frame), &caption)?
     };
     write_atomically(&args.out, &png)
         .with_context(|| format!("cannot write {}", args.out.display()))?;
@@ -223,6 +236,20 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     Ok(())
 }
 
+/// The work plane's figures as `lucerna render` prints them (a test
+/// compares them with the editor's preview of the same room and table).
+pub fn figures_line(
+    grid: &lucerna_room::WorkPlaneGrid,
+    f: &lucerna_room::IlluminanceFigures,
+    border_m: f64,
+    light: &str,
+) -> String {
+    format!(
+        "work plane at {:.2} m, {} points ({border_m:.2} m border): Emin {:.1} lx, Eavg {:.1} lx, Emax {:.1} lx, U0 = Emin/Eavg {:.2} ({light})",
+        grid.height_m, f.points, f.e_min_lx, f.e_avg_lx, f.e_max_lx, f.u0
+    )
+}
+
 #[derive(Debug, clap::Args)]
 pub struct RenderBenchArgs {
     /// The room whose first luminaire is repeated 1, 4 and 16 times.
@@ -239,7 +266,7 @@ pub struct RenderBenchArgs {
 /// Milliseconds per frame for 1, 4 and 16 luminaires, cubature and the
 /// point-light baseline, on each backend.
 pub fn render_bench(args: &RenderBenchArgs) -> Result<()> {
-    let base = load_room_scene(&args.room, 2_000_000)?;
+    let (_, base) = load_room_scene(&args.room, 2_000_000)?;
     let Some(first) = base.lights.first().cloned() else {
         bail!("the room has no luminaire");
     };

@@ -8,7 +8,7 @@ use lucerna_photometry::{CubeFace, CubeMapLayout};
 use lucerna_scene::{Material, SurfaceKind, TessellatedScene};
 use lucerna_tracer::{Fate, PhotonPath};
 
-use crate::colour::{false_colour, log_scale};
+use crate::colour::intensity_colour;
 
 /// Shading looks (the shader's `LOOK_*`).
 pub const LOOK_DIFFUSE: u32 = 0;
@@ -164,7 +164,7 @@ pub fn cube_texels(layout: CubeMapLayout, candela: &[f64], peak: f64) -> Vec<u8>
         // Directions no light reaches stay a dark grey, so the cube reads
         // as a box and not as the background.
         let c = if v > 0.0 {
-            false_colour(log_scale(v, peak))
+            intensity_colour(v, peak)
         } else {
             NO_LIGHT
         };

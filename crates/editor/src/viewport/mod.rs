@@ -20,7 +20,7 @@ use lucerna_tracer::{PhotonPath, sample_photon_paths};
 pub use camera::{Bounds, OrbitCamera, StandardView};
 pub use render::GpuTarget;
 
-use crate::colour::{DECADES, false_colour, log_scale};
+use crate::colour::{DECADES, intensity_colour};
 use crate::state::{Command, EditorState, Selection};
 use geometry::{LineVertex, MeshVertex, axis_lines, bounce_colour, cube_edges, path_lines};
 use render::{CubeTexels, Uniforms, ViewportFrame, paint_callback};
@@ -468,7 +468,7 @@ fn overlay_ui(
         for k in (0..=DECADES as i32).rev() {
             let v = peak / 10f64.powi(k);
             let swatch = Rect::from_min_size(egui::pos2(x, y), egui::vec2(12.0, 12.0));
-            painter.rect_filled(swatch, 2.0, false_colour(log_scale(v, peak)));
+            painter.rect_filled(swatch, 2.0, intensity_colour(v, peak));
             let label = painter.text(
                 egui::pos2(x + 16.0, y),
                 egui::Align2::LEFT_TOP,

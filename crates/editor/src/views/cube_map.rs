@@ -7,19 +7,11 @@ use egui::{Color32, ColorImage, TextureHandle, TextureOptions, Ui};
 use lucerna_photometry::{CubeFace, CubeMapLayout};
 use lucerna_simulation::Snapshot;
 
-use crate::colour::{DECADES, false_colour, legend_ui, log_scale};
+use crate::colour::{DECADES, intensity_colour, legend_ui};
 
-/// Face positions in the cross (column, row), each face in its own (u, v)
-/// axes (u right, v down) as the cube texture stores it; the same cross as
-/// `lucerna bake`'s cube PNG, so the two read alike.
-const CROSS: [(CubeFace, usize, usize, &str); 6] = [
-    (CubeFace::PosY, 1, 0, "+Y"),
-    (CubeFace::NegX, 0, 1, "−X"),
-    (CubeFace::PosZ, 1, 1, "+Z up"),
-    (CubeFace::PosX, 2, 1, "+X"),
-    (CubeFace::NegZ, 3, 1, "−Z nadir"),
-    (CubeFace::NegY, 1, 2, "−Y"),
-];
+/// The cross `lucerna bake`'s cube PNG lays the faces out in, so the two
+/// read alike: (face, column, row, name).
+const CROSS: [(CubeFace, u32, u32, &str); 6] = lucerna_pictures::cube::CROSS;
 
 /// The cube-map texture of one snapshot, rebuilt when a new one arrives.
 #[derive(Default)]
@@ -46,8 +38,8 @@ fn cross_image(layout: CubeMapLayout, candela: &[f64]) -> ColorImage {
             for i in 0..n {
                 let texel = layout.texel_index(face, i as u32, j as u32);
                 let v = candela.get(texel).copied().unwrap_or(0.0);
-                let (x, y) = (col * n + i, row * n + j);
-                image.pixels[y * 4 * n + x] = false_colour(log_scale(v, peak));
+                let (x, y) = (col as usize * n + i, row as usize * n + j);
+                image.pixels[y * 4 * n + x] = intensity_colour(v, peak);
             }
         }
     }
@@ -133,5 +125,42 @@ pub fn cube_map_ui(ui: &mut Ui, snapshot: &Arc<Snapshot>, cube: &mut CubeTexture
         None => {
             ui.label("Hover the map to read a direction's intensity.");
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The editor's cube and `lucerna bake`'s `_cube.png` give every texel
+    /// the same colour: a map spanning five decades, one pixel per texel,
+    /// compared face by face away from the PNG's face labels.
+    #[test]
+    fn the_exported_cube_png_and_the_editors_cube_colour_a_map_alike() {
+        let layout = CubeMapLayout::new(64);
+        let n = layout.resolution;
+        let candela: Vec<f64> = (0..layout.texel_count())
+            .map(|t| 10f64.powf(5.0 * ((t * 7919) % 1000) as f64 / 1000.0))
+            .collect();
+        let editor = cross_image(layout, &candela);
+        let png = lucerna_pictures::cube::cube_map_png(layout, &candela, n, "test").unwrap();
+        let exported = image::load_from_memory(&png).unwrap().to_rgb8();
+        let mut compared = 0;
+        let mut distinct = std::collections::HashSet::new();
+        for (face, col, row, _) in CROSS {
+            let (x0, y0) = lucerna_pictures::cube::face_origin_px(face, n).unwrap();
+            for j in n / 2..n {
+                for i in n / 2..n {
+                    let p = exported.get_pixel(x0 + i, y0 + j).0;
+                    let e = editor.pixels[((row * n + j) * 4 * n + col * n + i) as usize];
+                    assert_eq!([e.r(), e.g(), e.b()], p, "{face:?} texel ({i}, {j})");
+                    distinct.insert(p);
+                    compared += 1;
+                }
+            }
+        }
+        assert_eq!(compared, 6 * (n / 2) * (n / 2));
+        // The map really spans the palette, not one colour everywhere.
+        assert!(distinct.len() > 50, "{} colours", distinct.len());
     }
 }

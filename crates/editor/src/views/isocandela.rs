@@ -11,7 +11,7 @@ use egui_plot::{Line, Plot, PlotImage, PlotPoint, Text};
 use lucerna_photometry::CandelaTable;
 
 use super::IntensityUnit;
-use crate::colour::{false_colour, log_scale};
+use crate::colour::intensity_colour;
 
 /// Grid of the map: C every 2°, 181 rows over the γ range shown.
 const C_STEP_DEG: f64 = 2.0;
@@ -171,7 +171,7 @@ pub fn isocandela_ui(
         let peak = values.iter().copied().fold(0.0, f64::max);
         let mut image = ColorImage::filled([COLUMNS, ROWS], Color32::BLACK);
         for (pixel, v) in image.pixels.iter_mut().zip(&values) {
-            *pixel = false_colour(log_scale(*v, peak));
+            *pixel = intensity_colour(*v, peak);
         }
         match &mut cache.texture {
             Some(t) => t.set(image, TextureOptions::LINEAR),

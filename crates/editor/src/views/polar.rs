@@ -31,19 +31,10 @@ pub fn plane_points(table: &CandelaTable, c_deg: f64, factor: f64) -> Vec<[f64; 
     points
 }
 
-/// A round ring spacing: 1, 2 or 5 times a power of ten, about a quarter
-/// of `reach`.
+/// A round ring spacing (1, 2 or 5 × 10ⁿ), at least a quarter of `reach`,
+/// as the exported polar diagram spaces its rings.
 pub fn ring_step(reach: f64) -> f64 {
-    if reach <= 0.0 || !reach.is_finite() {
-        return 1.0;
-    }
-    let rough = reach / 4.0;
-    let decade = 10f64.powf(rough.log10().floor());
-    [1.0, 2.0, 5.0, 10.0]
-        .into_iter()
-        .map(|m| m * decade)
-        .find(|s| *s >= rough)
-        .unwrap_or(10.0 * decade)
+    lucerna_pictures::scale::round_step(reach / 4.0)
 }
 
 fn angle(a: Option<f64>) -> String {
