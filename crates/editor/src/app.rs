@@ -80,7 +80,7 @@ impl EditorApp {
             target
         });
         if software {
-            state.pacer.software_rasteriser();
+            state.run.pacer.software_rasteriser();
         }
         Self::with_gpu_target(state, target)
     }
@@ -132,7 +132,7 @@ impl EditorApp {
         let ctx = ui.ctx().clone();
         let frame_start = std::time::Instant::now();
         self.state.begin_frame(&ctx);
-        let before = self.state.scene.clone();
+        let before = self.state.doc.scene.clone();
         self.benchmarks_begin_frame(&ctx, frame_start);
         if let Some(command) = UiCommand::pressed(&ctx) {
             self.run_command(command);
@@ -218,7 +218,7 @@ impl EditorApp {
 impl eframe::App for EditorApp {
     fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
         if let Some(seconds) = frame.info().cpu_usage {
-            self.state.pacer.frame_cost(seconds);
+            self.state.run.pacer.frame_cost(seconds);
             if let Some(b) = &mut self.benchmark {
                 b.frame_cost(seconds);
             }

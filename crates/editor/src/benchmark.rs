@@ -79,7 +79,7 @@ impl Benchmark {
             return;
         };
         let started = *self.started.get_or_insert(now);
-        self.repaint_interval = state.pacer.interval();
+        self.repaint_interval = state.run.pacer.interval();
         if let Some(last) = self.last_frame {
             self.frame_intervals.push(now - last);
         }
@@ -99,7 +99,7 @@ impl Benchmark {
             .last_edit
             .map_or(now - started >= EDIT_EVERY, |e| now - e >= EDIT_EVERY);
         if due && self.waiting.is_none() {
-            if let Some(part) = state.scene.as_mut().and_then(|s| s.parts.first_mut()) {
+            if let Some(part) = state.doc.scene.as_mut().and_then(|s| s.parts.first_mut()) {
                 self.photons_per_second.push(photons_per_second);
                 let sign = if self.edits.is_multiple_of(2) {
                     1.0

@@ -1,22 +1,24 @@
-//! What the panels ask of the editor: the selection and the commands they
-//! queue, applied once a frame by [`crate::state::EditorState`]. Their own
-//! module, so that state, files, dialogs and modelling all name them
-//! without naming each other.
+//! What the panels ask of the editor: the commands they queue, applied
+//! once a frame by [`crate::state::EditorState`]. A module of their own,
+//! so that state, files, dialogs and modelling all name them without
+//! naming each other.
 
 use std::path::PathBuf;
 
 use lucerna_simulation::SimulationSettings;
 
 use crate::config::ThemeChoice;
-use crate::dialogs::DialogKind;
 use crate::modelling::{NewPart, SceneEdit};
+pub use crate::selection::Selection;
 
-/// What is selected in the scene panel.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Selection {
-    Emitter(usize),
-    Part(usize),
-    Material(String),
+/// What a dialog chooses a path for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DialogKind {
+    Open,
+    SaveAs,
+    ImportMesh,
+    /// The export dialog's output folder.
+    ExportFolder,
 }
 
 /// A UI action, queued by a panel and applied after the panels are drawn

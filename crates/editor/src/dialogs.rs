@@ -9,17 +9,7 @@ use std::path::{Path, PathBuf};
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 use std::time::{Duration, Instant};
 
-use crate::state::Command;
-
-/// What a dialog chooses a path for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum DialogKind {
-    Open,
-    SaveAs,
-    ImportMesh,
-    /// The export dialog's output folder.
-    ExportFolder,
-}
+use crate::command::{Command, DialogKind};
 
 /// The dialog open now, if any (one at a time).
 #[derive(Debug, Default)]

@@ -263,7 +263,7 @@ impl DragBenchmark {
             }
             Phase::Settling { since } => {
                 if now - since >= SETTLE {
-                    if let Some(scene) = state.scene.as_ref() {
+                    if let Some(scene) = state.doc.scene.as_ref() {
                         self.target = DragTarget::choose(scene);
                         self.described = self
                             .target
@@ -302,7 +302,7 @@ impl DragBenchmark {
                     }
                 }
                 let fraction = (now - since).as_secs_f64() / self.drag.as_secs_f64();
-                if let (Some(target), Some(scene)) = (self.target, state.scene.as_mut()) {
+                if let (Some(target), Some(scene)) = (self.target, state.doc.scene.as_mut()) {
                     target.set(scene, fraction.min(1.0));
                     self.edited_at = Some(now);
                 }
@@ -340,7 +340,7 @@ impl DragBenchmark {
 
     /// Whether the shown snapshot's luminaire is the edited scene.
     fn shows_released_value(&self, state: &EditorState) -> bool {
-        match (state.snapshot(), state.scene.as_ref()) {
+        match (state.snapshot(), state.doc.scene.as_ref()) {
             (Some(s), Some(scene)) => s.luminaire.scene == *scene,
             _ => false,
         }

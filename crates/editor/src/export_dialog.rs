@@ -24,8 +24,9 @@ use lucerna_simulation::{
     TableGrid,
 };
 
-use crate::dialogs::DialogKind;
-use crate::state::{Command, EditorState, error_chain};
+use crate::command::DialogKind;
+use crate::error_text::error_chain;
+use crate::state::{Command, EditorState};
 use crate::widgets::{flag, labelled, length_mm, number};
 
 /// The usual γ steps of datasheet files (degrees); `None` is the
@@ -390,7 +391,7 @@ fn keywords_ui(ui: &mut Ui, state: &mut EditorState) {
     let opening = state
         .snapshot()
         .map(|s| describe_opening(s.luminaire.luminous_opening));
-    let Some(scene) = state.scene.as_mut() else {
+    let Some(scene) = state.doc.scene.as_mut() else {
         ui.label("No scene.");
         return;
     };

@@ -14,11 +14,13 @@ use lucerna_scene::{
     Transform, tessellate,
 };
 
+use crate::command::DialogKind;
 use crate::config::{EditorConfig, EditorPaths, ThemeChoice};
-use crate::dialogs::{DialogKind, Dialogs};
+use crate::dialogs::Dialogs;
+use crate::error_text::error_chain;
 use crate::modelling::unique_name;
 use crate::recovery::{RecoveryOffer, read_recovery, remove_recovery, write_recovery};
-use crate::state::{Command, EditorState, Selection, error_chain};
+use crate::state::{Command, EditorState, Selection};
 
 /// How often unsaved changes are written to the recovery file.
 pub const DEFAULT_AUTOSAVE_INTERVAL: Duration = Duration::from_secs(20);
@@ -34,6 +36,13 @@ pub enum PendingAction {
 /// The file-handling part of [`EditorState`].
 #[derive(Debug)]
 pub(crate) struct FileState {
+    /// The scene file being edited (`None`: a new scene not yet saved).
+    pub path: Option<PathBuf>,
+    /// The scene as last loaded or saved, for the unsaved-changes marker.
+    pub saved: Option<Scene>,
+    /// The last file error (load, save, import, dialog), shown until the
+    /// next success.
+    pub file_error: Option<String>,
     pub paths: EditorPaths,
     pub config: EditorConfig,
     pub pending: Option<PendingAction>,
@@ -72,6 +81,9 @@ impl FileState {
             None => None,
         };
         FileState {
+            path: None,
+            saved: None,
+            file_error: None,
             paths,
             config,
             pending: None,
@@ -428,12 +440,12 @@ impl EditorState {
         for path in dropped {
             match dropped_file_command(&path) {
                 Ok(command) => self.push(command),
-                Err(message) => self.file_error = Some(message),
+                Err(message) => self.files.file_error = Some(message),
             }
         }
         match self.files.dialogs.poll() {
             Some(Ok(command)) => self.push(command),
-            Some(Err(message)) => self.file_error = Some(message),
+            Some(Err(message)) => self.files.file_error = Some(message),
             None => {}
         }
         if ctx.input(|i| i.viewport().close_requested()) && !self.files.quitting {
@@ -491,6 +503,7 @@ impl EditorState {
                 let start_dir = self.scene_dir_for_dialogs();
                 let file_name = match kind {
                     DialogKind::SaveAs => self
+                        .files
                         .path
                         .as_deref()
                         .and_then(Path::file_name)
@@ -503,7 +516,7 @@ impl EditorState {
                         .dialogs
                         .start(kind, &start_dir, file_name, self.ctx.clone())
                 {
-                    self.file_error = Some(message);
+                    self.files.file_error = Some(message);
                 }
             }
             Command::SetTheme(theme) => {
@@ -522,7 +535,7 @@ impl EditorState {
     }
 
     fn scene_dir_for_dialogs(&self) -> PathBuf {
-        let dir = self.path.as_deref().and_then(Path::parent);
+        let dir = self.files.path.as_deref().and_then(Path::parent);
         match dir {
             Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
             _ => std::env::current_dir().unwrap_or_else(|_| PathBuf::from(".")),
@@ -542,14 +555,15 @@ impl EditorState {
     /// Adds the OBJ file as a mesh part, one undo step; a file that does
     /// not load changes nothing.
     fn import_mesh(&mut self, obj: &Path) {
-        let Some(scene) = &self.scene else {
-            self.file_error = Some("open a scene or start a new one before importing".to_owned());
+        let Some(scene) = &self.doc.scene else {
+            self.files.file_error =
+                Some("open a scene or start a new one before importing".to_owned());
             return;
         };
-        match mesh_part(scene, self.path.as_deref(), obj) {
+        match mesh_part(scene, self.files.path.as_deref(), obj) {
             Ok((part, notice)) => {
                 self.files.notice = notice;
-                self.file_error = None;
+                self.files.file_error = None;
                 self.structural(move |scene, selection| {
                     if !scene.materials.contains_key(&part.material) {
                         scene
@@ -560,7 +574,7 @@ impl EditorState {
                     *selection = Some(Selection::Part(scene.parts.len() - 1));
                 });
             }
-            Err(e) => self.file_error = Some(error_chain(&e)),
+            Err(e) => self.files.file_error = Some(error_chain(&e)),
         }
     }
 
@@ -608,7 +622,7 @@ impl EditorState {
             }
             return;
         }
-        let Some(scene) = &self.scene else { return };
+        let Some(scene) = &self.doc.scene else { return };
         if self.files.autosaved.as_ref() == Some(scene) {
             return;
         }
@@ -620,7 +634,7 @@ impl EditorState {
             ctx.request_repaint_after(due);
             return;
         }
-        match write_recovery(&dir, scene, self.path.as_deref()) {
+        match write_recovery(&dir, scene, self.files.path.as_deref()) {
             Ok(()) => {
                 self.files.autosaved = Some(scene.clone());
                 self.files.last_autosave = Some(Instant::now());

@@ -23,7 +23,7 @@ pub struct Windows {
 
 /// Carries out a menu item or shortcut.
 pub fn run(command: UiCommand, state: &mut EditorState, windows: &mut Windows, dock: &mut Dock) {
-    use crate::dialogs::DialogKind;
+    use crate::command::DialogKind;
     let selection = state.selection().cloned();
     let push = |state: &mut EditorState, c: Command| state.push(c);
     match command {
@@ -57,7 +57,7 @@ pub fn run(command: UiCommand, state: &mut EditorState, windows: &mut Windows, d
             }
             None => {}
         },
-        UiCommand::PauseResume if state.paused => push(state, Command::Resume),
+        UiCommand::PauseResume if state.run.paused => push(state, Command::Resume),
         UiCommand::PauseResume => push(state, Command::Pause),
         UiCommand::Restart => push(state, Command::Restart),
         UiCommand::ResetLayout => dock.reset(),
@@ -177,7 +177,7 @@ pub fn notices_ui(ui: &mut Ui, state: &mut EditorState) {
     }
     recovery_banner_ui(ui, state, &mut commands);
     pending_banner_ui(ui, state, &mut commands);
-    if let Some(error) = &state.file_error {
+    if let Some(error) = &state.files.file_error {
         ui.colored_label(ui.visuals().error_fg_color, error);
     }
     if let Some(notice) = state.notice() {
@@ -193,7 +193,7 @@ pub fn has_notices(ctx: &egui::Context, state: &EditorState) -> bool {
     ctx.input(|i| !i.raw.hovered_files.is_empty())
         || state.recovery_offer().is_some()
         || state.pending().is_some()
-        || state.file_error.is_some()
+        || state.files.file_error.is_some()
         || state.notice().is_some()
 }
 

@@ -13,7 +13,7 @@ use lucerna_scene::{
     Transform,
 };
 
-use crate::state::Selection;
+use crate::selection::Selection;
 
 /// The part shapes the "Add part" menu creates: every generator except
 /// the OBJ mesh, which comes by importing a file.

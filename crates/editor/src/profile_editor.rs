@@ -138,13 +138,7 @@ fn fitted_view_mm(points_mm: &[[f64; 2]], plane: ProfilePlane) -> [f64; 4] {
 /// A grid spacing of 1, 2 or 5 × 10ᵏ mm giving about `lines` lines over
 /// `span_mm`.
 fn grid_step_mm(span_mm: f64, lines: f64) -> f64 {
-    let raw = (span_mm / lines).max(1e-6);
-    let decade = 10f64.powf(raw.log10().floor());
-    [1.0, 2.0, 5.0, 10.0]
-        .into_iter()
-        .map(|m| m * decade)
-        .find(|&s| s >= raw)
-        .unwrap_or(10.0 * decade)
+    lucerna_pictures::scale::round_step((span_mm / lines).max(1e-6))
 }
 
 /// `v` with as many decimals as `step` needs.

@@ -144,7 +144,7 @@ pub fn profile_pane_ui(ui: &mut Ui, state: &mut EditorState, pane: &mut ProfileP
     };
     let problems = state.problems().to_vec();
     let mut commands = Vec::new();
-    let Some(scene) = state.scene.as_mut() else {
+    let Some(scene) = state.doc.scene.as_mut() else {
         return;
     };
     let lamps_mm = lamps_in_profile_plane(scene, index);

@@ -424,7 +424,7 @@ fn worker_loop(
         let event = match job {
             Job::List(dir) => Some(Event::Listed(room_files(&dir))),
             Job::Load(path, serial) => {
-                let result = RoomSetup::load(&path).map_err(|e| crate::state::error_chain(&e));
+                let result = RoomSetup::load(&path).map_err(|e| crate::error_text::error_chain(&e));
                 Some(Event::Loaded(LoadedRoom {
                     serial,
                     path,

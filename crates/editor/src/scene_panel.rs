@@ -21,12 +21,12 @@ const MAX_MM: f64 = 10_000.0;
 pub fn scene_panel_ui(ui: &mut Ui, state: &mut EditorState) {
     let mut commands = Vec::new();
     let scene_dir = state.scene_dir();
-    let Some(scene) = &mut state.scene else {
+    let Some(scene) = &mut state.doc.scene else {
         ui.label("No scene loaded: open a scene file.");
         return;
     };
     ui.heading(&scene.name);
-    tree_ui(ui, scene, state.selection.as_ref(), &mut commands);
+    tree_ui(ui, scene, state.doc.selection.as_ref(), &mut commands);
     ui.separator();
     ui.horizontal_wrapped(|ui| {
         ui.menu_button("Add part", |ui| {
@@ -43,12 +43,12 @@ pub fn scene_panel_ui(ui: &mut Ui, state: &mut EditorState) {
             commands.push(Command::Edit(SceneEdit::AddMaterial));
         }
     });
-    if let Some(error) = &state.edit_error {
+    if let Some(error) = &state.doc.edit_error {
         ui.colored_label(ui.visuals().error_fg_color, error);
     }
     ui.separator();
     let materials: Vec<String> = scene.materials.keys().cloned().collect();
-    match state.selection.clone() {
+    match state.doc.selection.clone() {
         Some(Selection::Part(i)) => {
             if let Some(part) = scene.parts.get_mut(i) {
                 part_ui(ui, i, part, &materials, &mut commands);
@@ -113,13 +113,13 @@ pub fn scene_panel_ui(ui: &mut Ui, state: &mut EditorState) {
             ui.label("Select an emitter, part or material to edit it.");
         }
     }
-    if !state.problems.is_empty() {
+    if !state.doc.problems.is_empty() {
         ui.separator();
         ui.colored_label(
             ui.visuals().error_fg_color,
             "Invalid scene (not simulated; the last valid one keeps running):",
         );
-        for problem in &state.problems {
+        for problem in &state.doc.problems {
             ui.colored_label(ui.visuals().error_fg_color, problem);
         }
     }

@@ -20,12 +20,12 @@ pub fn simulation_panel_ui(ui: &mut Ui, state: &mut EditorState) {
     let mut commands = Vec::new();
     controls_ui(ui, state, &mut commands);
     ui.separator();
-    if let Some(error) = &state.sim_error {
+    if let Some(error) = &state.run.sim_error {
         ui.colored_label(ui.visuals().error_fg_color, error);
     }
-    match &state.snapshot {
+    match &state.run.snapshot {
         Some(s) => figures_ui(ui, s),
-        None if state.scene.is_some() => {
+        None if state.doc.scene.is_some() => {
             ui.label("Preparing the luminaire…");
         }
         None => {}
@@ -37,7 +37,7 @@ pub fn simulation_panel_ui(ui: &mut Ui, state: &mut EditorState) {
 
 fn controls_ui(ui: &mut Ui, state: &EditorState, commands: &mut Vec<Command>) {
     ui.horizontal(|ui| {
-        if state.paused {
+        if state.run.paused {
             if ui.button("Resume").clicked() {
                 commands.push(Command::Resume);
             }
@@ -45,7 +45,7 @@ fn controls_ui(ui: &mut Ui, state: &EditorState, commands: &mut Vec<Command>) {
             commands.push(Command::Pause);
         }
     });
-    let mut settings = state.settings;
+    let mut settings = state.run.settings;
     crate::widgets::labelled(ui, "Backend", |ui| {
         egui::ComboBox::from_id_salt("backend")
             .selected_text(backend_name(settings.backend))
@@ -71,7 +71,7 @@ fn controls_ui(ui: &mut Ui, state: &EditorState, commands: &mut Vec<Command>) {
             .response
     });
     if state.is_coarse_preview()
-        && let Some(s) = &state.snapshot
+        && let Some(s) = &state.run.snapshot
     {
         ui.label(format!(
             "Coarse preview while dragging ({} per face)",
@@ -110,7 +110,7 @@ fn controls_ui(ui: &mut Ui, state: &EditorState, commands: &mut Vec<Command>) {
                 .range(1..=100_000),
         )
     });
-    if settings != state.settings {
+    if settings != state.run.settings {
         commands.push(Command::SetSettings(settings));
     }
 }

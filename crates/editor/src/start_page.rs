@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use egui::Ui;
 
 use crate::command::Command;
-use crate::dialogs::DialogKind;
+use crate::command::DialogKind;
 use crate::state::EditorState;
 
 /// The example luminaires beside the binary's sources or the working

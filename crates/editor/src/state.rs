@@ -1,21 +1,25 @@
-//! The editor's state apart from any drawing: the document, its undo
-//! history, the running simulation, and the commands the panels queue.
-//! Panels edit scene fields in place (that is how egui widgets work) and
-//! queue everything else as a [`Command`], applied once per frame.
+//! The editor's state apart from any drawing, three peers and the room:
+//! the document ([`Document`]: scene, undo, selection, problems), the live
+//! run ([`LiveRun`]: simulation, coarse preview, snapshot) and the files
+//! ([`FileState`]: path, saved copy, autosave, recovery, dialogs), tied
+//! together by the commands the panels queue. Panels edit scene fields in
+//! place (that is how egui widgets work) and queue everything else as a
+//! [`Command`], applied once per frame.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use egui::util::undoer::{Settings as UndoSettings, Undoer};
-use lucerna_scene::{Scene, load_scene, save_scene, validate};
+use lucerna_scene::{Scene, load_scene, save_scene};
 use lucerna_simulation::{Simulation, SimulationSettings, Snapshot};
 
 pub use crate::command::{Command, Selection};
 use crate::config::EditorPaths;
+use crate::document::Document;
+use crate::error_text::error_chain;
 use crate::files::FileState;
+use crate::live_run::LiveRun;
 pub use crate::modelling::{NewPart, SceneEdit};
 use crate::modelling::{new_part, unique_name};
-use crate::pacer::RepaintPacer;
 use crate::room_state::RoomLive;
 
 /// Which view the central panel shows.
@@ -36,57 +40,34 @@ pub enum View {
 
 /// Everything the editor knows; the panels draw it and queue commands.
 pub struct EditorState {
-    pub(crate) scene: Option<Scene>,
-    pub(crate) path: Option<PathBuf>,
-    /// The scene as last loaded or saved, for the unsaved-changes marker.
-    saved: Option<Scene>,
-    pub(crate) selection: Option<Selection>,
-    /// Validation problems of the edited scene as "field: message".
-    pub(crate) problems: Vec<String>,
-    /// The last file error (load or save), shown until the next success.
-    pub(crate) file_error: Option<String>,
-    pub(crate) view: View,
-    /// New, recent files, autosave and recovery, dialogs (files.rs).
+    pub(crate) doc: Document,
+    pub(crate) run: LiveRun,
+    /// Path, saved copy, recent files, autosave and recovery, dialogs
+    /// (files.rs).
     pub(crate) files: FileState,
-    /// Why the last structural edit was refused, until the next one.
-    pub(crate) edit_error: Option<String>,
+    /// The preview room, lit by the snapshot's table.
+    pub(crate) room: RoomLive,
+    pub(crate) view: View,
     /// A folder chosen for the export dialog, until it takes it.
     pub(crate) chosen_export_folder: Option<PathBuf>,
-    undoer: Undoer<Scene>,
-    /// A pointer drag or text entry is changing the scene: one undo step.
-    gesture: bool,
     /// A scripted pointer is held down (the drag benchmark and tests): the
     /// edits it makes are a drag's.
     pub(crate) scripted_pointer: bool,
     /// A pane the window should bring to the front (a panel asked).
     pub(crate) pane_request: Option<crate::dock::Pane>,
-    /// The last valid scene handed to the simulation.
-    sent: Option<Scene>,
-    sim: Option<Simulation>,
-    pub(crate) settings: SimulationSettings,
-    /// The simulation runs at [`coarse_preview`] of `settings` while a
-    /// pointer drag edits the scene, and returns to them when it ends.
-    coarse: bool,
-    pub(crate) paused: bool,
-    pub(crate) snapshot: Option<Arc<Snapshot>>,
-    pub(crate) sim_error: Option<String>,
     commands: Vec<Command>,
     /// The context the simulation's worker asks to repaint; known from the
     /// first frame on.
     pub(crate) ctx: Option<egui::Context>,
-    /// Paces the repaints the simulation's snapshots ask for.
-    pub(crate) pacer: Arc<RepaintPacer>,
-    /// The preview room, lit by the snapshot's table.
-    pub(crate) room: RoomLive,
     title: String,
 }
 
 impl std::fmt::Debug for EditorState {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("EditorState")
-            .field("path", &self.path)
-            .field("selection", &self.selection)
-            .field("problems", &self.problems)
+            .field("path", &self.files.path)
+            .field("selection", &self.doc.selection)
+            .field("problems", &self.doc.problems)
             .finish_non_exhaustive()
     }
 }
@@ -106,34 +87,16 @@ impl EditorState {
         paths: EditorPaths,
     ) -> Self {
         let mut state = EditorState {
-            scene: None,
-            path: None,
-            saved: None,
-            selection: None,
-            problems: Vec::new(),
-            file_error: None,
-            view: View::default(),
+            doc: Document::default(),
+            run: LiveRun::new(settings),
             files: FileState::new(paths),
-            edit_error: None,
+            room: RoomLive::default(),
+            view: View::default(),
             chosen_export_folder: None,
-            undoer: Undoer::with_settings(UndoSettings {
-                max_undos: 200,
-                ..UndoSettings::default()
-            }),
-            gesture: false,
             scripted_pointer: false,
             pane_request: None,
-            sent: None,
-            sim: None,
-            settings,
-            coarse: false,
-            paused: false,
-            snapshot: None,
-            sim_error: None,
             commands: Vec::new(),
             ctx: None,
-            pacer: Arc::new(RepaintPacer::default()),
-            room: RoomLive::default(),
             title: String::new(),
         };
         if let Some(path) = open {
@@ -148,76 +111,76 @@ impl EditorState {
     }
 
     pub fn scene(&self) -> Option<&Scene> {
-        self.scene.as_ref()
+        self.doc.scene.as_ref()
     }
 
     pub fn path(&self) -> Option<&Path> {
-        self.path.as_deref()
+        self.files.path.as_deref()
     }
 
     pub fn problems(&self) -> &[String] {
-        &self.problems
+        &self.doc.problems
     }
 
     /// What the scene panel edits and the 3D view highlights.
     pub fn selection(&self) -> Option<&Selection> {
-        self.selection.as_ref()
+        self.doc.selection.as_ref()
     }
 
     pub fn file_error(&self) -> Option<&str> {
-        self.file_error.as_deref()
+        self.files.file_error.as_deref()
     }
 
     /// Why the simulation of the newest scene or settings failed, if it did.
     pub fn simulation_error(&self) -> Option<&str> {
-        self.sim_error.as_deref()
+        self.run.sim_error.as_deref()
     }
 
     /// Why the last emitter, material or profile edit was refused.
     pub fn edit_error(&self) -> Option<&str> {
-        self.edit_error.as_deref()
+        self.doc.edit_error.as_deref()
     }
 
     /// The settings chosen in the simulation panel (the simulation runs
     /// coarser while a drag previews an edit).
     pub fn settings(&self) -> &SimulationSettings {
-        &self.settings
+        &self.run.settings
     }
 
     /// Whether the simulation runs at the coarse preview resolution of a
     /// drag.
     pub fn is_coarse_preview(&self) -> bool {
-        self.coarse
+        self.run.is_coarse_preview()
     }
 
     pub fn simulation(&self) -> Option<&Simulation> {
-        self.sim.as_ref()
+        self.run.simulation()
     }
 
     /// The newest snapshot shown (refreshed each frame).
     pub fn snapshot(&self) -> Option<&Arc<Snapshot>> {
-        self.snapshot.as_ref()
+        self.run.snapshot.as_ref()
     }
 
     /// Whether there is an edit to undo.
     pub fn can_undo(&self) -> bool {
-        self.scene.as_ref().is_some_and(|s| self.undoer.has_undo(s))
+        self.doc.can_undo()
     }
 
     /// Whether there is an undone edit to redo.
     pub fn can_redo(&self) -> bool {
-        self.scene.as_ref().is_some_and(|s| self.undoer.has_redo(s))
+        self.doc.can_redo()
     }
 
     /// Unsaved changes since the last load or save.
     pub fn is_dirty(&self) -> bool {
-        self.scene.is_some() && self.scene != self.saved
+        self.doc.scene.is_some() && self.doc.scene != self.files.saved
     }
 
     /// The window title: file name and an unsaved-changes marker.
     pub fn title(&self) -> String {
-        let name = self.path.as_deref().and_then(Path::file_name).map_or_else(
-            || match self.scene {
+        let name = self.path().and_then(Path::file_name).map_or_else(
+            || match self.doc.scene {
                 Some(_) => "unsaved new scene".to_owned(),
                 None => "no scene".to_owned(),
             },
@@ -229,8 +192,7 @@ impl EditorState {
 
     /// The folder the scene's relative paths (profiles, OBJ files) start from.
     pub(crate) fn scene_dir(&self) -> PathBuf {
-        self.path
-            .as_deref()
+        self.path()
             .and_then(Path::parent)
             .map_or_else(|| PathBuf::from("."), Path::to_path_buf)
     }
@@ -241,17 +203,7 @@ impl EditorState {
             self.ctx = Some(ctx.clone());
         }
         self.files_begin_frame(ctx);
-        if let Some(sim) = &self.sim {
-            let published = sim.published();
-            // An error of an older generation is stale once a newer run
-            // publishes.
-            let shown = published.snapshot.as_ref().map_or(0, |s| s.generation);
-            self.sim_error = published
-                .error
-                .filter(|(generation, _)| *generation >= shown)
-                .map(|(_, e)| error_chain(&*e));
-            self.snapshot = published.snapshot;
-        }
+        self.run.refresh();
     }
 
     /// Called after the panels with the scene as it was before them: an
@@ -260,23 +212,15 @@ impl EditorState {
     pub(crate) fn end_frame(&mut self, ctx: &egui::Context, before: Option<Scene>) {
         let dragging = ctx.input(|i| i.pointer.any_down()) || self.scripted_pointer;
         let held = dragging || ctx.egui_wants_keyboard_input();
-        if self.scene != before {
-            if let Some(before) = &before
-                && !self.gesture
-            {
-                self.undoer.add_undo(before);
-            }
-            self.gesture = held;
+        if self.doc.note_panel_edits(before.as_ref(), held) {
             self.validate_and_send(dragging);
-        } else if !held {
-            self.gesture = false;
         }
         if !dragging {
-            self.end_coarse_preview();
+            self.run.end_coarse_preview();
         }
         self.apply_commands();
         self.room
-            .tick(self.snapshot.as_ref(), ctx, std::time::Instant::now());
+            .tick(self.run.snapshot.as_ref(), ctx, std::time::Instant::now());
         self.autosave(ctx);
         let title = self.title();
         if title != self.title {
@@ -301,33 +245,27 @@ impl EditorState {
                 self.open(path);
             }
             Command::CancelPending => self.files.pending = None,
-            Command::Save => match self.path.clone() {
+            Command::Save => match self.files.path.clone() {
                 Some(path) => self.save(path),
-                None => self.file_error = Some("no file to save to: use Save as".to_owned()),
+                None => {
+                    self.files.file_error = Some("no file to save to: use Save as".to_owned());
+                }
             },
             Command::SaveAs(path) => self.save(path),
             Command::Undo => {
-                if let Some(scene) = &self.scene
-                    && let Some(previous) = self.undoer.undo(scene).cloned()
-                {
-                    self.scene = Some(previous);
-                    self.gesture = false;
+                if self.doc.undo() {
                     self.scene_changed();
                 }
             }
             Command::Redo => {
-                if let Some(scene) = &self.scene
-                    && let Some(next) = self.undoer.redo(scene).cloned()
-                {
-                    self.scene = Some(next);
-                    self.gesture = false;
+                if self.doc.redo() {
                     self.scene_changed();
                 }
             }
             Command::Select(selection) => {
-                self.selection = selection;
+                self.doc.selection = selection;
                 // A refusal is about the item it was asked of.
-                self.edit_error = None;
+                self.doc.edit_error = None;
             }
             Command::AddPart(kind) => self.structural(|scene, selection| {
                 let part = new_part(scene, kind);
@@ -350,48 +288,19 @@ impl EditorState {
                 }
             }),
             Command::Edit(edit) => {
-                let Some(scene) = &self.scene else { return };
+                let Some(scene) = &self.doc.scene else { return };
                 match edit.refusal(scene) {
-                    Some(why) => self.edit_error = Some(why),
+                    Some(why) => self.doc.edit_error = Some(why),
                     None => self.structural(|scene, selection| edit.apply(scene, selection)),
                 }
             }
-            Command::Pause => {
-                if let Some(sim) = &self.sim {
-                    sim.pause();
-                }
-                self.paused = true;
-            }
-            Command::Resume => {
-                if let Some(sim) = &self.sim {
-                    sim.resume();
-                }
-                self.paused = false;
-            }
-            Command::SetSettings(settings) => {
-                let running = if self.coarse {
-                    coarse_preview(settings)
-                } else {
-                    settings
-                };
-                let result = match &mut self.sim {
-                    Some(sim) => sim.set_settings(running).map(|_| ()),
-                    None => settings.validate().map_err(Into::into),
-                };
-                match result {
-                    Ok(()) => self.settings = settings,
-                    Err(e) => self.sim_error = Some(error_chain(&e)),
-                }
-            }
+            Command::Pause => self.run.pause(),
+            Command::Resume => self.run.resume(),
+            Command::SetSettings(settings) => self.run.set_settings(settings),
             Command::SetExportFolder(path) => self.chosen_export_folder = Some(path),
             Command::ShowPane(pane) => self.pane_request = Some(pane),
             Command::Room(command) => self.room.apply(command),
-            Command::Restart => {
-                if let Some(sim) = &mut self.sim {
-                    self.pacer.reset();
-                    sim.restart();
-                }
-            }
+            Command::Restart => self.run.restart(),
             command @ (Command::New
             | Command::NewDiscarding
             | Command::Quit
@@ -407,13 +316,10 @@ impl EditorState {
 
     /// A structural edit: its own undo step, then validation.
     pub(crate) fn structural(&mut self, edit: impl FnOnce(&mut Scene, &mut Option<Selection>)) {
-        let Some(scene) = &mut self.scene else { return };
-        self.undoer.add_undo(scene);
-        edit(scene, &mut self.selection);
-        self.edit_error = None;
-        self.gesture = false;
-        self.files.autosave_now = true;
-        self.scene_changed();
+        if self.doc.structural(edit) {
+            self.files.autosave_now = true;
+            self.scene_changed();
+        }
     }
 
     /// Validates the edited scene; a valid one restarts the simulation, an
@@ -426,76 +332,9 @@ impl EditorState {
     /// `dragging`: the simulation then runs at the coarse preview
     /// resolution until the drag ends, so that the preview keeps up.
     fn validate_and_send(&mut self, dragging: bool) {
-        let Some(scene) = &self.scene else { return };
-        let problems = validate(scene);
-        self.problems = problems
-            .iter()
-            .map(|p| format!("{}: {}", p.field, p.message))
-            .collect();
-        // Labels (name, manufacturer, export keywords) are not light: the
-        // run goes on, and an export takes them from the edited scene.
-        if !problems.is_empty() || self.sent.as_ref().is_some_and(|s| s.same_light(scene)) {
-            return;
-        }
-        let scene = scene.clone();
         let dir = self.scene_dir();
-        self.sent = Some(scene.clone());
-        match &mut self.sim {
-            Some(sim) => {
-                let coarse = coarse_preview(self.settings);
-                if dragging && !self.coarse && coarse != self.settings {
-                    match sim.set_settings(coarse) {
-                        Ok(_) => self.coarse = true,
-                        Err(e) => self.sim_error = Some(error_chain(&e)),
-                    }
-                }
-                self.pacer.reset();
-                sim.edit(scene, &dir);
-            }
-            None => self.start_simulation(scene, &dir),
-        }
-    }
-
-    /// Back to the chosen resolution once the drag that previewed at the
-    /// coarse one has ended.
-    fn end_coarse_preview(&mut self) {
-        if !std::mem::take(&mut self.coarse) {
-            return;
-        }
-        if let Some(sim) = &mut self.sim
-            && let Err(e) = sim.set_settings(self.settings)
-        {
-            self.sim_error = Some(error_chain(&e));
-        }
-    }
-
-    fn start_simulation(&mut self, scene: Scene, dir: &Path) {
-        // A drag's coarse preview must not wait for its resolution's
-        // first-time tables (250 ms in the window, measured).
-        let coarse = coarse_preview(self.settings);
-        let _ = std::thread::Builder::new()
-            .name("lucerna-prepare".to_owned())
-            .spawn(move || {
-                crate::lower_this_threads_priority();
-                lucerna_simulation::prepare_snapshots(&coarse);
-            });
-        let ctx = self.ctx.clone();
-        let pacer = self.pacer.clone();
-        let repaint = move || {
-            if let Some(ctx) = &ctx {
-                pacer.request(ctx);
-            }
-        };
-        self.snapshot = None;
-        match Simulation::start(scene, dir, self.settings, repaint) {
-            Ok(sim) => {
-                if self.paused {
-                    sim.pause();
-                }
-                self.sim = Some(sim);
-                self.sim_error = None;
-            }
-            Err(e) => self.sim_error = Some(error_chain(&e)),
+        if let Some(scene) = self.doc.validated() {
+            self.run.send(scene, &dir, dragging, self.ctx.as_ref());
         }
     }
 
@@ -507,7 +346,7 @@ impl EditorState {
                 self.files_opened(&path);
                 self.replace_document(scene.clone(), Some(path), Some(scene));
             }
-            Err(e) => self.file_error = Some(error_chain(&e)),
+            Err(e) => self.files.file_error = Some(error_chain(&e)),
         }
     }
 
@@ -520,30 +359,17 @@ impl EditorState {
         path: Option<PathBuf>,
         saved: Option<Scene>,
     ) {
-        self.path = path;
-        self.saved = saved;
-        self.scene = Some(scene);
-        self.undoer = Undoer::with_settings(UndoSettings {
-            max_undos: 200,
-            ..UndoSettings::default()
-        });
-        self.selection = None;
-        self.problems.clear();
-        self.file_error = None;
-        self.gesture = false;
-        self.edit_error = None;
-        // A new document gets a fresh run (generation 0).
-        self.sim = None;
-        self.coarse = false;
-        self.sent = None;
-        self.snapshot = None;
-        self.sim_error = None;
+        self.files.path = path;
+        self.files.saved = saved;
+        self.files.file_error = None;
+        self.doc = Document::holding(scene);
+        self.run.reset();
         self.scene_changed();
     }
 
     fn save(&mut self, path: PathBuf) {
-        let Some(scene) = &self.scene else {
-            self.file_error = Some("no scene to save".to_owned());
+        let Some(scene) = &self.doc.scene else {
+            self.files.file_error = Some("no scene to save".to_owned());
             return;
         };
         // Saved elsewhere, relative mesh and profile paths keep naming the
@@ -552,49 +378,20 @@ impl EditorState {
         let scene = rebased.as_ref().unwrap_or(scene);
         match save_scene(scene, &path) {
             Ok(()) => {
-                self.saved = Some(scene.clone());
+                self.files.saved = Some(scene.clone());
                 if let Some(rebased) = rebased {
-                    self.scene = Some(rebased);
+                    self.doc.scene = Some(rebased);
                 }
-                self.file_error = None;
+                self.files.file_error = None;
                 self.files_saved(&path);
-                if self.path.as_deref() != Some(&path) {
-                    self.path = Some(path);
+                if self.files.path.as_deref() != Some(&path) {
+                    self.files.path = Some(path);
                     // Relative paths in the scene now resolve from here.
-                    self.sent = None;
+                    self.run.forget_sent();
                     self.scene_changed();
                 }
             }
-            Err(e) => self.file_error = Some(error_chain(&e)),
+            Err(e) => self.files.file_error = Some(error_chain(&e)),
         }
-    }
-}
-
-/// The error and its sources, one per line.
-pub(crate) fn error_chain(e: &dyn std::error::Error) -> String {
-    let mut text = e.to_string();
-    let mut source = e.source();
-    while let Some(s) = source {
-        text.push_str(&format!("\n  caused by: {s}"));
-        source = s.source();
-    }
-    text
-}
-
-/// Texels per cube-face edge of the coarsest preview.
-const MIN_PREVIEW_RESOLUTION: u32 = 16;
-/// Texels per cube-face edge of the finest preview: enough to see a beam
-/// move, few enough (6 × 32² texels) to snapshot every frame.
-const MAX_PREVIEW_RESOLUTION: u32 = 32;
-
-/// `settings` for previewing a drag: half the chosen resolution, between
-/// 16 and 32 per face, never above the chosen one.
-pub(crate) fn coarse_preview(settings: SimulationSettings) -> SimulationSettings {
-    let resolution = (settings.resolution / 2)
-        .clamp(MIN_PREVIEW_RESOLUTION, MAX_PREVIEW_RESOLUTION)
-        .min(settings.resolution);
-    SimulationSettings {
-        resolution,
-        ..settings
     }
 }

@@ -290,7 +290,7 @@ fn linear_rgb(c: Color32) -> [f32; 3] {
 }
 
 pub fn viewport_ui(ui: &mut Ui, state: &mut EditorState, vp: &mut Viewport) {
-    let snapshot = state.snapshot.clone();
+    let snapshot = state.run.snapshot.clone();
     let luminaire = snapshot.as_ref().map(|s| s.luminaire.clone());
     let mesh = luminaire.as_ref().map(|l| vp.mesh_of(l));
     toolbar_ui(ui, vp, mesh.as_ref().map(|m| m.1));
@@ -339,11 +339,15 @@ pub fn viewport_ui(ui: &mut Ui, state: &mut EditorState, vp: &mut Viewport) {
     );
 
     let cube = vp.cube_of(&snapshot);
-    let paths = vp
-        .show_paths
-        .then(|| vp.paths_of(&luminaire, state.settings.seed, state.settings.max_bounces));
+    let paths = vp.show_paths.then(|| {
+        vp.paths_of(
+            &luminaire,
+            state.run.settings.seed,
+            state.run.settings.max_bounces,
+        )
+    });
     let lines = vp.lines_of(paths.as_ref(), bounds.centre, reach, 0.6 * bounds.radius);
-    let selected = highlighted_surface(&luminaire, state.selection.as_ref());
+    let selected = highlighted_surface(&luminaire, state.doc.selection.as_ref());
     match vp.target {
         Some(target) => {
             let ppp = ui.ctx().pixels_per_point();

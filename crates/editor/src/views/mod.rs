@@ -129,7 +129,7 @@ pub fn photometric_view_ui(
         room_ui(ui, state, &mut views.room);
         return;
     }
-    let Some(snapshot) = state.snapshot.clone() else {
+    let Some(snapshot) = state.run.snapshot.clone() else {
         ui.label("No light distribution yet.");
         return;
     };
@@ -208,7 +208,7 @@ fn reference_ui(ui: &mut Ui, snapshot: &Arc<Snapshot>, views: &mut ViewsState) {
                     views.reference = Some(r);
                     views.reference_error = None;
                 }
-                Err(e) => views.reference_error = Some(crate::state::error_chain(&e)),
+                Err(e) => views.reference_error = Some(crate::error_text::error_chain(&e)),
             }
         }
         if ui
