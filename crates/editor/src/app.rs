@@ -86,9 +86,17 @@ impl EditorApp {
     }
 
     /// Measures frames and scripted edits for `duration`, then closes.
-    pub fn with_benchmark(mut self, duration: std::time::Duration, continuous: bool) -> Self {
+    /// With `export_into`, exports follow one another into that folder
+    /// instead of edits.
+    pub fn with_benchmark(
+        mut self,
+        duration: std::time::Duration,
+        continuous: bool,
+        export_into: Option<std::path::PathBuf>,
+    ) -> Self {
         let mut benchmark = Benchmark::new(duration);
         benchmark.continuous = continuous;
+        benchmark.export_into = export_into;
         self.benchmark = Some(benchmark);
         self
     }
@@ -190,7 +198,14 @@ impl EditorApp {
 
     fn benchmarks_begin_frame(&mut self, ctx: &egui::Context, frame_start: std::time::Instant) {
         if let Some(b) = &mut self.benchmark {
-            b.begin_frame(&mut self.state, frame_start);
+            // Whether last frame's export still runs, before the next starts.
+            let running = self.windows.export.is_exporting();
+            let started = b.export_into.as_ref().is_some_and(|dir| {
+                self.windows
+                    .export
+                    .start_benchmark_export(&self.state, dir, ctx)
+            });
+            b.begin_frame(&mut self.state, frame_start, running, started);
             if b.is_finished() {
                 // Its nudges are no one's unsaved changes: no question,
                 // no recovery file left behind.

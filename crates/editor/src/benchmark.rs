@@ -8,6 +8,10 @@
 //! percentile), edit-to-preview latency, photons/s while the UI runs.
 //! With `--continuous` every frame asks for the next, as while the user
 //! drags: the frame interval is then what a frame takes end to end.
+//! With `--export` no edit is made: exports of the current run (all
+//! files, the automatic filter) follow one another through the export
+//! dialog, and the longest frame while one runs is reported: an export
+//! must never block a frame.
 
 use std::time::{Duration, Instant};
 
@@ -41,6 +45,19 @@ pub struct Benchmark {
     /// The snapshot repaint interval the pacer keeps, as last seen.
     repaint_interval: Duration,
     finished: bool,
+    /// Export instead of editing (`--export`): into this folder.
+    pub export_into: Option<std::path::PathBuf>,
+    /// An export was running at the start of the last frame.
+    exporting_since: Option<Instant>,
+    /// Frame time, UI time and frame interval of the frames that began
+    /// while an export ran.
+    export_frame_costs: Vec<Duration>,
+    export_ui_times: Vec<Duration>,
+    export_intervals: Vec<Duration>,
+    /// How long each finished export took.
+    export_durations: Vec<Duration>,
+    /// The frame now being measured began while an export ran.
+    frame_during_export: bool,
 }
 
 impl Benchmark {
@@ -60,6 +77,13 @@ impl Benchmark {
             edits: 0,
             repaint_interval: Duration::ZERO,
             finished: false,
+            export_into: None,
+            exporting_since: None,
+            export_frame_costs: Vec::new(),
+            export_ui_times: Vec::new(),
+            export_intervals: Vec::new(),
+            export_durations: Vec::new(),
+            frame_during_export: false,
         }
     }
 
@@ -70,7 +94,16 @@ impl Benchmark {
     /// Called at the start of a frame, after the state took the newest
     /// snapshot and before the panels: measures, and may edit the scene
     /// (as a panel would, so the frame's end restarts the run).
-    pub fn begin_frame(&mut self, state: &mut EditorState, now: Instant) {
+    ///
+    /// `export_running`: the export seen last frame still runs;
+    /// `export_started`: one was started as this frame began.
+    pub fn begin_frame(
+        &mut self,
+        state: &mut EditorState,
+        now: Instant,
+        export_running: bool,
+        export_started: bool,
+    ) {
         let shown = state
             .snapshot()
             .map(|s| (s.generation, s.photons_per_second));
@@ -82,8 +115,21 @@ impl Benchmark {
         self.repaint_interval = state.run.pacer.interval();
         if let Some(last) = self.last_frame {
             self.frame_intervals.push(now - last);
+            if self.frame_during_export {
+                self.export_intervals.push(now - last);
+            }
         }
         self.last_frame = Some(now);
+        if let Some(since) = self.exporting_since
+            && !export_running
+        {
+            self.export_durations.push(now - since);
+            self.exporting_since = None;
+        }
+        if export_started || (export_running && self.exporting_since.is_none()) {
+            self.exporting_since = Some(now);
+        }
+        self.frame_during_export = export_running || export_started;
         if let Some((at, before)) = self.waiting
             && generation > before
         {
@@ -98,7 +144,7 @@ impl Benchmark {
         let due = self
             .last_edit
             .map_or(now - started >= EDIT_EVERY, |e| now - e >= EDIT_EVERY);
-        if due && self.waiting.is_none() {
+        if due && self.waiting.is_none() && self.export_into.is_none() {
             if let Some(part) = state.doc.scene.as_mut().and_then(|s| s.parts.first_mut()) {
                 self.photons_per_second.push(photons_per_second);
                 let sign = if self.edits.is_multiple_of(2) {
@@ -117,13 +163,21 @@ impl Benchmark {
     /// The previous frame's cost as eframe measured it.
     pub fn frame_cost(&mut self, seconds: f32) {
         if self.started.is_some() && seconds.is_finite() && seconds >= 0.0 {
-            self.frame_costs.push(Duration::from_secs_f32(seconds));
+            let cost = Duration::from_secs_f32(seconds);
+            self.frame_costs.push(cost);
+            // eframe reports the frame before this one.
+            if self.frame_during_export {
+                self.export_frame_costs.push(cost);
+            }
         }
     }
 
     pub fn end_frame(&mut self, ui_time: Duration) {
         if self.started.is_some() {
             self.ui_times.push(ui_time);
+            if self.frame_during_export {
+                self.export_ui_times.push(ui_time);
+            }
         }
     }
 
@@ -149,7 +203,7 @@ impl Benchmark {
         let mut pps = self.photons_per_second.clone();
         pps.sort_by(f64::total_cmp);
         let median_pps = pps.get(pps.len() / 2).copied().unwrap_or(f64::NAN);
-        format!(
+        let mut report = format!(
             "frame time (ui, tessellation, paint): {}\nframe interval: {}\nUI time per frame: {}\nedit to first preview: {} ({} edits)\nphotons/s while the UI runs: median {:.3e} over {} runs\nsnapshot repaint interval: {:.0} ms",
             stats(&self.frame_costs),
             stats(&self.frame_intervals),
@@ -159,6 +213,17 @@ impl Benchmark {
             median_pps,
             pps.len(),
             ms(self.repaint_interval)
-        )
+        );
+        if self.export_into.is_some() {
+            report.push_str(&format!(
+                "\nexports (all files, automatic filter): {} finished, each {}\nwhile an export ran: frame time {}\nwhile an export ran: UI time {}\nwhile an export ran: frame interval {}",
+                self.export_durations.len(),
+                stats(&self.export_durations),
+                stats(&self.export_frame_costs),
+                stats(&self.export_ui_times),
+                stats(&self.export_intervals),
+            ));
+        }
+        report
     }
 }

@@ -178,6 +178,45 @@ impl ExportDialog {
         self.result = None;
     }
 
+    /// Whether an export is running now.
+    pub(crate) fn is_exporting(&self) -> bool {
+        self.job.is_some()
+    }
+
+    /// The frame benchmark's export (`--benchmark S --export`): the dialog
+    /// opened on its defaults, the automatic filter (the heavy case: it
+    /// cross-validates afresh), into `out_dir`, started as its Export
+    /// button would. Whether one started (not while one runs, nor before
+    /// the run shows the current scene).
+    pub(crate) fn start_benchmark_export(
+        &mut self,
+        state: &EditorState,
+        out_dir: &Path,
+        ctx: &egui::Context,
+    ) -> bool {
+        if self.job.is_some() || current_snapshot(state).is_err() {
+            return false;
+        }
+        if !self.open || !self.initialised {
+            self.open = true;
+            self.initialise(state);
+        }
+        self.filtered = true;
+        self.folder = out_dir.display().to_string();
+        let ctx = ctx.clone();
+        match start_export(state, self, move || ctx.request_repaint()) {
+            Ok(job) => {
+                self.job = Some(job);
+                self.result = None;
+                true
+            }
+            Err(e) => {
+                self.result = Some(Err(e));
+                false
+            }
+        }
+    }
+
     fn formats(&self) -> ExportFormats {
         ExportFormats {
             ies: self

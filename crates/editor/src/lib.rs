@@ -131,6 +131,9 @@ pub struct RunOptions {
     pub benchmark: Option<std::time::Duration>,
     /// In a benchmark, repaint every frame (as while dragging).
     pub continuous: bool,
+    /// In a benchmark, export into this folder again and again instead of
+    /// editing.
+    pub export_into: Option<PathBuf>,
     /// Run the drag benchmark, dragging for this long, then print the
     /// figures and close.
     pub drag_benchmark: Option<std::time::Duration>,
@@ -156,9 +159,10 @@ pub fn run(options: RunOptions) -> Result<(), RunEditorError> {
     };
     let mut state = EditorState::with_paths(options.scene, settings, EditorPaths::user());
     state.view = options.view;
-    let (benchmark, continuous, drag) = (
+    let (benchmark, continuous, export_into, drag) = (
         options.benchmark,
         options.continuous,
+        options.export_into,
         options.drag_benchmark,
     );
     eframe::run_native(
@@ -167,7 +171,7 @@ pub fn run(options: RunOptions) -> Result<(), RunEditorError> {
         Box::new(move |cc| {
             let app = EditorApp::from_creation(cc, state);
             Ok(Box::new(match (benchmark, drag) {
-                (Some(d), _) => app.with_benchmark(d, continuous),
+                (Some(d), _) => app.with_benchmark(d, continuous, export_into),
                 (None, Some(d)) => app.with_drag_benchmark(d),
                 (None, None) => app,
             }))

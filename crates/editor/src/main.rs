@@ -27,6 +27,11 @@ struct Args {
     /// dragging).
     #[arg(long, requires = "benchmark")]
     continuous: bool,
+    /// In the frame-time benchmark, export the current run again and
+    /// again (every file, the automatic filter, into a temporary folder)
+    /// instead of editing, and report the longest frame while one runs.
+    #[arg(long, requires = "benchmark")]
+    export: bool,
     /// Run the drag benchmark: drag the main part's main parameter for
     /// SECONDS, one change a frame, then release; print preview age,
     /// previews per second, release to full resolution, frame interval.
@@ -54,6 +59,9 @@ fn seconds(s: &str) -> Result<Duration, String> {
 
 fn main() -> ExitCode {
     let args = Args::parse();
+    let export_into = args.export.then(|| {
+        std::env::temp_dir().join(format!("lucerna-benchmark-export-{}", std::process::id()))
+    });
     let options = RunOptions {
         scene: args.scene,
         view: match args.view {
@@ -66,9 +74,14 @@ fn main() -> ExitCode {
         },
         benchmark: args.benchmark,
         continuous: args.continuous,
+        export_into: export_into.clone(),
         drag_benchmark: args.benchmark_drag,
     };
-    match lucerna_editor::run(options) {
+    let result = lucerna_editor::run(options);
+    if let Some(dir) = export_into {
+        let _ = std::fs::remove_dir_all(dir);
+    }
+    match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");

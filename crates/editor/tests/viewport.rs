@@ -160,7 +160,7 @@ fn the_benchmark_mode_times_each_scripted_edit() {
         .with_size([1366.0, 900.0])
         .build_ui_state(
             |ui, app: &mut EditorApp| app.ui(ui),
-            EditorApp::new(state).with_benchmark(Duration::from_secs_f64(4.5), true),
+            EditorApp::new(state).with_benchmark(Duration::from_secs_f64(4.5), true, None),
         );
     wait_for_snapshot(&mut h, |_| true);
     let original = h.state().state.scene().unwrap().parts[0].transform.clone();
@@ -212,4 +212,53 @@ fn the_3d_view_draws_without_multisampling_too() {
     }
     // Shaded metal, the cube's faces, the axes: many colours, not a blank.
     assert!(colours.len() > 50, "{} colours", colours.len());
+}
+
+/// The `--benchmark --export` mode exports the converged run through the
+/// export dialog again and again, makes no edit, and reports the frames
+/// that began while an export ran; the files are really written.
+#[test]
+fn the_benchmark_export_mode_exports_without_editing_and_times_those_frames() {
+    let out = tempfile::tempdir().unwrap();
+    let state = EditorState::new(Some(example()), settings(200_000));
+    let mut h = Harness::builder()
+        .with_size([1366.0, 900.0])
+        .build_ui_state(
+            |ui, app: &mut EditorApp| app.ui(ui),
+            EditorApp::new(state).with_benchmark(
+                Duration::from_secs(600),
+                true,
+                Some(out.path().to_path_buf()),
+            ),
+        );
+    wait_for_snapshot(&mut h, |_| true);
+    let original = h.state().state.scene().unwrap().clone();
+    let start = Instant::now();
+    while !h
+        .state()
+        .benchmark_report()
+        .unwrap()
+        .contains("exports (all files, automatic filter): 2 finished")
+    {
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "no second export: {}",
+            h.state().benchmark_report().unwrap()
+        );
+        std::thread::sleep(Duration::from_millis(10));
+        h.step();
+    }
+    let report = h.state().benchmark_report().unwrap();
+    assert_eq!(h.state().state.scene().unwrap(), &original, "no edit");
+    assert!(report.contains("(0 edits)"), "{report}");
+    let during = report
+        .lines()
+        .find(|l| l.starts_with("while an export ran: frame interval"))
+        .unwrap();
+    assert!(
+        !during.contains("NaN") && !during.contains("over 0"),
+        "{report}"
+    );
+    let written: Vec<_> = std::fs::read_dir(out.path()).unwrap().collect();
+    assert!(written.len() >= 5, "{written:?}");
 }
