@@ -74,14 +74,20 @@ impl RepaintPacer {
         self.pace.lock().map_or(MIN_INTERVAL, |p| p.interval)
     }
 
-    /// How long the repaint for a snapshot arriving `now` should wait.
+    /// How long the repaint for a snapshot arriving `now` should wait. A
+    /// repaint already due later shows this snapshot too (every frame
+    /// draws the newest): it is not pushed back, or snapshots arriving
+    /// faster than the pace would put each repaint an interval later than
+    /// the one before (1.4 s between frames after a drag's release).
     pub fn delay(&self, now: Instant) -> Duration {
         let Ok(mut pace) = self.pace.lock() else {
             return Duration::ZERO;
         };
-        let due = pace
-            .last_repaint
-            .map_or(now, |last| (last + pace.interval).max(now));
+        let due = match pace.last_repaint {
+            None => now,
+            Some(scheduled) if scheduled > now => scheduled,
+            Some(last) => (last + pace.interval).max(now),
+        };
         pace.last_repaint = Some(due);
         due - now
     }
@@ -114,11 +120,17 @@ mod tests {
         let pacer = RepaintPacer::default();
         let t0 = Instant::now();
         assert_eq!(pacer.delay(t0), Duration::ZERO);
-        // A burst of snapshots is spread at the interval, not dropped.
+        // A burst of snapshots is shown by one repaint an interval later,
+        // not dropped, and not spread over later ones.
         assert_eq!(pacer.delay(t0), MIN_INTERVAL);
         assert_eq!(
             pacer.delay(t0 + Duration::from_millis(10)),
-            2 * MIN_INTERVAL - Duration::from_millis(10)
+            MIN_INTERVAL - Duration::from_millis(10)
+        );
+        // Once that repaint is past, the next comes an interval after it.
+        assert_eq!(
+            pacer.delay(t0 + MIN_INTERVAL + Duration::from_millis(5)),
+            MIN_INTERVAL - Duration::from_millis(5)
         );
         // Slow frames (100 ms) lengthen the interval towards 300 ms.
         for _ in 0..40 {
@@ -133,6 +145,24 @@ mod tests {
         assert!(pacer.interval() <= MAX_INTERVAL);
         pacer.frame_cost(f32::NAN);
         assert!(pacer.interval() <= MAX_INTERVAL);
+    }
+
+    /// Snapshots every 55 ms against a 250 ms pace for 5 s: a repaint
+    /// every 250 ms throughout, never drifting later.
+    #[test]
+    fn a_stream_of_snapshots_faster_than_the_pace_repaints_at_the_pace() {
+        let pacer = RepaintPacer::default();
+        pacer.software_rasteriser();
+        let t0 = Instant::now();
+        let mut repaints = std::collections::BTreeSet::new();
+        for k in 0..91 {
+            let now = t0 + Duration::from_millis(55 * k);
+            let delay = pacer.delay(now);
+            assert!(delay <= SOFTWARE_RASTERISER_INTERVAL, "{k}: {delay:?}");
+            repaints.insert(now + delay);
+        }
+        // 5 s at one repaint per 250 ms, the first at once.
+        assert_eq!(repaints.len(), 21, "{repaints:?}");
     }
 
     #[test]
