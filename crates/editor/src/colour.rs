@@ -4,8 +4,8 @@
 //! the same candela or lux in a PNG and in the window.
 
 use egui::{Color32, Ui};
-use lucerna_pictures::scale::log_colour;
-pub use lucerna_pictures::scale::{DECADES, LUX_PARTS, LinearScale, ticks_125};
+pub use lucerna_pictures::scale::{DECADES, LUX_PARTS, LinearScale};
+use lucerna_pictures::scale::{log_colour, ticks_125};
 
 /// egui's colour of an sRGB triple.
 pub fn colour32([r, g, b]: [u8; 3]) -> Color32 {
@@ -21,15 +21,24 @@ pub fn intensity_colour(v: f64, peak: f64) -> Color32 {
 /// Swatches at the 1-2-5 ticks of the scale below `peak`, labelled in cd
 /// (the exported cube map's legend).
 pub fn legend_ui(ui: &mut Ui, peak: f64) {
+    let ticks = ticks_125(peak / 10f64.powf(DECADES), peak);
+    swatches_ui(ui, ticks.into_iter().rev(), "cd", |v| {
+        intensity_colour(v, peak)
+    });
+}
+
+/// A row of colour swatches, each labelled with its value and `unit`.
+fn swatches_ui(
+    ui: &mut Ui,
+    values: impl Iterator<Item = f64>,
+    unit: &str,
+    colour: impl Fn(f64) -> Color32,
+) {
     ui.horizontal_wrapped(|ui| {
-        for v in ticks_125(peak / 10f64.powf(DECADES), peak)
-            .into_iter()
-            .rev()
-        {
+        for v in values {
             let (rect, _) = ui.allocate_exact_size(egui::vec2(14.0, 14.0), egui::Sense::hover());
-            ui.painter()
-                .rect_filled(rect, 2.0, intensity_colour(v, peak));
-            ui.label(lucerna_pictures::canvas::label(v) + " cd");
+            ui.painter().rect_filled(rect, 2.0, colour(v));
+            ui.label(format!("{} {unit}", lucerna_pictures::canvas::label(v)));
         }
     });
 }
@@ -42,11 +51,7 @@ pub fn lux_colour(scale: &LinearScale, lux: f64) -> Color32 {
 
 /// Swatches at the scale's ticks, each labelled in lux.
 pub fn lux_legend_ui(ui: &mut Ui, scale: &LinearScale) {
-    ui.horizontal_wrapped(|ui| {
-        for v in scale.ticks() {
-            let (rect, _) = ui.allocate_exact_size(egui::vec2(14.0, 14.0), egui::Sense::hover());
-            ui.painter().rect_filled(rect, 2.0, lux_colour(scale, v));
-            ui.label(lucerna_pictures::canvas::label(v) + " lx");
-        }
+    swatches_ui(ui, scale.ticks().into_iter(), "lx", |v| {
+        lux_colour(scale, v)
     });
 }

@@ -61,26 +61,24 @@ impl Document {
 
     /// Steps back one edit; whether there was one.
     pub fn undo(&mut self) -> bool {
-        let Some(scene) = &self.scene else {
-            return false;
-        };
-        let Some(previous) = self.undoer.undo(scene).cloned() else {
-            return false;
-        };
-        self.scene = Some(previous);
-        self.gesture = false;
-        true
+        self.step(|undoer, scene| undoer.undo(scene).cloned())
     }
 
     /// Steps forward one undone edit; whether there was one.
     pub fn redo(&mut self) -> bool {
+        self.step(|undoer, scene| undoer.redo(scene).cloned())
+    }
+
+    /// Replaces the scene by what `to` finds in the history (undo or
+    /// redo), ending any gesture; whether it found one.
+    fn step(&mut self, to: impl FnOnce(&mut Undoer<Scene>, &Scene) -> Option<Scene>) -> bool {
         let Some(scene) = &self.scene else {
             return false;
         };
-        let Some(next) = self.undoer.redo(scene).cloned() else {
+        let Some(other) = to(&mut self.undoer, scene) else {
             return false;
         };
-        self.scene = Some(next);
+        self.scene = Some(other);
         self.gesture = false;
         true
     }
