@@ -6,6 +6,7 @@
 //! C90 along +y.
 
 pub mod cubemap;
+pub mod fidelity;
 pub mod figures;
 pub mod ies;
 pub mod intensity_map;

@@ -8,6 +8,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use lucerna_photometry::fidelity::TableFidelity;
 use lucerna_photometry::resample::TableResampler;
 use lucerna_photometry::{
     CPlaneSymmetry, CandelaTable, Dimensions, Format, IesVersion, LampSet, Metadata, Photometry,
@@ -311,6 +312,10 @@ impl std::fmt::Display for ExportStage {
 #[derive(Debug, Clone)]
 pub struct ExportedFiles {
     pub photometry: Photometry,
+    /// The table's γ grid and how faithfully it carries the map; a grid
+    /// the user fixed that loses the beam is written, and warned about
+    /// through [`TableFidelity::shortfalls`].
+    pub fidelity: TableFidelity,
     pub files: Vec<(PathBuf, Vec<u8>)>,
 }
 
@@ -341,7 +346,7 @@ impl ExportRequest {
     fn candela_and_table(
         &self,
         snapshot: &Snapshot,
-    ) -> Result<(Arc<Vec<f64>>, Arc<CandelaTable>), SimulationError> {
+    ) -> Result<(Arc<Vec<f64>>, Arc<CandelaTable>, TableFidelity), SimulationError> {
         let run = &snapshot.settings;
         // A live snapshot's automatic rule may be an older choice; a final
         // one chose afresh, as a bake does.
@@ -352,7 +357,11 @@ impl ExportRequest {
         let same_filter =
             self.filter == run.filter && (self.filter != FilterChoice::Automatic || final_choice);
         if same_filter && self.grid == run.table {
-            return Ok((snapshot.candela.clone(), snapshot.table.clone()));
+            return Ok((
+                snapshot.candela.clone(),
+                snapshot.table.clone(),
+                snapshot.table_fidelity.clone(),
+            ));
         }
         // The same checks as a run's settings.
         crate::SimulationSettings {
@@ -374,18 +383,18 @@ impl ExportRequest {
             );
             Arc::new(candela)
         };
-        let table = tabulate(
+        let resampled = tabulate(
             &mut TableResampler::new(),
             &snapshot.map,
             &candela,
             self.grid,
         );
-        Ok((candela, Arc::new(table)))
+        Ok((candela, Arc::new(resampled.table), resampled.fidelity))
     }
 
     /// The photometry the files would hold.
     pub fn photometry(&self, snapshot: &Snapshot) -> Result<Photometry, SimulationError> {
-        let (_, table) = self.candela_and_table(snapshot)?;
+        let (_, table, _) = self.candela_and_table(snapshot)?;
         Ok(photometry_of(snapshot, &table, &self.options))
     }
 
@@ -412,7 +421,7 @@ impl ExportRequest {
             return Err(ExportRequestError::BadStem(self.stem.clone()).into());
         }
         report(ExportStage::Tabulating);
-        let (candela, table) = self.candela_and_table(snapshot)?;
+        let (candela, table, fidelity) = self.candela_and_table(snapshot)?;
         let photometry = photometry_of(snapshot, &table, &self.options);
         let map = &snapshot.map;
         let name = self
@@ -470,6 +479,7 @@ impl ExportRequest {
         }
         Ok(ExportedFiles {
             photometry,
+            fidelity,
             files: outputs
                 .into_iter()
                 .map(|(name, bytes)| (self.out_dir.join(name), bytes))

@@ -5,12 +5,11 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use lucerna_gpu::{BackendRequest, GpuContext};
+use lucerna_photometry::fidelity::FidelityTargets;
 use lucerna_photometry::figures::ZONES_DEG;
-use lucerna_photometry::resample::{GammaGrid, TableResampler};
+use lucerna_photometry::resample::{GammaGrid, ResampledTable, TableResampler};
 use lucerna_photometry::table::uniform_c_planes;
-use lucerna_photometry::{
-    AxialSymmetry, CandelaTable, CubeMapLayout, IntensityMap, TexelSymmetry, figures,
-};
+use lucerna_photometry::{AxialSymmetry, CubeMapLayout, IntensityMap, TexelSymmetry, figures};
 use lucerna_tracer::gpu::GpuTracer;
 use lucerna_tracer::session::{
     flux_relative_error, peak_relative_error, zone_flux_relative_errors,
@@ -221,17 +220,24 @@ impl Run {
             !final_export,
         );
         let grid = self.settings.table;
-        let table = Arc::new(tabulate(&mut self.resampler, &map, &candela, grid));
+        let ResampledTable {
+            table,
+            fidelity: table_fidelity,
+        } = tabulate(&mut self.resampler, &map, &candela, grid);
+        let table = Arc::new(table);
         // The unfiltered table beside the exported one, so views can show
         // both.
         let raw_table = if filter.is_some() {
             let raw = map.symmetrised(&self.symmetry).candela();
-            Arc::new(tabulate(&mut self.resampler, &map, &raw, grid))
+            Arc::new(tabulate(&mut self.resampler, &map, &raw, grid).table)
         } else {
             table.clone()
         };
         let figures = figures(&table, Some(map.emitter_flux_lm));
-        let warnings = crate::snapshot::degenerate_result_warnings(&map, &figures);
+        let mut warnings = crate::snapshot::degenerate_result_warnings(&map, &figures);
+        if map.photons_escaped() > 0 {
+            warnings.extend(table_fidelity.shortfalls());
+        }
         let report = self.last;
         let peak_relative = report.map_or_else(
             || peak_relative_error(&map, &self.symmetry),
@@ -278,6 +284,7 @@ impl Run {
             table,
             raw_table,
             figures,
+            table_fidelity,
             noise,
             warnings,
             settings: self.settings,
@@ -314,22 +321,21 @@ pub(crate) fn exported_candela(
     }
 }
 
-/// The candela table of `candela` (per texel of `map`) on `grid`: the
-/// automatic γ grid holds the escaped flux within 0.5 %. A run's
-/// snapshots and an export on another grid both tabulate here, so they
-/// agree to the bit.
+/// The candela table of `candela` (per texel of `map`) on `grid`, and
+/// how faithfully it carries the map: the automatic γ grid is the coarsest
+/// that holds the map's flux, cone fluxes, beam and field angles and peak
+/// within [`FidelityTargets`]. A run's snapshots and an export on another
+/// grid both tabulate here, so they agree to the bit.
 pub(crate) fn tabulate(
     resampler: &mut TableResampler,
     map: &IntensityMap,
     candela: &[f64],
     grid: TableGrid,
-) -> CandelaTable {
+) -> ResampledTable {
+    let targets = FidelityTargets::default();
     let gammas = match grid.gamma_step_deg {
-        Some(step) => GammaGrid::Step(step),
-        None => GammaGrid::Automatic {
-            flux_lm: map.escaped_flux_lm(),
-            tolerance: 0.005,
-        },
+        Some(step) => GammaGrid::Step(step, targets),
+        None => GammaGrid::Automatic(targets),
     };
     resampler.table(
         map.layout,

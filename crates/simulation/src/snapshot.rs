@@ -196,6 +196,9 @@ pub struct Snapshot {
     pub raw_table: Arc<CandelaTable>,
     /// Flux, LOR, peak, beam and field angles of that table.
     pub figures: Figures,
+    /// The table's γ grid and how faithfully it carries the map (its
+    /// shortfalls are among `warnings`).
+    pub table_fidelity: lucerna_photometry::fidelity::TableFidelity,
     pub noise: Noise,
     /// What looks degenerate about the result (nothing escaped, almost
     /// nothing escaped, photons cut off by the bounce limit), in words.

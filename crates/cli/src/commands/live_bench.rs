@@ -10,6 +10,7 @@ use std::time::Instant;
 
 use anyhow::Result;
 use lucerna_filter::Threshold;
+use lucerna_photometry::fidelity::FidelityTargets;
 use lucerna_photometry::resample::{GammaGrid, TableResampler};
 use lucerna_photometry::table::uniform_c_planes;
 use lucerna_photometry::{AxialSymmetry, TexelSymmetry, figures};
@@ -96,15 +97,14 @@ pub fn live_bench(args: &LiveBenchArgs) -> Result<()> {
             // The table and figures of the exported map.
             let traced = map.escaped_flux_lm();
             let start = Instant::now();
-            let table = resampler.table(
-                map.layout,
-                &candela,
-                &c_planes,
-                GammaGrid::Automatic {
-                    flux_lm: traced,
-                    tolerance: 0.005,
-                },
-            );
+            let table = resampler
+                .table(
+                    map.layout,
+                    &candela,
+                    &c_planes,
+                    GammaGrid::Automatic(FidelityTargets::default()),
+                )
+                .table;
             let fig = figures(&table, Some(map.emitter_flux_lm));
             let ms = start.elapsed().as_secs_f64() * 1e3;
             if k == 1 {
