@@ -552,8 +552,8 @@ pub fn write_ies_with(
             });
         }
     }
-    check_printed_angles("vertical angles", gammas, 8)?;
-    check_printed_angles("horizontal angles", &horizontal, 8)?;
+    check_printed_angles("vertical angles", gammas, 10)?;
+    check_printed_angles("horizontal angles", &horizontal, 10)?;
     // Lamp counts come from files: add them without overflow.
     let lamp_count = m
         .lamps
@@ -615,8 +615,8 @@ pub fn write_ies_with(
         format_number(m.input_watts, 6)
     ));
     // Angles keep 8 significant digits: fine grids (0.3125°) stay exact.
-    number_lines(gammas.iter().copied(), 8, &mut out);
-    number_lines(horizontal.iter().copied(), 8, &mut out);
+    number_lines(gammas.iter().copied(), 10, &mut out);
+    number_lines(horizontal.iter().copied(), 10, &mut out);
     for &c in &horizontal {
         let row: Vec<f64> = gammas.iter().map(|&g| p.table.intensity(c, g)).collect();
         if let Some(&v) = row.iter().find(|v| !(v.is_finite() && **v >= 0.0)) {

@@ -360,8 +360,8 @@ pub fn write_ldt_with(
             });
         }
     }
-    check_printed_angles("C-plane angles", &c_list, 8)?;
-    check_printed_angles("γ angles", g, 8)?;
+    check_printed_angles("C-plane angles", &c_list, 10)?;
+    check_printed_angles("γ angles", g, 10)?;
     // EULUMDAT's Dg means angles 0, Dg, 2·Dg, …: equal steps from 0.
     let g_step = table.uniform_gamma_step().filter(|_| g[0] == 0.0);
     let mut lamps = m.lamps.clone();
@@ -435,9 +435,9 @@ pub fn write_ldt_with(
             .to_string(),
         isym.to_string(),
         mc.to_string(),
-        format_number(if uniform_c { step } else { 0.0 }, 8),
+        format_number(if uniform_c { step } else { 0.0 }, 10),
         g.len().to_string(),
-        format_number(g_step.unwrap_or(0.0), 8),
+        format_number(g_step.unwrap_or(0.0), 10),
         text(&m.test_report),
         text(&m.luminaire),
         text(&m.catalog_number),
@@ -469,8 +469,8 @@ pub fn write_ldt_with(
     // Direct ratios for room indices 0.6–5 are a utilisation-factor
     // computation not done here; 0 marks them as not given.
     lines.extend(std::iter::repeat_n("0".to_owned(), 10));
-    lines.extend(c_list.iter().map(|&c| format_number(c, 8)));
-    lines.extend(g.iter().map(|&x| format_number(x, 8)));
+    lines.extend(c_list.iter().map(|&c| format_number(c, 10)));
+    lines.extend(g.iter().map(|&x| format_number(x, 10)));
     let (mc1, mc2) = stored_range(isym, mc);
     for k in mc1..=mc2 {
         let c = c_list[(k - 1) % mc];

@@ -480,7 +480,8 @@ impl CellBinning {
     }
 
     /// The binning of a layout and grid, built once per process and shared
-    /// (the last two kept): every run of an editing session, restarted on
+    /// (the last four kept: a live run's table and cones, at the coarse and
+    /// the full resolution): every run of an editing session, restarted on
     /// each edit, tabulates with the binning the first one built.
     pub fn shared(
         layout: CubeMapLayout,
@@ -504,7 +505,7 @@ impl CellBinning {
         // Built outside the lock: another thread may build the same one.
         let built = Arc::new(CellBinning::new(layout, c_planes_deg, band_edges_deg)?);
         let mut cache = CACHE.lock().unwrap_or_else(PoisonError::into_inner);
-        if cache.len() >= 2 {
+        if cache.len() >= 4 {
             cache.remove(0);
         }
         cache.push(built.clone());
@@ -732,6 +733,20 @@ pub fn cone_flux_lm<const N: usize>(
         .collect();
     edges.sort_by(f64::total_cmp);
     edges.dedup();
+    let sum_up = |band_flux: &[f64]| {
+        half_angles_deg.map(|g| {
+            edges
+                .windows(2)
+                .zip(band_flux)
+                .filter(|(w, _)| w[1] <= g.clamp(0.0, 180.0))
+                .map(|(_, f)| f)
+                .sum()
+        })
+    };
+    // Each snapshot of a live run asks again: the shares are stored once.
+    if let Ok(binning) = CellBinning::shared(layout, &[0.0], &edges) {
+        return sum_up(&binning.integrate(candela_per_texel).flux_lm);
+    }
     let grid = Cells::new(&[0.0], &edges, true);
     let reconstructed = histopolated(layout, candela_per_texel);
     let mut band_flux = vec![0.0; grid.bands()];
@@ -746,14 +761,7 @@ pub fn cone_flux_lm<const N: usize>(
     for_each_share(layout, &grid, texels, |texel, cell, sr| {
         band_flux[cell] += reconstructed[texel] * sr;
     });
-    half_angles_deg.map(|g| {
-        edges
-            .windows(2)
-            .zip(&band_flux)
-            .filter(|(w, _)| w[1] <= g.clamp(0.0, 180.0))
-            .map(|(_, f)| f)
-            .sum()
-    })
+    sum_up(&band_flux)
 }
 
 /// The γ grid of an exported table.

@@ -319,6 +319,10 @@ pub struct ExportedFiles {
     pub files: Vec<(PathBuf, Vec<u8>)>,
 }
 
+/// Candela per texel, the table the files hold, and how faithfully it
+/// carries the map.
+type ExportedTable = (Arc<Vec<f64>>, Arc<CandelaTable>, TableFidelity);
+
 /// Why a request was refused before anything was drawn or written.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
@@ -346,7 +350,7 @@ impl ExportRequest {
     fn candela_and_table(
         &self,
         snapshot: &Snapshot,
-    ) -> Result<(Arc<Vec<f64>>, Arc<CandelaTable>, TableFidelity), SimulationError> {
+    ) -> Result<ExportedTable, SimulationError> {
         let run = &snapshot.settings;
         // A live snapshot's automatic rule may be an older choice; a final
         // one chose afresh, as a bake does.

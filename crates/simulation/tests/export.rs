@@ -180,3 +180,95 @@ fn files_are_written_all_or_none() {
     odd_grid.grid.c_step_deg = 7.0;
     assert!(odd_grid.render(&snapshot).is_err());
 }
+
+/// The example spot at the default resolution, baked long enough that its
+/// beam is smooth.
+fn spot(table: TableGrid) -> Snapshot {
+    baked(SimulationSettings {
+        resolution: 256,
+        stop: StoppingRule {
+            photons: Some(3_000_000),
+            ..StoppingRule::default()
+        },
+        ..settings(FilterChoice::Raw, table)
+    })
+}
+
+#[test]
+fn the_spots_files_carry_the_maps_photometry_on_the_automatic_grid() {
+    use lucerna_photometry::fidelity::{BeamFigures, CONE_HALF_ANGLES_DEG};
+    let snapshot = spot(TableGrid::default());
+    // The map's own figures, from its texels (not from any table).
+    let map = BeamFigures::of_map(snapshot.map.layout, &snapshot.candela);
+    let fidelity = &snapshot.table_fidelity;
+    eprintln!("{}", fidelity.summary());
+    assert!(fidelity.automatic);
+    assert!(fidelity.holds(), "{:?}", fidelity.shortfalls());
+    let dir = tempfile::tempdir().unwrap();
+    let mut request = ExportRequest::new(&snapshot, options(), dir.path(), "spot");
+    request.formats = ExportFormats {
+        ies: Some(IesVersion::Lm63_2019),
+        ldt: true,
+        exr: false,
+        cube_png: false,
+        polar_png: false,
+    };
+    let files = request.render(&snapshot).unwrap();
+    assert_eq!(files.fidelity, *fidelity);
+    for (path, bytes) in &files.files {
+        // Read back as any reader would: linear between the printed angles.
+        let read = read_photometry(bytes).unwrap();
+        let table = &read.table;
+        let name = path.display();
+        assert_eq!(
+            table.uniform_gamma_step(),
+            Some(fidelity.gamma_step_deg),
+            "{name}"
+        );
+        let flux = table.flux_lm();
+        assert!(
+            (flux / map.flux_lm - 1.0).abs() < 0.0005,
+            "{name}: {flux} vs {}",
+            map.flux_lm
+        );
+        for (g, m) in CONE_HALF_ANGLES_DEG.iter().zip(map.cone_flux_lm) {
+            let f = table.flux_between_lm(0.0, *g);
+            assert!((f / m - 1.0).abs() < 0.003, "{name}, {g}°: {f} vs {m}");
+        }
+        let peak = table.peak().0;
+        assert!(
+            (peak / map.peak_cd - 1.0).abs() < 0.005,
+            "{name}: peak {peak} vs {}",
+            map.peak_cd
+        );
+        let figures = read.figures();
+        for (file, on_map) in [
+            (figures.beam_angle_deg, map.beam_angle_deg),
+            (figures.field_angle_deg, map.field_angle_deg),
+        ] {
+            for (a, b) in file.iter().zip(&on_map) {
+                let (a, b) = (a.unwrap(), b.unwrap());
+                assert!((a - b).abs() < 0.05, "{name}: {a}° vs the map's {b}°");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_fixed_grid_too_coarse_for_the_spot_is_written_with_a_warning() {
+    let snapshot = spot(TableGrid {
+        c_step_deg: 5.0,
+        gamma_step_deg: Some(5.0),
+    });
+    let fidelity = &snapshot.table_fidelity;
+    assert!(!fidelity.automatic);
+    assert_eq!(snapshot.table.uniform_gamma_step(), Some(5.0));
+    let warning = snapshot
+        .warnings
+        .iter()
+        .find(|w| w.contains("inside 2°"))
+        .expect("the 2° cone is warned about");
+    eprintln!("{:#?}", snapshot.warnings);
+    assert!(warning.starts_with("the 5° γ grid carries "), "{warning}");
+    assert!(warning.contains(" lm against "), "{warning}");
+}
