@@ -347,10 +347,7 @@ impl ExportRequest {
     }
 
     /// Candela per texel and the table the files hold.
-    fn candela_and_table(
-        &self,
-        snapshot: &Snapshot,
-    ) -> Result<ExportedTable, SimulationError> {
+    fn candela_and_table(&self, snapshot: &Snapshot) -> Result<ExportedTable, SimulationError> {
         let run = &snapshot.settings;
         // A live snapshot's automatic rule may be an older choice; a final
         // one chose afresh, as a bake does.
