@@ -840,13 +840,28 @@ impl TableResampler {
             }
             _ => None,
         };
+        // Steps finer than an eighth of a texel resolve nothing more of the
+        // map's reconstruction (linear between texel centres): a coarse
+        // live preview stops there.
+        let texel_deg = 90.0 / f64::from(layout.resolution);
+        let usable = steps
+            .iter()
+            .enumerate()
+            .filter(|&(k, &step)| k == 0 || step >= texel_deg / 8.0)
+            .count();
         let mut best = None;
-        for &step in &steps {
+        for (k, &step) in steps[..usable].iter().enumerate() {
             let gammas_deg = crate::table::uniform_gammas(step, 180.0);
             let table = match &cells {
                 Some(cells) => cells.table(&gammas_deg),
                 None => table_from_cube_map(layout, candela_per_texel, c_planes_deg, &gammas_deg),
             };
+            // A step that misses the flux is refined at once, without the
+            // rest of its figures.
+            let last = k + 1 == usable;
+            if !last && !((table.flux_lm() - map.flux_lm).abs() <= targets.flux * map.flux_lm) {
+                continue;
+            }
             let fidelity = TableFidelity::new(step, automatic, map, &table, targets);
             let done = fidelity.holds();
             best = Some(ResampledTable { table, fidelity });

@@ -235,7 +235,9 @@ impl Run {
         };
         let figures = figures(&table, Some(map.emitter_flux_lm));
         let mut warnings = crate::snapshot::degenerate_result_warnings(&map, &figures);
-        if map.photons_escaped() > 0 {
+        // A grid the user fixed is warned about; the automatic one says
+        // how close it came in its summary.
+        if map.photons_escaped() > 0 && !table_fidelity.automatic {
             warnings.extend(table_fidelity.shortfalls());
         }
         let report = self.last;
