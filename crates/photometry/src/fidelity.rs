@@ -10,8 +10,9 @@
 
 use serde::Serialize;
 
-use crate::cubemap::{CubeFace, CubeMapLayout, face_coordinates};
-use crate::figures::spread_angle;
+use crate::cubemap::{CubeMapLayout, face_coordinates};
+use crate::figures::{crossing_width, spread_angle};
+use crate::photometry::format_number;
 use crate::table::{CandelaTable, direction};
 
 /// Half-angles of the cones whose flux a table must keep (degrees).
@@ -123,7 +124,6 @@ pub fn map_intensity_bilinear(
     let (i1, j1) = ((i0 + 1).min(n - 1), (j0 + 1).min(n - 1));
     let (tu, tv) = (u - f64::from(i0), v - f64::from(j0));
     let at = |i: u32, j: u32| candela_per_texel[layout.texel_index(face, i, j)];
-    let _: CubeFace = face;
     (at(i0, j0) * (1.0 - tu) + at(i1, j0) * tu) * (1.0 - tv)
         + (at(i0, j1) * (1.0 - tu) + at(i1, j1) * tu) * tv
 }
@@ -156,36 +156,6 @@ pub fn map_spread_angle(
     };
     let values: Vec<f64> = (0..=steps).map(profile).collect();
     crossing_width(&values, step_deg, fraction)
-}
-
-/// Width (in units of `step`) between the crossings of `fraction` of the
-/// maximum either side of it, interpolated linearly between samples.
-fn crossing_width(values: &[f64], step: f64, fraction: f64) -> Option<f64> {
-    let (k_max, i_max) =
-        values
-            .iter()
-            .enumerate()
-            .fold((0, f64::NEG_INFINITY), |(bk, bv), (k, &v)| {
-                if v > bv { (k, v) } else { (bk, bv) }
-            });
-    if !(i_max > 0.0) {
-        return None;
-    }
-    let level = fraction * i_max;
-    let crossing = |dir: isize| -> Option<f64> {
-        let mut k = k_max as isize;
-        loop {
-            let next = k + dir;
-            let v = *values.get(usize::try_from(next).ok()?)?;
-            if v <= level {
-                let prev = values[k as usize];
-                let t = (prev - level) / (prev - v);
-                return Some((k as f64 + dir as f64 * t) * step);
-            }
-            k = next;
-        }
-    };
-    Some(crossing(1)? - crossing(-1)?)
 }
 
 /// A table's figures beside its map's, and whether it holds them.
@@ -374,6 +344,5 @@ fn describe_angle(a: Option<f64>) -> String {
 }
 
 fn trim(v: f64) -> String {
-    let s = format!("{v:.6}");
-    s.trim_end_matches('0').trim_end_matches('.').to_owned()
+    format_number(v, 8)
 }

@@ -60,30 +60,37 @@ fn plane_profile(table: &CandelaTable, c_deg: f64, theta_deg: f64) -> f64 {
 pub fn spread_angle(table: &CandelaTable, c_deg: f64, fraction: f64) -> Option<f64> {
     const STEP: f64 = 0.05;
     let steps = (360.0 / STEP) as i64;
-    let theta = |k: i64| -180.0 + k as f64 * STEP;
-    let (k_max, i_max) = (0..=steps)
-        .map(|k| (k, plane_profile(table, c_deg, theta(k))))
-        .fold((0, f64::NEG_INFINITY), |(bk, bv), (k, v)| {
-            if v > bv { (k, v) } else { (bk, bv) }
-        });
-    if i_max <= 0.0 {
+    let values: Vec<f64> = (0..=steps)
+        .map(|k| plane_profile(table, c_deg, -180.0 + k as f64 * STEP))
+        .collect();
+    crossing_width(&values, STEP, fraction)
+}
+
+/// Width (in units of `step`) between the crossings of `fraction` of the
+/// maximum of equally spaced samples either side of it, interpolated
+/// linearly between samples; `None` where no sample falls that low.
+pub(crate) fn crossing_width(values: &[f64], step: f64, fraction: f64) -> Option<f64> {
+    let (k_max, i_max) =
+        values
+            .iter()
+            .enumerate()
+            .fold((0, f64::NEG_INFINITY), |(bk, bv), (k, &v)| {
+                if v > bv { (k, v) } else { (bk, bv) }
+            });
+    if !(i_max > 0.0) {
         return None;
     }
     let level = fraction * i_max;
-    let crossing = |dir: i64| -> Option<f64> {
-        let mut k = k_max;
-        let mut prev = i_max;
+    let crossing = |dir: isize| -> Option<f64> {
+        let mut k = k_max as isize;
         loop {
             let next = k + dir;
-            if !(0..=steps).contains(&next) {
-                return None;
-            }
-            let v = plane_profile(table, c_deg, theta(next));
+            let v = *values.get(usize::try_from(next).ok()?)?;
             if v <= level {
+                let prev = values[k as usize];
                 let t = (prev - level) / (prev - v);
-                return Some(theta(k) + dir as f64 * STEP * t);
+                return Some((k as f64 + dir as f64 * t) * step);
             }
-            prev = v;
             k = next;
         }
     };
