@@ -24,7 +24,7 @@ pub const MIN_TEXT_PX: f32 = 10.0;
 
 /// DejaVu Sans, cut down to Latin, Greek and the symbols labels use
 /// (`fonts/SOURCES.md` says how and from what).
-const FONT_TTF: &[u8] = include_bytes!("../fonts/DejaVuSans-subset.ttf");
+pub const FONT_TTF: &[u8] = include_bytes!("../fonts/DejaVuSans-subset.ttf");
 
 /// Parsed once; a test checks that the bundled file parses, so text is
 /// never silently missing.

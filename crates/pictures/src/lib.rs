@@ -4,6 +4,7 @@
 pub mod canvas;
 pub mod chart;
 pub mod cube;
+pub mod isocandela;
 pub mod exr_map;
 pub mod polar;
 pub mod room;
