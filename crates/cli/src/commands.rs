@@ -14,6 +14,7 @@ mod info;
 mod live_bench;
 mod near_field;
 mod render;
+mod report;
 mod validate;
 
 #[derive(Debug, Parser)]
@@ -48,6 +49,12 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// The photometric datasheet of an IES or EULUMDAT file, or of a
+    /// scene baked first: A4 HTML and PDF (luminaire data, polar,
+    /// cartesian and isocandela diagrams, zonal lumens, CIE flux code,
+    /// cone diagram, luminance table, BUG, the CIE 190 UGR table) and
+    /// every figure as JSON.
+    Report(report::ReportArgs),
     /// Trace a luminaire and write IES (LM-63-2019), LDT, the raw map as
     /// EXR, a false-colour cube map PNG and a polar diagram PNG.
     Bake(bake::BakeArgs),
@@ -125,6 +132,18 @@ pub fn run(cli: Cli) -> Result<()> {
             );
             for f in &summary.files {
                 println!("wrote {}", f.display());
+            }
+            Ok(())
+        }
+        Command::Report(args) => {
+            let summary = report::report(&args)
+                .with_context(|| format!("no datasheet of {}", args.input.display()))?;
+            if let Some(json) = &summary.json {
+                println!("{json}");
+            } else {
+                for f in &summary.files {
+                    println!("wrote {}", f.display());
+                }
             }
             Ok(())
         }

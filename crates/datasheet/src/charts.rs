@@ -229,7 +229,7 @@ pub fn cone(svg: &mut Svg, frame: Frame, cone: &ConeDiagram) {
     svg.line(apex[0], apex[1], apex[0] + half_w, apex[1] + depth, RULE, 0.6);
     let x_text = frame.x + 0.58 * frame.w;
     svg.text(x_text, frame.y + 7.0, 6.5, Anchor::Start, MUTED, "E centre");
-    svg.text(x_text + 0.2 * frame.w, frame.y + 7.0, 6.5, Anchor::Start, MUTED, "⌀ C0-C180 / C90-C270");
+    svg.text(x_text + 0.2 * frame.w, frame.y + 7.0, 6.5, Anchor::Start, MUTED, "⌀ C0 / C90 planes");
     for (k, row) in cone.rows.iter().enumerate() {
         let y = apex[1] + depth * (k as f64 + 1.0) / last;
         let w = half_w * (k as f64 + 1.0) / last;
@@ -252,7 +252,7 @@ pub fn cone(svg: &mut Svg, frame: Frame, cone: &ConeDiagram) {
         Anchor::Start,
         MUTED,
         &format!(
-            "beam angle (50 %) {:.1}° / {:.1}°; illuminance for the file's flux",
+            "beam angle (50 %) {:.1}° / {:.1}°; E = I(γ 0°) / d² for the file's flux",
             cone.beam_angle_deg[0], cone.beam_angle_deg[1]
         ),
     );

@@ -40,6 +40,13 @@ pub fn cone_diagram(
         ));
     }
     let centre_cd = table.intensity(0.0, 0.0);
+    let peak = table.peak().0;
+    if centre_cd < 0.5 * peak {
+        return Err(format!(
+            "the beam is not centred on the nadir (I(γ 0°) is {:.0} % of the peak): a cone diagram would mislead",
+            100.0 * centre_cd / peak
+        ));
+    }
     Ok(ConeDiagram {
         beam_angle_deg: [a, b],
         rows: CONE_DISTANCES_M

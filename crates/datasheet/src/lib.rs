@@ -26,7 +26,7 @@ pub mod zonal;
 
 use std::path::{Path, PathBuf};
 
-use lucerna_photometry::{CPlaneSymmetry, CandelaTable, Figures, Format, Photometry};
+use lucerna_photometry::{CandelaTable, Figures, Format, Photometry};
 use serde::Serialize;
 
 pub use bug::{BugOrientation, BugRating};
@@ -183,7 +183,11 @@ impl Datasheet {
         };
 
         let opening = Opening::from_dimensions(&p.meta.luminous_area);
+        let downward = table.flux_between_lm(0.0, 90.0) > 1e-9 * flux;
         let luminance = match &opening {
+            Ok(_) if !downward => Section::omitted(
+                "Luminance table left out: the luminaire sends no light below the horizontal.",
+            ),
             Ok(o) => Section::Shown(luminance::luminance_table(table, o)),
             Err(e) => Section::omitted(format!("Luminance table left out: {e}.")),
         };
@@ -227,11 +231,11 @@ impl Datasheet {
         let ugr_main = ugr_at(spacings[0]);
         let ugr_other_spacings = spacings[1..].iter().map(|&s| ugr_at(s)).collect();
         if ugr_main.shown().is_some() {
-            let quadrant = table.asymmetry(CPlaneSymmetry::Quadrant);
-            if quadrant > 0.05 {
+            let asymmetry = ugr::glare_zone_asymmetry(table);
+            if asymmetry > 0.05 {
                 notes.push(format!(
-                    "The UGR tables assume C0-C180 and C90-C270 symmetry, as CIE 190 does (it reads the intensities towards the observer in C0°–90°); this distribution departs from it by {:.0} %.",
-                    100.0 * quadrant
+                    "The UGR tables assume C0-C180 and C90-C270 symmetry, as CIE 190 does (it reads the intensities towards the observer in C0°–90°); at glare angles (γ 55°–85°) this distribution departs from it by up to {:.0} %.",
+                    100.0 * asymmetry
                 ));
             }
         }

@@ -51,6 +51,16 @@ fn keyword(p: &Photometry, names: &[&str]) -> Option<String> {
     })
 }
 
+/// A label without the quotes some files put round it, trimmed.
+fn label(s: &str) -> String {
+    let t = s.trim();
+    let unquoted = t
+        .strip_prefix('"')
+        .and_then(|r| r.strip_suffix('"'))
+        .unwrap_or(t);
+    unquoted.trim().to_owned()
+}
+
 pub fn luminaire_data(p: &Photometry) -> LuminaireData {
     let lamp_flux_lm = p.lamp_flux_lm();
     let luminaire_flux_lm = p.table.flux_lm();
@@ -64,13 +74,13 @@ pub fn luminaire_data(p: &Photometry) -> LuminaireData {
     let name = [&p.meta.luminaire, &p.meta.catalog_number]
         .into_iter()
         .find(|s| !s.trim().is_empty())
-        .map_or("Luminaire".to_owned(), |s| s.trim().to_owned());
+        .map_or("Luminaire".to_owned(), |s| label(s));
     LuminaireData {
         name,
-        manufacturer: p.meta.manufacturer.trim().to_owned(),
-        catalogue_number: p.meta.catalog_number.trim().to_owned(),
-        test_report: p.meta.test_report.trim().to_owned(),
-        issue_date: p.meta.issue_date.trim().to_owned(),
+        manufacturer: label(&p.meta.manufacturer),
+        catalogue_number: label(&p.meta.catalog_number),
+        test_report: label(&p.meta.test_report),
+        issue_date: label(&p.meta.issue_date),
         file_format: p.format.to_string(),
         photometry: if p.meta.absolute { "absolute" } else { "relative" },
         luminaire_dimensions: p.meta.luminaire_dimensions,

@@ -82,10 +82,10 @@ impl Opening {
 pub const LUMINANCE_GAMMAS_DEG: [f64; 9] = [45.0, 50.0, 55.0, 60.0, 65.0, 70.0, 75.0, 80.0, 85.0];
 pub const LUMINANCE_PLANES_DEG: [f64; 3] = [0.0, 45.0, 90.0];
 
-/// EN 12464-1 (2011 table 4, 2021 table 7): the average luminance of
+/// EN 12464-1:2011 (4.9.2, table 4, case A): the average luminance of
 /// luminaires that can be reflected in a screen, at elevation angles γ ≥
-/// 65° all around, for screens of high state luminance above 200 cd/m²
-/// (3000 cd/m²) and at most 200 cd/m² (1500 cd/m²).
+/// 65° radially around the luminaire, for screens of high state luminance
+/// above 200 cd/m² (3000 cd/m²) and at most 200 cd/m² (1500 cd/m²).
 pub const SCREEN_LIMIT_GAMMA_DEG: f64 = 65.0;
 pub const SCREEN_LIMITS_CD_M2: [(f64, &str); 2] = [
     (3000.0, "screens with high state luminance L > 200 cd/m²"),
@@ -118,12 +118,13 @@ pub fn luminance_table(table: &CandelaTable, opening: &Opening) -> LuminanceTabl
         .iter()
         .map(|&g| LUMINANCE_PLANES_DEG.iter().map(|&c| l(c, g)).collect())
         .collect();
-    // All around the luminaire, every 5° of C and 1° of γ from 65° to 90°
-    // (at 90° a box still shows its sides).
+    // All around the luminaire, every 5° of C and 1° of γ from 65° to 85°
+    // as datasheets evaluate it (towards 90° a flat opening's projected
+    // area vanishes and the quotient means nothing).
     let mut max = 0.0f64;
     for ci in 0..72 {
         let c = ci as f64 * 5.0;
-        for gi in 0..=25 {
+        for gi in 0..=20 {
             let g = SCREEN_LIMIT_GAMMA_DEG + gi as f64;
             let a = opening.projected_area_m2(c, g);
             if a > 0.0 {

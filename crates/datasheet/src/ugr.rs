@@ -221,6 +221,29 @@ pub fn glare_sum(klm: &CandelaTable, opening: &Opening, x: f64, y: f64, spacing:
     sum
 }
 
+/// How far the intensities at glare angles (γ 55°–85°) depart from
+/// C0-C180 and C90-C270 symmetry, which the method assumes (it reads C in
+/// 0°–90° only): the largest difference between a direction and its
+/// mirror images, relative to the larger of the two.
+pub fn glare_zone_asymmetry(table: &CandelaTable) -> f64 {
+    let mut worst = 0.0f64;
+    for g in (55..=85).step_by(5) {
+        let g = g as f64;
+        for c in (0..=90).step_by(15) {
+            let c = c as f64;
+            let i = table.intensity(c, g);
+            for mirror in [180.0 - c, 180.0 + c, 360.0 - c] {
+                let j = table.intensity(mirror, g);
+                let top = i.max(j);
+                if top > 0.0 {
+                    worst = worst.max((i - j).abs() / top);
+                }
+            }
+        }
+    }
+    worst
+}
+
 /// The UGR of one cell from its glare sum and background.
 fn ugr(sum: f64, e_wid: f64) -> f64 {
     8.0 * (std::f64::consts::PI / 4.0 * sum / e_wid).log10()

@@ -226,6 +226,7 @@ impl ExportDialog {
             exr: self.exr,
             cube_png: self.cube_png,
             polar_png: self.polar_png,
+            datasheet: false,
         }
     }
 }

@@ -250,6 +250,9 @@ pub struct ExportFormats {
     pub cube_png: bool,
     /// `STEM_polar.png`: the polar diagram.
     pub polar_png: bool,
+    /// `STEM_datasheet.html`, `.pdf` and `.json`: the photometric
+    /// datasheet of the exported table (`lucerna_datasheet`).
+    pub datasheet: bool,
 }
 
 impl Default for ExportFormats {
@@ -260,13 +263,19 @@ impl Default for ExportFormats {
             exr: true,
             cube_png: true,
             polar_png: true,
+            datasheet: false,
         }
     }
 }
 
 impl ExportFormats {
     pub fn is_empty(&self) -> bool {
-        !(self.ies.is_some() || self.ldt || self.exr || self.cube_png || self.polar_png)
+        !(self.ies.is_some()
+            || self.ldt
+            || self.exr
+            || self.cube_png
+            || self.polar_png
+            || self.datasheet)
     }
 }
 
@@ -284,6 +293,8 @@ pub struct ExportRequest {
     pub out_dir: PathBuf,
     /// The files' base name: `STEM.ies`, `STEM_polar.png`, …
     pub stem: String,
+    /// What the datasheet shows beyond the table (UGR spacings, outdoor).
+    pub datasheet: lucerna_datasheet::DatasheetOptions,
 }
 
 /// Where an export stands.
@@ -337,12 +348,16 @@ impl ExportRequest {
     /// Every format of the snapshot's own table, as `lucerna bake` writes.
     pub fn new(snapshot: &Snapshot, options: ExportOptions, out_dir: &Path, stem: &str) -> Self {
         ExportRequest {
-            options,
             formats: ExportFormats::default(),
             filter: snapshot.settings.filter,
             grid: snapshot.settings.table,
             out_dir: out_dir.to_path_buf(),
             stem: stem.to_owned(),
+            datasheet: lucerna_datasheet::DatasheetOptions {
+                source_name: options.scene_file.clone(),
+                ..Default::default()
+            },
+            options,
         }
     }
 
@@ -477,6 +492,16 @@ impl ExportRequest {
             let polar = lucerna_pictures::polar_png(&photometry.table, per_klm, 640, &title)
                 .map_err(|e| picture("the polar diagram")(&e))?;
             outputs.push((format!("{stem}_polar.png"), polar));
+        }
+        if self.formats.datasheet {
+            report(ExportStage::Drawing("datasheet"));
+            let sheet = lucerna_datasheet::Datasheet::new(&photometry, &self.datasheet)
+                .map_err(|e| picture("the datasheet")(&e))?;
+            let rendered = sheet.render().map_err(|e| picture("the datasheet")(&e))?;
+            let stem = format!("{stem}_datasheet");
+            for (path, bytes) in rendered.files(&sheet, Path::new(""), &stem) {
+                outputs.push((path.to_string_lossy().into_owned(), bytes));
+            }
         }
         Ok(ExportedFiles {
             photometry,

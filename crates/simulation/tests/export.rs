@@ -108,6 +108,7 @@ fn keywords_of_the_scene_reach_the_ies_and_ldt_files() {
         exr: false,
         cube_png: false,
         polar_png: false,
+        datasheet: false,
     };
     let written = request.write(&snapshot).unwrap();
     assert_eq!(written.len(), 2);
@@ -170,6 +171,7 @@ fn files_are_written_all_or_none() {
         exr: false,
         cube_png: false,
         polar_png: false,
+        datasheet: false,
     };
     assert!(none.render(&snapshot).is_err());
     for stem in ["", "a/b", ".."] {
@@ -212,6 +214,7 @@ fn the_spots_files_carry_the_maps_photometry_on_the_automatic_grid() {
         exr: false,
         cube_png: false,
         polar_png: false,
+        datasheet: false,
     };
     let files = request.render(&snapshot).unwrap();
     assert_eq!(files.fidelity, *fidelity);

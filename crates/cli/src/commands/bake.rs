@@ -66,6 +66,9 @@ pub enum FileFormat {
     Cube,
     /// STEM_polar.png, the polar diagram
     Polar,
+    /// STEM_datasheet.html, .pdf and .json: the photometric datasheet
+    /// with the UGR table (`lucerna report` writes the same)
+    Datasheet,
 }
 
 /// Whether photons are pooled over the luminaire's symmetry.
@@ -148,6 +151,9 @@ pub struct BakeArgs {
     /// default): the same date makes a bake reproducible to the byte.
     #[arg(long)]
     pub date: Option<String>,
+    /// The datasheet's UGR spacings and outdoor rating (`--formats datasheet`).
+    #[command(flatten)]
+    pub sheet: super::report::DatasheetArgs,
 }
 
 /// "30s", "2m", "1.5h", "500ms", or plain seconds.
@@ -244,6 +250,7 @@ pub fn formats(formats: &[FileFormat], version: IesVersionArg) -> ExportFormats 
         exr: formats.contains(&FileFormat::Exr),
         cube_png: formats.contains(&FileFormat::Cube),
         polar_png: formats.contains(&FileFormat::Polar),
+        datasheet: formats.contains(&FileFormat::Datasheet),
     }
 }
 
@@ -373,6 +380,11 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
     });
     let mut request = ExportRequest::new(&snapshot, options, &args.out, &stem);
     request.formats = formats(&args.formats, args.ies_version);
+    request.datasheet = args.sheet.options(
+        args.scene
+            .file_name()
+            .map_or(String::new(), |s| s.to_string_lossy().into_owned()),
+    );
     let files = request.write(&snapshot)?;
     Ok(BakeSummary {
         files,
