@@ -78,7 +78,10 @@ fn rating(values: &[f64], limits: &[impl AsRef<[f64]>]) -> u8 {
 /// rule on 0.25° × 0.5° cells of the table's interpolant.
 fn zone_flux(table: &CandelaTable, g0: f64, g1: f64, c0: f64, c1: f64) -> f64 {
     let (dg, dc) = (0.25f64, 0.5f64);
-    let (ng, nc) = (((g1 - g0) / dg).round() as usize, ((c1 - c0) / dc).round() as usize);
+    let (ng, nc) = (
+        ((g1 - g0) / dg).round() as usize,
+        ((c1 - c0) / dc).round() as usize,
+    );
     let mut sum = 0.0;
     for i in 0..ng {
         let g = g0 + (i as f64 + 0.5) * dg;
@@ -154,7 +157,9 @@ mod tests {
         let i = 100.0;
         let table = CandelaTable::from_fn(5.0, 1.0, |_, _| i);
         let r = bug_rating(&table, BugOrientation::FrontAtC0);
-        let exact = |g0: f64, g1: f64| std::f64::consts::PI * i * (g0.to_radians().cos() - g1.to_radians().cos());
+        let exact = |g0: f64, g1: f64| {
+            std::f64::consts::PI * i * (g0.to_radians().cos() - g1.to_radians().cos())
+        };
         let z = r.zones_lm;
         for (got, want) in [
             (z.fl, exact(0.0, 30.0)),
@@ -173,14 +178,26 @@ mod tests {
     fn a_full_cutoff_forward_throw_is_b0_u0() {
         // 200 cd towards the street (C90) only, below 60°: 0 lm back and up.
         let table = CandelaTable::from_fn(5.0, 1.0, |c, g| {
-            if g < 60.0 && c > 5.0 && c < 175.0 { 200.0 } else { 0.0 }
+            if g < 60.0 && c > 5.0 && c < 175.0 {
+                200.0
+            } else {
+                0.0
+            }
         });
         let r = bug_rating(&table, BugOrientation::FrontAtC90);
-        assert_eq!((r.backlight, r.uplight, r.glare), (0, 0, 0), "{:?}", r.zones_lm);
+        assert_eq!(
+            (r.backlight, r.uplight, r.glare),
+            (0, 0, 0),
+            "{:?}",
+            r.zones_lm
+        );
         assert_eq!(r.label, "B0 U0 G0");
         // Read as IES road data, the same light is half backlight.
         let r = bug_rating(&table, BugOrientation::FrontAtC0);
         let z = r.zones_lm;
-        assert!(z.bl > 30.0 && (z.bl - z.fl).abs() < 1e-9 && (z.bm - z.fm).abs() < 1e-9, "{z:?}");
+        assert!(
+            z.bl > 30.0 && (z.bl - z.fl).abs() < 1e-9 && (z.bm - z.fm).abs() < 1e-9,
+            "{z:?}"
+        );
     }
 }

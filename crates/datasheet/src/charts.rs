@@ -41,7 +41,9 @@ fn curve_angles(table: &CandelaTable, limit_deg: f64) -> Vec<f64> {
     let grid: Vec<f64> = if g.len() <= 1500 {
         g
     } else {
-        (0..=(limit_deg / 0.25) as usize).map(|k| k as f64 * 0.25).collect()
+        (0..=(limit_deg / 0.25) as usize)
+            .map(|k| k as f64 * 0.25)
+            .collect()
     };
     let mut angles: Vec<f64> = grid.iter().rev().map(|&x| -x).collect();
     angles.extend(grid.iter().copied().filter(|&x| x > 0.0));
@@ -58,7 +60,12 @@ fn curve_angles(table: &CandelaTable, limit_deg: f64) -> Vec<f64> {
 fn plane_legend(svg: &mut Svg, x: f64, y: f64) {
     svg.polyline(&[[x, y - 3.0], [x + 16.0, y - 3.0]], C0_COLOUR, 1.4, "");
     svg.text(x + 20.0, y, 7.5, Anchor::Start, INK, "C0 – C180");
-    svg.polyline(&[[x + 72.0, y - 3.0], [x + 88.0, y - 3.0]], C90_COLOUR, 1.4, "4 2");
+    svg.polyline(
+        &[[x + 72.0, y - 3.0], [x + 88.0, y - 3.0]],
+        C90_COLOUR,
+        1.4,
+        "4 2",
+    );
     svg.text(x + 92.0, y, 7.5, Anchor::Start, INK, "C90 – C270");
 }
 
@@ -108,7 +115,15 @@ pub fn polar(svg: &mut Svg, frame: Frame, table: &CandelaTable, factor: f64) {
     }
     for k in 1..=rings {
         let v = step * k as f64;
-        svg.text(cx + 2.0, cy + r * k as f64 / rings as f64 - 1.5, 6.0, Anchor::Start, MUTED, &tick_label(v));
+        // Along the upward spoke, where a downlight's curves are not.
+        svg.text(
+            cx + 2.0,
+            cy - r * k as f64 / rings as f64 + 7.0,
+            6.0,
+            Anchor::Start,
+            MUTED,
+            &tick_label(v),
+        );
     }
     let angles = curve_angles(table, 180.0);
     for (c, colour, dash) in [(0.0, C0_COLOUR, ""), (90.0, C90_COLOUR, "4 2")] {
@@ -119,7 +134,14 @@ pub fn polar(svg: &mut Svg, frame: Frame, table: &CandelaTable, factor: f64) {
         svg.polyline(&points, colour, 1.3, dash);
     }
     svg.text(frame.x, frame.y + 7.0, 7.0, Anchor::Start, MUTED, "cd/klm");
-    svg.text(frame.x + frame.w, frame.y + 7.0, 6.5, Anchor::End, MUTED, "C180 / C270 left · C0 / C90 right");
+    svg.text(
+        frame.x + frame.w,
+        frame.y + 7.0,
+        6.5,
+        Anchor::End,
+        MUTED,
+        "C180 / C270 left · C0 / C90 right",
+    );
     plane_legend(svg, cx - 60.0, frame.y + frame.h - 2.0);
 }
 
@@ -136,14 +158,28 @@ pub fn cartesian(svg: &mut Svg, frame: Frame, table: &CandelaTable, factor: f64,
     let mut t = -(limit_deg / x_step).floor() * x_step;
     while t <= limit_deg + 1e-9 {
         svg.line(x_of(t), top_y, x_of(t), bottom, GRID, 0.5);
-        svg.text(x_of(t), bottom + 9.0, 6.5, Anchor::Middle, MUTED, &format!("{}°", tick_label(t.abs())));
+        svg.text(
+            x_of(t),
+            bottom + 9.0,
+            6.5,
+            Anchor::Middle,
+            MUTED,
+            &format!("{}°", tick_label(t.abs())),
+        );
         t += x_step;
     }
     let ticks = (top / step).round() as usize;
     for k in 0..=ticks {
         let v = step * k as f64;
         svg.line(left, y_of(v), right, y_of(v), GRID, 0.5);
-        svg.text(left - 3.0, y_of(v) + 2.2, 6.5, Anchor::End, MUTED, &tick_label(v));
+        svg.text(
+            left - 3.0,
+            y_of(v) + 2.2,
+            6.5,
+            Anchor::End,
+            MUTED,
+            &tick_label(v),
+        );
     }
     svg.line(left, bottom, right, bottom, RULE, 0.7);
     svg.line(left, top_y, left, bottom, RULE, 0.7);
@@ -156,12 +192,21 @@ pub fn cartesian(svg: &mut Svg, frame: Frame, table: &CandelaTable, factor: f64,
         svg.polyline(&points, colour, 1.3, dash);
     }
     svg.text(frame.x, frame.y + 7.0, 7.0, Anchor::Start, MUTED, "cd/klm");
-    svg.text(0.5 * (left + right), bottom + 19.0, 7.0, Anchor::Middle, MUTED, "γ (C180 / C270 left, C0 / C90 right)");
+    svg.text(
+        0.5 * (left + right),
+        bottom + 19.0,
+        7.0,
+        Anchor::Middle,
+        MUTED,
+        "γ (C180 / C270 left, C0 / C90 right)",
+    );
     plane_legend(svg, 0.5 * (left + right) - 60.0, frame.y + frame.h - 2.0);
 }
 
 /// The levels' colours, from the outermost (5 %) to the peak.
-const LEVEL_COLOURS: [&str; 6] = ["#6a3d9a", "#1f78b4", "#33a02c", "#e6ab02", "#e6550d", "#b2182b"];
+const LEVEL_COLOURS: [&str; 6] = [
+    "#6a3d9a", "#1f78b4", "#33a02c", "#e6ab02", "#e6550d", "#b2182b",
+];
 
 /// The isocandela chart: lines of equal intensity at fractions of the
 /// peak, seen from below the luminaire in an azimuthal projection (γ
@@ -181,7 +226,14 @@ pub fn isocandela(svg: &mut Svg, frame: Frame, table: &CandelaTable, factor: f64
     let mut g = ring_step;
     while g <= g_max + 1e-9 {
         svg.circle(cx, cy, r * g / g_max, GRID, 0.5);
-        svg.text(cx + r * g / g_max * 0.707 + 1.0, cy - r * g / g_max * 0.707 - 1.0, 6.0, Anchor::Start, MUTED, &format!("γ {}°", tick_label(g)));
+        svg.text(
+            cx + r * g / g_max * 0.707 + 1.0,
+            cy - r * g / g_max * 0.707 - 1.0,
+            6.0,
+            Anchor::Start,
+            MUTED,
+            &format!("γ {}°", tick_label(g)),
+        );
         g += ring_step;
     }
     for k in 0..8 {
@@ -189,7 +241,14 @@ pub fn isocandela(svg: &mut Svg, frame: Frame, table: &CandelaTable, factor: f64
         let end = at(c, g_max);
         svg.line(cx, cy, end[0], end[1], GRID, 0.5);
         let label = at(c, g_max * (1.0 + 9.0 / r));
-        svg.text(label[0], label[1] + 2.2, 6.5, Anchor::Middle, MUTED, &format!("C{}", c as i64));
+        svg.text(
+            label[0],
+            label[1] + 2.2,
+            6.5,
+            Anchor::Middle,
+            MUTED,
+            &format!("C{}", c as i64),
+        );
     }
     let peak = factor * table.peak().0;
     let lines = isolines(table, range);
@@ -207,10 +266,31 @@ pub fn isocandela(svg: &mut Svg, frame: Frame, table: &CandelaTable, factor: f64
         let colour = LEVEL_COLOURS[i.min(LEVEL_COLOURS.len() - 1)];
         let x = frame.x + i as f64 * per;
         svg.polyline(&[[x, y - 3.0], [x + 10.0, y - 3.0]], colour, 1.6, "");
-        svg.text(x + 13.0, y, 6.5, Anchor::Start, INK, &format!("{:.0} %", 100.0 * line.level));
-        svg.text(x + 13.0, y + 9.0, 6.0, Anchor::Start, MUTED, &format!("{:.0}", line.level * peak));
+        svg.text(
+            x + 13.0,
+            y,
+            6.5,
+            Anchor::Start,
+            INK,
+            &format!("{:.0} %", 100.0 * line.level),
+        );
+        svg.text(
+            x + 13.0,
+            y + 9.0,
+            6.0,
+            Anchor::Start,
+            MUTED,
+            &format!("{:.0}", line.level * peak),
+        );
     }
-    svg.text(frame.x, frame.y + 7.0, 7.0, Anchor::Start, MUTED, "% of peak, cd/klm");
+    svg.text(
+        frame.x,
+        frame.y + 7.0,
+        7.0,
+        Anchor::Start,
+        MUTED,
+        "% of peak, cd/klm",
+    );
 }
 
 /// The cone diagram: the beam's cone from the luminaire down to 5 m, with
@@ -221,28 +301,70 @@ pub fn cone(svg: &mut Svg, frame: Frame, cone: &ConeDiagram) {
     let half_w = 0.22 * frame.w;
     let last = cone.rows.len().max(1) as f64;
     svg.polygon(
-        &[apex, [apex[0] - half_w, apex[1] + depth], [apex[0] + half_w, apex[1] + depth]],
+        &[
+            apex,
+            [apex[0] - half_w, apex[1] + depth],
+            [apex[0] + half_w, apex[1] + depth],
+        ],
         "#f7d774",
         0.55,
     );
-    svg.line(apex[0], apex[1], apex[0] - half_w, apex[1] + depth, RULE, 0.6);
-    svg.line(apex[0], apex[1], apex[0] + half_w, apex[1] + depth, RULE, 0.6);
+    svg.line(
+        apex[0],
+        apex[1],
+        apex[0] - half_w,
+        apex[1] + depth,
+        RULE,
+        0.6,
+    );
+    svg.line(
+        apex[0],
+        apex[1],
+        apex[0] + half_w,
+        apex[1] + depth,
+        RULE,
+        0.6,
+    );
     let x_text = frame.x + 0.58 * frame.w;
     svg.text(x_text, frame.y + 7.0, 6.5, Anchor::Start, MUTED, "E centre");
-    svg.text(x_text + 0.2 * frame.w, frame.y + 7.0, 6.5, Anchor::Start, MUTED, "⌀ C0 / C90 planes");
+    svg.text(
+        x_text + 0.2 * frame.w,
+        frame.y + 7.0,
+        6.5,
+        Anchor::Start,
+        MUTED,
+        "Ø C0 / C90 planes",
+    );
     for (k, row) in cone.rows.iter().enumerate() {
         let y = apex[1] + depth * (k as f64 + 1.0) / last;
         let w = half_w * (k as f64 + 1.0) / last;
         svg.line(apex[0] - w, y, apex[0] + w, y, INK, 0.6);
-        svg.text(apex[0] - half_w - 6.0, y + 2.2, 7.0, Anchor::End, INK, &format!("{} m", row.distance_m));
-        svg.text(x_text, y + 2.2, 7.0, Anchor::Start, INK, &format!("{:.0} lx", row.centre_lux));
+        svg.text(
+            apex[0] - half_w - 6.0,
+            y + 2.2,
+            7.0,
+            Anchor::End,
+            INK,
+            &format!("{} m", row.distance_m),
+        );
+        svg.text(
+            x_text,
+            y + 2.2,
+            7.0,
+            Anchor::Start,
+            INK,
+            &format!("{:.0} lx", row.centre_lux),
+        );
         svg.text(
             x_text + 0.2 * frame.w,
             y + 2.2,
             7.0,
             Anchor::Start,
             INK,
-            &format!("{:.2} / {:.2} m", row.beam_diameter_m[0], row.beam_diameter_m[1]),
+            &format!(
+                "{:.2} / {:.2} m",
+                row.beam_diameter_m[0], row.beam_diameter_m[1]
+            ),
         );
     }
     svg.text(

@@ -31,7 +31,9 @@ pub fn cone_diagram(
     beam_angle_deg: [Option<f64>; 2],
 ) -> Result<ConeDiagram, String> {
     let [Some(a), Some(b)] = beam_angle_deg else {
-        return Err("the intensity never falls to half its peak in a main plane: no beam to draw".into());
+        return Err(
+            "the intensity never falls to half its peak in a main plane: no beam to draw".into(),
+        );
     };
     if a.max(b) >= CONE_MAX_BEAM_DEG {
         return Err(format!(

@@ -52,18 +52,31 @@ impl Patch {
     /// The 2 × 2 Gauss-like sample points (at the quarter points).
     fn points(&self) -> [[f64; 3]; 4] {
         let h = 0.5;
-        [(-h, -h), (h, -h), (-h, h), (h, h)].map(|(a, b)| add(add(self.centre, scale(self.u, a)), scale(self.v, b)))
+        [(-h, -h), (h, -h), (-h, h), (h, h)]
+            .map(|(a, b)| add(add(self.centre, scale(self.u, a)), scale(self.v, b)))
     }
 }
 
 /// A rectangle from `origin` spanned by `a` and `b`, cut into na × nb
 /// patches facing `normal`.
-fn rectangle(origin: [f64; 3], a: [f64; 3], b: [f64; 3], na: usize, nb: usize, normal: [f64; 3], surface: usize, out: &mut Vec<Patch>) {
+fn rectangle(
+    origin: [f64; 3],
+    a: [f64; 3],
+    b: [f64; 3],
+    na: usize,
+    nb: usize,
+    normal: [f64; 3],
+    surface: usize,
+    out: &mut Vec<Patch>,
+) {
     let (da, db) = (scale(a, 1.0 / na as f64), scale(b, 1.0 / nb as f64));
     let area = dot(da, da).sqrt() * dot(db, db).sqrt();
     for i in 0..na {
         for j in 0..nb {
-            let centre = add(add(origin, scale(da, i as f64 + 0.5)), scale(db, j as f64 + 0.5));
+            let centre = add(
+                add(origin, scale(da, i as f64 + 0.5)),
+                scale(db, j as f64 + 0.5),
+            );
             out.push(Patch {
                 centre,
                 normal,
@@ -79,14 +92,72 @@ fn rectangle(origin: [f64; 3], a: [f64; 3], b: [f64; 3], na: usize, nb: usize, n
 /// The room's patches: X across (x), Y along the line of sight (y), H up.
 fn room_patches(x_m: f64, y_m: f64) -> Vec<Patch> {
     let h = H_M;
-    let (nx, ny, nz) = (((x_m / (0.5 * h)).round() as usize).max(1), ((y_m / (0.5 * h)).round() as usize).max(1), 4);
+    let (nx, ny, nz) = (
+        ((x_m / (0.5 * h)).round() as usize).max(1),
+        ((y_m / (0.5 * h)).round() as usize).max(1),
+        4,
+    );
     let mut p = Vec::new();
-    rectangle([0.0, 0.0, 0.0], [x_m, 0.0, 0.0], [0.0, y_m, 0.0], nx, ny, [0.0, 0.0, 1.0], 0, &mut p);
-    rectangle([0.0, 0.0, h], [x_m, 0.0, 0.0], [0.0, y_m, 0.0], nx, ny, [0.0, 0.0, -1.0], 2, &mut p);
-    rectangle([0.0, 0.0, 0.0], [x_m, 0.0, 0.0], [0.0, 0.0, h], nx, nz, [0.0, 1.0, 0.0], 1, &mut p);
-    rectangle([0.0, y_m, 0.0], [x_m, 0.0, 0.0], [0.0, 0.0, h], nx, nz, [0.0, -1.0, 0.0], 1, &mut p);
-    rectangle([0.0, 0.0, 0.0], [0.0, y_m, 0.0], [0.0, 0.0, h], ny, nz, [1.0, 0.0, 0.0], 1, &mut p);
-    rectangle([x_m, 0.0, 0.0], [0.0, y_m, 0.0], [0.0, 0.0, h], ny, nz, [-1.0, 0.0, 0.0], 1, &mut p);
+    rectangle(
+        [0.0, 0.0, 0.0],
+        [x_m, 0.0, 0.0],
+        [0.0, y_m, 0.0],
+        nx,
+        ny,
+        [0.0, 0.0, 1.0],
+        0,
+        &mut p,
+    );
+    rectangle(
+        [0.0, 0.0, h],
+        [x_m, 0.0, 0.0],
+        [0.0, y_m, 0.0],
+        nx,
+        ny,
+        [0.0, 0.0, -1.0],
+        2,
+        &mut p,
+    );
+    rectangle(
+        [0.0, 0.0, 0.0],
+        [x_m, 0.0, 0.0],
+        [0.0, 0.0, h],
+        nx,
+        nz,
+        [0.0, 1.0, 0.0],
+        1,
+        &mut p,
+    );
+    rectangle(
+        [0.0, y_m, 0.0],
+        [x_m, 0.0, 0.0],
+        [0.0, 0.0, h],
+        nx,
+        nz,
+        [0.0, -1.0, 0.0],
+        1,
+        &mut p,
+    );
+    rectangle(
+        [0.0, 0.0, 0.0],
+        [0.0, y_m, 0.0],
+        [0.0, 0.0, h],
+        ny,
+        nz,
+        [1.0, 0.0, 0.0],
+        1,
+        &mut p,
+    );
+    rectangle(
+        [x_m, 0.0, 0.0],
+        [0.0, y_m, 0.0],
+        [0.0, 0.0, h],
+        ny,
+        nz,
+        [-1.0, 0.0, 0.0],
+        1,
+        &mut p,
+    );
     p
 }
 
@@ -147,7 +218,10 @@ pub struct DirectRoom {
 /// The direct evaluation of every standard room for `klm` (cd per 1000 lm
 /// of lamps) at spacing `s` (in H).
 pub fn direct_ugr(klm: &CandelaTable, opening: &Opening, s: f64) -> Vec<DirectRoom> {
-    ROOMS.iter().map(|&(x, y)| direct_room(klm, opening, x, y, s)).collect()
+    ROOMS
+        .iter()
+        .map(|&(x, y)| direct_room(klm, opening, x, y, s))
+        .collect()
 }
 
 pub fn direct_room(klm: &CandelaTable, opening: &Opening, x: f64, y: f64, s: f64) -> DirectRoom {
@@ -180,7 +254,9 @@ pub fn direct_room(klm: &CandelaTable, opening: &Opening, x: f64, y: f64, s: f64
         .collect();
     for l in &lights {
         if let Some(k) = patches.iter().position(|p| {
-            p.surface == 2 && (l[0] - p.centre[0]).abs() <= p.u[0].abs() + 1e-9 && (l[1] - p.centre[1]).abs() <= p.v[1].abs() + 1e-9
+            p.surface == 2
+                && (l[0] - p.centre[0]).abs() <= p.u[0].abs() + 1e-9
+                && (l[1] - p.centre[1]).abs() <= p.v[1].abs() + 1e-9
         }) {
             direct[k] += upward_lm / patches[k].area;
         }
@@ -207,7 +283,11 @@ pub fn direct_room(klm: &CandelaTable, opening: &Opening, x: f64, y: f64, s: f64
                     let r2 = dot(d, d);
                     let ce = d[1] / r2.sqrt();
                     let cp = -dot(p.normal, d) / r2.sqrt();
-                    if ce > 0.0 && cp > 0.0 { ce * cp / (std::f64::consts::PI * r2) } else { 0.0 }
+                    if ce > 0.0 && cp > 0.0 {
+                        ce * cp / (std::f64::consts::PI * r2)
+                    } else {
+                        0.0
+                    }
                 })
                 .sum::<f64>()
                 * p.area
@@ -222,7 +302,11 @@ pub fn direct_room(klm: &CandelaTable, opening: &Opening, x: f64, y: f64, s: f64
             1 => rho[1],
             _ => rho[0],
         };
-        let mut exitance: Vec<f64> = patches.iter().zip(&direct).map(|(p, e)| reflectance(p) * e).collect();
+        let mut exitance: Vec<f64> = patches
+            .iter()
+            .zip(&direct)
+            .map(|(p, e)| reflectance(p) * e)
+            .collect();
         for _ in 0..200 {
             let mut change = 0.0f64;
             for i in 0..n {
@@ -262,7 +346,13 @@ pub fn direct_room(klm: &CandelaTable, opening: &Opening, x: f64, y: f64, s: f64
 
 /// Σ I² / (A_p D² p²) over the luminaires, each at its own place, with
 /// the eye looking along +y.
-fn glare_sum_direct(klm: &CandelaTable, opening: &Opening, lights: &[[f64; 3]], eye: [f64; 3], endwise: bool) -> f64 {
+fn glare_sum_direct(
+    klm: &CandelaTable,
+    opening: &Opening,
+    lights: &[[f64; 3]],
+    eye: [f64; 3],
+    endwise: bool,
+) -> f64 {
     // Endwise the luminaires are turned a quarter: their C0 axis across
     // the line of sight.
     let c0_axis = if endwise { [1.0, 0.0] } else { [0.0, 1.0] };

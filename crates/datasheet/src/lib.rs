@@ -141,7 +141,16 @@ pub struct Datasheet {
 
 /// Words in a luminaire's labels that mark it as an outdoor one.
 const OUTDOOR_WORDS: [&str; 10] = [
-    "road", "street", "area", "flood", "outdoor", "bollard", "post top", "post-top", "wall pack", "roadway",
+    "road",
+    "street",
+    "area",
+    "flood",
+    "outdoor",
+    "bollard",
+    "post top",
+    "post-top",
+    "wall pack",
+    "roadway",
 ];
 
 fn looks_outdoor(p: &Photometry) -> Option<String> {
@@ -149,7 +158,10 @@ fn looks_outdoor(p: &Photometry) -> Option<String> {
     labels.extend(p.meta.keywords.iter().map(|(_, v)| v.clone()));
     labels.iter().find_map(|l| {
         let lower = l.to_lowercase();
-        OUTDOOR_WORDS.iter().find(|w| lower.contains(*w)).map(|w| (*w).to_owned())
+        OUTDOOR_WORDS
+            .iter()
+            .find(|w| lower.contains(*w))
+            .map(|w| (*w).to_owned())
     })
 }
 
@@ -173,7 +185,12 @@ impl Datasheet {
         let mut notes = Vec::new();
 
         let gammas = table.gammas_deg.clone();
-        let curve = |c: f64| gammas.iter().map(|&g| factor * table.intensity(c, g)).collect();
+        let curve = |c: f64| {
+            gammas
+                .iter()
+                .map(|&g| factor * table.intensity(c, g))
+                .collect()
+        };
         let polar_curves = PolarCurves {
             c0: curve(0.0),
             c180: curve(180.0),
@@ -308,7 +325,10 @@ impl RenderedDatasheet {
     /// (every figure), to be written all or none.
     pub fn files(&self, sheet: &Datasheet, dir: &Path, stem: &str) -> Vec<(PathBuf, Vec<u8>)> {
         vec![
-            (dir.join(format!("{stem}.html")), self.html.clone().into_bytes()),
+            (
+                dir.join(format!("{stem}.html")),
+                self.html.clone().into_bytes(),
+            ),
             (dir.join(format!("{stem}.pdf")), self.pdf.clone()),
             (dir.join(format!("{stem}.json")), sheet.json().into_bytes()),
         ]

@@ -46,7 +46,10 @@ pub struct LampLine {
 /// leading underscore ignored) among `names`.
 fn keyword(p: &Photometry, names: &[&str]) -> Option<String> {
     p.meta.keywords.iter().find_map(|(k, v)| {
-        let key = k.trim_matches(|c| c == '[' || c == ']').trim_start_matches('_').to_ascii_uppercase();
+        let key = k
+            .trim_matches(|c| c == '[' || c == ']')
+            .trim_start_matches('_')
+            .to_ascii_uppercase();
         (names.contains(&key.as_str()) && !v.trim().is_empty()).then(|| v.trim().to_owned())
     })
 }
@@ -69,7 +72,12 @@ pub fn luminaire_data(p: &Photometry) -> LuminaireData {
         .into_iter()
         .find(|w| w.is_finite() && *w > 0.0);
     let first_lamp = |f: fn(&lucerna_photometry::LampSet) -> &String| {
-        p.meta.lamps.iter().map(f).find(|s| !s.trim().is_empty()).map(|s| s.trim().to_owned())
+        p.meta
+            .lamps
+            .iter()
+            .map(f)
+            .find(|s| !s.trim().is_empty())
+            .map(|s| s.trim().to_owned())
     };
     let name = [&p.meta.luminaire, &p.meta.catalog_number]
         .into_iter()
@@ -82,7 +90,11 @@ pub fn luminaire_data(p: &Photometry) -> LuminaireData {
         test_report: label(&p.meta.test_report),
         issue_date: label(&p.meta.issue_date),
         file_format: p.format.to_string(),
-        photometry: if p.meta.absolute { "absolute" } else { "relative" },
+        photometry: if p.meta.absolute {
+            "absolute"
+        } else {
+            "relative"
+        },
         luminaire_dimensions: p.meta.luminaire_dimensions,
         luminous_opening: p.meta.luminous_area,
         lamps: p
@@ -102,7 +114,12 @@ pub fn luminaire_data(p: &Photometry) -> LuminaireData {
         power_w,
         efficacy_lm_per_w: power_w.map(|w| luminaire_flux_lm / w),
         cct: first_lamp(|l| &l.colour_temperature)
-            .or_else(|| keyword(p, &["CCT", "COLORTEMP", "COLOURTEMP", "COLOR_TEMP", "LAMPCOLOR"]))
+            .or_else(|| {
+                keyword(
+                    p,
+                    &["CCT", "COLORTEMP", "COLOURTEMP", "COLOR_TEMP", "LAMPCOLOR"],
+                )
+            })
             .unwrap_or_default(),
         cri: first_lamp(|l| &l.colour_rendering)
             .or_else(|| keyword(p, &["CRI", "RA", "COLORRENDERING", "COLOUR_RENDERING"]))
@@ -110,17 +127,21 @@ pub fn luminaire_data(p: &Photometry) -> LuminaireData {
     }
 }
 
-/// "600 × 300 × 40 mm", "⌀ 120 × 40 mm", or "—" where the file gives none.
+/// "600 × 300 × 40 mm", "Ø 120 × 40 mm", or "—" where the file gives none.
 pub fn describe_dimensions(d: &Dimensions) -> String {
     let mm = |m: f64| {
         let v = m.abs() * 1000.0;
-        if v >= 100.0 { format!("{v:.0}") } else { format!("{v:.1}") }
+        if v >= 100.0 {
+            format!("{v:.0}")
+        } else {
+            format!("{v:.1}")
+        }
     };
     if d.length_m == 0.0 && d.width_m == 0.0 && d.height_m == 0.0 {
         return "—".to_owned();
     }
     let base = if d.circular {
-        format!("⌀ {}", mm(d.length_m))
+        format!("Ø {}", mm(d.length_m))
     } else {
         format!("{} × {}", mm(d.length_m), mm(d.width_m))
     };

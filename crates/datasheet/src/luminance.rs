@@ -196,7 +196,9 @@ mod tests {
             height_m: 0.0,
             circular: true,
         };
-        assert!((disk.projected_area_m2(30.0, 60.0) - 0.5 * 0.01 * std::f64::consts::PI).abs() < 1e-12);
+        assert!(
+            (disk.projected_area_m2(30.0, 60.0) - 0.5 * 0.01 * std::f64::consts::PI).abs() < 1e-12
+        );
     }
 
     #[test]

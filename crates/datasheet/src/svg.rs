@@ -144,7 +144,15 @@ impl Svg {
     }
 
     /// Text rotated about its anchor by `degrees` (an axis label).
-    pub fn text_rotated(&mut self, x: f64, y: f64, size: f64, degrees: f64, fill: &str, text: &str) {
+    pub fn text_rotated(
+        &mut self,
+        x: f64,
+        y: f64,
+        size: f64,
+        degrees: f64,
+        fill: &str,
+        text: &str,
+    ) {
         let _ = writeln!(
             self.body,
             r#"<text x="{x:.2}" y="{y:.2}" font-size="{size:.2}" text-anchor="middle" fill="{fill}" transform="rotate({degrees:.1} {x:.2} {y:.2})">{}</text>"#,
@@ -166,7 +174,13 @@ impl Svg {
         }
         let mut d = String::new();
         for (i, p) in points.iter().enumerate() {
-            let _ = write!(d, "{}{:.2} {:.2}", if i == 0 { "M" } else { " L" }, p[0], p[1]);
+            let _ = write!(
+                d,
+                "{}{:.2} {:.2}",
+                if i == 0 { "M" } else { " L" },
+                p[0],
+                p[1]
+            );
         }
         let dash = if dash.is_empty() {
             String::new()
@@ -195,7 +209,10 @@ impl Svg {
 
     /// A filled closed polygon.
     pub fn polygon(&mut self, points: &[[f64; 2]], fill: &str, opacity: f64) {
-        let pts: Vec<String> = points.iter().map(|p| format!("{:.2},{:.2}", p[0], p[1])).collect();
+        let pts: Vec<String> = points
+            .iter()
+            .map(|p| format!("{:.2},{:.2}", p[0], p[1]))
+            .collect();
         let _ = writeln!(
             self.body,
             r#"<polygon points="{}" fill="{fill}" fill-opacity="{opacity:.2}" stroke="none"/>"#,

@@ -101,34 +101,152 @@ const F_GL: [[f64; 4]; 19] = [
 /// indirect illuminance, per room of [`ROOMS`] and set of
 /// [`REFLECTANCES`].
 const F_T: [[[f64; 3]; 5]; 19] = [
-    [[0.220, 0.422, 0.646], [0.188, 0.217, 0.553], [0.198, 0.380, 0.445], [0.172, 0.198, 0.386], [0.157, 0.181, 0.227]],
-    [[0.199, 0.376, 0.571], [0.173, 0.196, 0.497], [0.178, 0.338, 0.393], [0.157, 0.179, 0.346], [0.141, 0.162, 0.203]],
-    [[0.187, 0.351, 0.531], [0.164, 0.184, 0.465], [0.166, 0.314, 0.365], [0.148, 0.167, 0.324], [0.132, 0.151, 0.190]],
-    [[0.174, 0.322, 0.488], [0.154, 0.171, 0.432], [0.154, 0.287, 0.335], [0.138, 0.155, 0.301], [0.123, 0.139, 0.176]],
-    [[0.167, 0.307, 0.466], [0.149, 0.164, 0.415], [0.147, 0.273, 0.320], [0.133, 0.147, 0.288], [0.118, 0.132, 0.169]],
-    [[0.160, 0.290, 0.443], [0.143, 0.156, 0.397], [0.141, 0.257, 0.304], [0.128, 0.140, 0.276], [0.113, 0.124, 0.161]],
-    [[0.187, 0.351, 0.531], [0.164, 0.184, 0.465], [0.166, 0.314, 0.364], [0.148, 0.167, 0.324], [0.132, 0.151, 0.190]],
-    [[0.158, 0.295, 0.439], [0.142, 0.159, 0.393], [0.140, 0.263, 0.301], [0.126, 0.143, 0.272], [0.112, 0.128, 0.159]],
-    [[0.142, 0.265, 0.389], [0.129, 0.144, 0.351], [0.125, 0.235, 0.267], [0.114, 0.129, 0.244], [0.100, 0.115, 0.142]],
-    [[0.124, 0.230, 0.335], [0.114, 0.127, 0.307], [0.108, 0.204, 0.230], [0.100, 0.113, 0.212], [0.087, 0.101, 0.124]],
-    [[0.115, 0.211, 0.307], [0.106, 0.117, 0.283], [0.100, 0.187, 0.211], [0.093, 0.104, 0.196], [0.081, 0.092, 0.114]],
-    [[0.105, 0.190, 0.279], [0.098, 0.106, 0.259], [0.091, 0.167, 0.191], [0.085, 0.094, 0.179], [0.074, 0.083, 0.104]],
-    [[0.115, 0.211, 0.307], [0.106, 0.117, 0.283], [0.100, 0.187, 0.211], [0.093, 0.104, 0.196], [0.081, 0.092, 0.114]],
-    [[0.094, 0.175, 0.247], [0.088, 0.098, 0.231], [0.081, 0.154, 0.169], [0.076, 0.087, 0.158], [0.066, 0.077, 0.092]],
-    [[0.083, 0.155, 0.215], [0.078, 0.088, 0.203], [0.071, 0.137, 0.147], [0.067, 0.078, 0.140], [0.058, 0.069, 0.081]],
-    [[0.071, 0.133, 0.183], [0.067, 0.076, 0.174], [0.061, 0.117, 0.125], [0.058, 0.067, 0.120], [0.049, 0.059, 0.069]],
-    [[0.105, 0.190, 0.279], [0.098, 0.106, 0.259], [0.091, 0.167, 0.191], [0.085, 0.094, 0.179], [0.074, 0.083, 0.104]],
-    [[0.083, 0.153, 0.216], [0.078, 0.086, 0.204], [0.071, 0.134, 0.148], [0.068, 0.077, 0.140], [0.058, 0.067, 0.081]],
-    [[0.071, 0.133, 0.183], [0.067, 0.076, 0.174], [0.061, 0.117, 0.125], [0.058, 0.067, 0.120], [0.049, 0.059, 0.069]],
+    [
+        [0.220, 0.422, 0.646],
+        [0.188, 0.217, 0.553],
+        [0.198, 0.380, 0.445],
+        [0.172, 0.198, 0.386],
+        [0.157, 0.181, 0.227],
+    ],
+    [
+        [0.199, 0.376, 0.571],
+        [0.173, 0.196, 0.497],
+        [0.178, 0.338, 0.393],
+        [0.157, 0.179, 0.346],
+        [0.141, 0.162, 0.203],
+    ],
+    [
+        [0.187, 0.351, 0.531],
+        [0.164, 0.184, 0.465],
+        [0.166, 0.314, 0.365],
+        [0.148, 0.167, 0.324],
+        [0.132, 0.151, 0.190],
+    ],
+    [
+        [0.174, 0.322, 0.488],
+        [0.154, 0.171, 0.432],
+        [0.154, 0.287, 0.335],
+        [0.138, 0.155, 0.301],
+        [0.123, 0.139, 0.176],
+    ],
+    [
+        [0.167, 0.307, 0.466],
+        [0.149, 0.164, 0.415],
+        [0.147, 0.273, 0.320],
+        [0.133, 0.147, 0.288],
+        [0.118, 0.132, 0.169],
+    ],
+    [
+        [0.160, 0.290, 0.443],
+        [0.143, 0.156, 0.397],
+        [0.141, 0.257, 0.304],
+        [0.128, 0.140, 0.276],
+        [0.113, 0.124, 0.161],
+    ],
+    [
+        [0.187, 0.351, 0.531],
+        [0.164, 0.184, 0.465],
+        [0.166, 0.314, 0.364],
+        [0.148, 0.167, 0.324],
+        [0.132, 0.151, 0.190],
+    ],
+    [
+        [0.158, 0.295, 0.439],
+        [0.142, 0.159, 0.393],
+        [0.140, 0.263, 0.301],
+        [0.126, 0.143, 0.272],
+        [0.112, 0.128, 0.159],
+    ],
+    [
+        [0.142, 0.265, 0.389],
+        [0.129, 0.144, 0.351],
+        [0.125, 0.235, 0.267],
+        [0.114, 0.129, 0.244],
+        [0.100, 0.115, 0.142],
+    ],
+    [
+        [0.124, 0.230, 0.335],
+        [0.114, 0.127, 0.307],
+        [0.108, 0.204, 0.230],
+        [0.100, 0.113, 0.212],
+        [0.087, 0.101, 0.124],
+    ],
+    [
+        [0.115, 0.211, 0.307],
+        [0.106, 0.117, 0.283],
+        [0.100, 0.187, 0.211],
+        [0.093, 0.104, 0.196],
+        [0.081, 0.092, 0.114],
+    ],
+    [
+        [0.105, 0.190, 0.279],
+        [0.098, 0.106, 0.259],
+        [0.091, 0.167, 0.191],
+        [0.085, 0.094, 0.179],
+        [0.074, 0.083, 0.104],
+    ],
+    [
+        [0.115, 0.211, 0.307],
+        [0.106, 0.117, 0.283],
+        [0.100, 0.187, 0.211],
+        [0.093, 0.104, 0.196],
+        [0.081, 0.092, 0.114],
+    ],
+    [
+        [0.094, 0.175, 0.247],
+        [0.088, 0.098, 0.231],
+        [0.081, 0.154, 0.169],
+        [0.076, 0.087, 0.158],
+        [0.066, 0.077, 0.092],
+    ],
+    [
+        [0.083, 0.155, 0.215],
+        [0.078, 0.088, 0.203],
+        [0.071, 0.137, 0.147],
+        [0.067, 0.078, 0.140],
+        [0.058, 0.069, 0.081],
+    ],
+    [
+        [0.071, 0.133, 0.183],
+        [0.067, 0.076, 0.174],
+        [0.061, 0.117, 0.125],
+        [0.058, 0.067, 0.120],
+        [0.049, 0.059, 0.069],
+    ],
+    [
+        [0.105, 0.190, 0.279],
+        [0.098, 0.106, 0.259],
+        [0.091, 0.167, 0.191],
+        [0.085, 0.094, 0.179],
+        [0.074, 0.083, 0.104],
+    ],
+    [
+        [0.083, 0.153, 0.216],
+        [0.078, 0.086, 0.204],
+        [0.071, 0.134, 0.148],
+        [0.068, 0.077, 0.140],
+        [0.058, 0.067, 0.081],
+    ],
+    [
+        [0.071, 0.133, 0.183],
+        [0.067, 0.076, 0.174],
+        [0.061, 0.117, 0.125],
+        [0.058, 0.067, 0.120],
+        [0.049, 0.059, 0.069],
+    ],
 ];
 
 /// Why a luminaire has no UGR table.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum UgrError {
-    #[error("UGR is not applicable: the luminaire sends no light downwards (upward-only light cannot be seen as direct glare by the method)")]
+    #[error(
+        "UGR is not applicable: the luminaire sends no light downwards (upward-only light cannot be seen as direct glare by the method)"
+    )]
     UpwardOnly,
-    #[error("UGR needs the luminous opening: {0}")]
-    Opening(String),
+    #[error(
+        "UGR is not applicable: the method's flux transfer gives this distribution no indirect light on the walls"
+    )]
+    NoBackground,
     #[error("UGR spacing-to-height ratio {0} is not one of the method's (0.25 to 1)")]
     Spacing(f64),
 }
@@ -142,9 +260,12 @@ pub struct UgrTable {
     pub reflectances: Vec<[f64; 3]>,
     /// Room X, Y in units of H, in the order printed.
     pub rooms: Vec<[f64; 2]>,
-    /// `crosswise[room][reflectance set]`, uncorrected UGR for 1000 lm.
-    pub crosswise: Vec<Vec<f64>>,
-    pub endwise: Vec<Vec<f64>>,
+    /// `crosswise[room][reflectance set]`, uncorrected UGR for 1000 lm,
+    /// to 0.1; `null` where no luminaire in view sends light towards the
+    /// eye (a narrow downlight seen from afar: no glare on any scale,
+    /// printed "<10" as Relux does for low values).
+    pub crosswise: Vec<Vec<Option<f64>>>,
+    pub endwise: Vec<Vec<Option<f64>>>,
     /// The lamp flux the correction term is for (lm), and the term
     /// 8 log10(Φ / 1000) to add to every cell for it.
     pub lamp_flux_lm: f64,
@@ -161,13 +282,20 @@ pub fn indirect_wall_illuminance(klm: &CandelaTable, spacing: f64) -> [[f64; 5];
     let zone = |k: usize| {
         let gm = 5.0 + 10.0 * k as f64;
         let mean = c_mean(klm, gm);
-        std::f64::consts::TAU * mean * ((gm - 5.0).to_radians().cos() - (gm + 5.0).to_radians().cos())
+        std::f64::consts::TAU
+            * mean
+            * ((gm - 5.0).to_radians().cos() - (gm + 5.0).to_radians().cos())
     };
     let zones: Vec<f64> = (0..18).map(zone).collect();
     let sum = |n: usize| zones[..n].iter().sum::<f64>();
     // Cumulative fluxes in the flux code's cones: 41.4° takes 0.130 of the
     // 40-50° zone, 75.5° 0.547 of the 70-80° zone (eq. 8).
-    let phi = [sum(4) + 0.130 * zones[4], sum(6), sum(7) + 0.547 * zones[7], sum(9)];
+    let phi = [
+        sum(4) + 0.130 * zones[4],
+        sum(6),
+        sum(7) + 0.547 * zones[7],
+        sum(9),
+    ];
     let upward: f64 = zones[9..].iter().sum();
     let mut e = [[0.0; 5]; 19];
     for (r, &(x, y)) in ROOMS.iter().enumerate() {
@@ -187,13 +315,26 @@ pub fn indirect_wall_illuminance(klm: &CandelaTable, spacing: f64) -> [[f64; 5];
 
 /// The mean intensity over the C circle at γ (every 5°).
 fn c_mean(table: &CandelaTable, gamma_deg: f64) -> f64 {
-    (0..72).map(|k| table.intensity(5.0 * k as f64, gamma_deg)).sum::<f64>() / 72.0
+    (0..72)
+        .map(|k| table.intensity(5.0 * k as f64, gamma_deg))
+        .sum::<f64>()
+        / 72.0
 }
 
 /// Σ I² / (A_p D² p²) over the luminaires an observer sees in room (X, Y)
 /// at `spacing`, viewing crosswise or endwise; I for 1000 lm of lamps.
-pub fn glare_sum(klm: &CandelaTable, opening: &Opening, x: f64, y: f64, spacing: f64, endwise: bool) -> f64 {
-    let (nx, ny) = ((x / spacing).round() as usize, (y / spacing).round() as usize);
+pub fn glare_sum(
+    klm: &CandelaTable,
+    opening: &Opening,
+    x: f64,
+    y: f64,
+    spacing: f64,
+    endwise: bool,
+) -> f64 {
+    let (nx, ny) = (
+        (x / spacing).round() as usize,
+        (y / spacing).round() as usize,
+    );
     let mut sum = 0.0;
     for i in 0..nx {
         // Across the line of sight, from the observer's centre line.
@@ -258,7 +399,9 @@ pub fn ugr_table(
     spacing: f64,
     lamp_flux_lm: f64,
 ) -> Result<UgrTable, UgrError> {
-    if !(0.25 - 1e-9..=1.0 + 1e-9).contains(&spacing) || ((1.0 / spacing) - (1.0 / spacing).round()).abs() > 1e-9 {
+    if !(0.25 - 1e-9..=1.0 + 1e-9).contains(&spacing)
+        || ((1.0 / spacing) - (1.0 / spacing).round()).abs() > 1e-9
+    {
         return Err(UgrError::Spacing(spacing));
     }
     if klm.flux_between_lm(0.0, 90.0) <= 1e-9 * klm.flux_lm().max(1e-30) {
@@ -270,11 +413,12 @@ pub fn ugr_table(
     for (r, &(x, y)) in ROOMS.iter().enumerate() {
         let cross = glare_sum(klm, opening, x, y, spacing, false);
         let end = glare_sum(klm, opening, x, y, spacing, true);
-        crosswise.push((0..5).map(|s| round1(ugr(cross, background[r][s]))).collect());
-        endwise.push((0..5).map(|s| round1(ugr(end, background[r][s]))).collect());
-    }
-    if crosswise.iter().chain(&endwise).flatten().any(|v: &f64| !v.is_finite()) {
-        return Err(UgrError::UpwardOnly);
+        if background[r].iter().any(|e| !(*e > 0.0)) {
+            return Err(UgrError::NoBackground);
+        }
+        let cell = |sum: f64, e: f64| (sum > 0.0).then(|| round1(ugr(sum, e)));
+        crosswise.push((0..5).map(|s| cell(cross, background[r][s])).collect());
+        endwise.push((0..5).map(|s| cell(end, background[r][s])).collect());
     }
     Ok(UgrTable {
         spacing,

@@ -36,13 +36,18 @@ pub fn zonal_summary(table: &CandelaTable, lamp_flux_lm: Option<f64>) -> Vec<Zon
 }
 
 fn percent(part: f64, whole: f64) -> f64 {
-    if whole > 0.0 { 100.0 * part / whole } else { 0.0 }
+    if whole > 0.0 {
+        100.0 * part / whole
+    } else {
+        0.0
+    }
 }
 
 /// The cones of the CIE flux code: each adds π/2 sr to the last
 /// (cos γ = 3/4, 1/2, 1/4, 0), so N1–N3 read as how concentrated the
 /// downward light is.
-pub const FLUX_CODE_CONES_DEG: [f64; 4] = [41.409_622_109_270_85, 60.0, 75.522_487_814_070_25, 90.0];
+pub const FLUX_CODE_CONES_DEG: [f64; 4] =
+    [41.409_622_109_270_85, 60.0, 75.522_487_814_070_25, 90.0];
 
 /// CIE flux code N1–N5 (CIE 52:1982, as DIALux and Relux print it):
 /// N1, N2, N3 the flux in the 41.4°, 60° and 75.5° cones as per cent of

@@ -86,6 +86,11 @@ pub struct ExportDialog {
     exr: bool,
     cube_png: bool,
     polar_png: bool,
+    /// The datasheet (HTML, PDF, JSON), and its UGR table at S/H = 1 too.
+    datasheet: bool,
+    ugr_standard_spacing: bool,
+    /// Opened by "Datasheet…": only the datasheet is ticked.
+    datasheet_only: bool,
     filtered: bool,
     grid: Option<TableGrid>,
     declared: Declared,
@@ -167,6 +172,15 @@ impl ExportDialog {
         self.exr = true;
         self.cube_png = true;
         self.polar_png = true;
+        self.datasheet = false;
+        if std::mem::take(&mut self.datasheet_only) {
+            self.ies = false;
+            self.ldt = false;
+            self.exr = false;
+            self.cube_png = false;
+            self.polar_png = false;
+            self.datasheet = true;
+        }
         self.filtered = state.settings().filter != FilterChoice::Raw;
         self.grid = Some(state.settings().table);
         self.date = chrono::Local::now().format("%Y-%m-%d").to_string();
@@ -176,6 +190,13 @@ impl ExportDialog {
             |s| s.to_string_lossy().into_owned(),
         );
         self.result = None;
+    }
+
+    /// Opens the dialog with only the datasheet ticked ("Datasheet…").
+    pub(crate) fn open_for_datasheet(&mut self) {
+        self.open = true;
+        self.initialised = false;
+        self.datasheet_only = true;
     }
 
     /// Whether an export is running now.
@@ -226,7 +247,7 @@ impl ExportDialog {
             exr: self.exr,
             cube_png: self.cube_png,
             polar_png: self.polar_png,
-            datasheet: false,
+            datasheet: self.datasheet,
         }
     }
 }
@@ -280,6 +301,15 @@ fn dialog_ui(ui: &mut Ui, state: &mut EditorState, dialog: &mut ExportDialog) {
         flag(ui, "EXR of the map", &mut dialog.exr);
         flag(ui, "Cube map PNG", &mut dialog.cube_png);
         flag(ui, "Polar diagram PNG", &mut dialog.polar_png);
+    });
+    ui.horizontal(|ui| {
+        flag(ui, "Datasheet (HTML, PDF, JSON)", &mut dialog.datasheet).on_hover_text(
+            "Luminaire data, polar, cartesian and isocandela diagrams, zonal lumens, luminance and the CIE 190 UGR table: what lucerna report writes",
+        );
+        ui.add_enabled_ui(dialog.datasheet, |ui| {
+            flag(ui, "UGR also at S/H = 1", &mut dialog.ugr_standard_spacing)
+                .on_hover_text("CIE 190's standard table beside the catalogue's S/H = 0.25");
+        });
     });
 
     ui.separator();
@@ -649,5 +679,8 @@ fn start_export(
     request.formats = dialog.formats();
     request.filter = filter;
     request.grid = dialog.grid.unwrap_or(run.table);
+    if dialog.ugr_standard_spacing {
+        request.datasheet.ugr_spacings = vec![0.25, 1.0];
+    }
     ExportJob::start(request, snapshot.clone(), repaint)
 }

@@ -36,6 +36,7 @@ pub fn run(command: UiCommand, state: &mut EditorState, windows: &mut Windows, d
         UiCommand::SaveAs => push(state, Command::FileDialog(DialogKind::SaveAs)),
         UiCommand::ImportObj => push(state, Command::FileDialog(DialogKind::ImportMesh)),
         UiCommand::Export => windows.export.open = true,
+        UiCommand::Datasheet => windows.export.open_for_datasheet(),
         UiCommand::Quit => push(state, Command::Quit),
         UiCommand::Undo => push(state, Command::Undo),
         UiCommand::Redo => push(state, Command::Redo),
@@ -72,7 +73,11 @@ fn enabled(command: UiCommand, state: &EditorState) -> bool {
     let scene = state.scene().is_some();
     match command {
         UiCommand::Open | UiCommand::SaveAs | UiCommand::ImportObj => dialog_free,
-        UiCommand::Save | UiCommand::Export | UiCommand::Restart | UiCommand::PauseResume => scene,
+        UiCommand::Save
+        | UiCommand::Export
+        | UiCommand::Datasheet
+        | UiCommand::Restart
+        | UiCommand::PauseResume => scene,
         UiCommand::Undo => state.can_undo(),
         UiCommand::Redo => state.can_redo(),
         UiCommand::Duplicate | UiCommand::Delete => state.selection().is_some(),
@@ -117,6 +122,7 @@ pub fn menu_bar_ui(ui: &mut Ui, state: &mut EditorState, windows: &mut Windows, 
             ui.separator();
             item(ui, UiCommand::ImportObj);
             item(ui, UiCommand::Export);
+            item(ui, UiCommand::Datasheet);
             ui.separator();
             item(ui, UiCommand::Quit);
         });

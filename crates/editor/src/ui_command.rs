@@ -13,6 +13,7 @@ pub enum UiCommand {
     SaveAs,
     ImportObj,
     Export,
+    Datasheet,
     Quit,
     Undo,
     Redo,
@@ -27,13 +28,14 @@ pub enum UiCommand {
 
 impl UiCommand {
     /// In menu order.
-    pub const ALL: [UiCommand; 16] = [
+    pub const ALL: [UiCommand; 17] = [
         UiCommand::New,
         UiCommand::Open,
         UiCommand::Save,
         UiCommand::SaveAs,
         UiCommand::ImportObj,
         UiCommand::Export,
+        UiCommand::Datasheet,
         UiCommand::Quit,
         UiCommand::Undo,
         UiCommand::Redo,
@@ -55,6 +57,7 @@ impl UiCommand {
             UiCommand::SaveAs => "Save As…",
             UiCommand::ImportObj => "Import OBJ…",
             UiCommand::Export => "Export…",
+            UiCommand::Datasheet => "Datasheet…",
             UiCommand::Quit => "Quit",
             UiCommand::Undo => "Undo",
             UiCommand::Redo => "Redo",
@@ -77,6 +80,9 @@ impl UiCommand {
             UiCommand::SaveAs => "Save the scene to another file",
             UiCommand::ImportObj => "Add an OBJ file as a mesh part (or drop it on the window)",
             UiCommand::Export => "IES, EULUMDAT, EXR and PNGs of the current result",
+            UiCommand::Datasheet => {
+                "The photometric datasheet (HTML, PDF, JSON) with the UGR table, as lucerna report writes it"
+            }
             UiCommand::Quit => "Close the editor",
             UiCommand::Undo => "Undo the last edit",
             UiCommand::Redo => "Redo the edit undone last",
@@ -112,6 +118,7 @@ impl UiCommand {
             UiCommand::PauseResume => command(Key::P),
             UiCommand::Shortcuts => Some(KeyboardShortcut::new(Modifiers::NONE, Key::F1)),
             UiCommand::ImportObj
+            | UiCommand::Datasheet
             | UiCommand::Delete
             | UiCommand::Restart
             | UiCommand::ResetLayout

@@ -4,8 +4,8 @@
 pub mod canvas;
 pub mod chart;
 pub mod cube;
-pub mod isocandela;
 pub mod exr_map;
+pub mod isocandela;
 pub mod polar;
 pub mod room;
 pub mod scale;

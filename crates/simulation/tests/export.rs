@@ -275,3 +275,49 @@ fn a_fixed_grid_too_coarse_for_the_spot_is_written_with_a_warning() {
     assert!(warning.starts_with("the 5° γ grid carries "), "{warning}");
     assert!(warning.contains(" lm against "), "{warning}");
 }
+
+/// The datasheet an export writes is the one `lucerna report` draws from
+/// the same photometry: the same bytes, twice over (nothing in it
+/// depends on the clock), with every figure in its JSON.
+#[test]
+fn the_datasheet_of_an_export_is_the_reports_to_the_byte() {
+    let snapshot = baked(settings(FilterChoice::Raw, TableGrid::default()));
+    let dir = tempfile::tempdir().unwrap();
+    let mut request = ExportRequest::new(&snapshot, options(), dir.path(), "spot");
+    request.formats = ExportFormats {
+        ies: None,
+        ldt: false,
+        exr: false,
+        cube_png: false,
+        polar_png: false,
+        datasheet: true,
+    };
+    let first = request.render(&snapshot).unwrap();
+    let again = request.render(&snapshot).unwrap();
+    let names: Vec<String> = first
+        .files
+        .iter()
+        .map(|(p, _)| p.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "spot_datasheet.html",
+            "spot_datasheet.pdf",
+            "spot_datasheet.json"
+        ]
+    );
+    assert_eq!(first.files, again.files, "the same export, other bytes");
+    let photometry = request.photometry(&snapshot).unwrap();
+    let sheet = lucerna_datasheet::Datasheet::new(&photometry, &request.datasheet).unwrap();
+    let rendered = sheet.render().unwrap();
+    let report = rendered.files(&sheet, dir.path(), "spot_datasheet");
+    assert_eq!(
+        first.files, report,
+        "the editor's and the report's bytes differ"
+    );
+    let json: serde_json::Value = serde_json::from_slice(&first.files[2].1).unwrap();
+    assert_eq!(json["ugr"]["spacing"], 0.25);
+    assert_eq!(json["ugr"]["rooms"].as_array().unwrap().len(), 19);
+    assert!(first.files[1].1.starts_with(b"%PDF-"));
+}

@@ -86,7 +86,8 @@ pub struct ReportSummary {
 }
 
 fn is_scene(path: &Path) -> bool {
-    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml"))
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("toml"))
 }
 
 pub fn report(args: &ReportArgs) -> Result<ReportSummary> {

@@ -9,7 +9,7 @@ use egui::{Color32, ColorImage, TextureHandle, TextureOptions, Ui};
 use egui_plot::{Line, Plot, PlotImage, PlotPoint, Text};
 use lucerna_photometry::CandelaTable;
 use lucerna_pictures::isocandela::{
-    COLUMNS, C_STEP_DEG, Isoline, LEVELS, ROWS, isolines, lit_gamma_range, sampled,
+    C_STEP_DEG, COLUMNS, Isoline, LEVELS, ROWS, isolines, lit_gamma_range, sampled,
 };
 
 use super::IntensityUnit;
