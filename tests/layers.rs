@@ -5,7 +5,12 @@ use std::process::Command;
 
 #[test]
 fn data_crates_depend_on_no_gpu_or_ui_crate() {
-    for krate in ["lucerna-scene", "lucerna-photometry", "lucerna-pictures"] {
+    for krate in [
+        "lucerna-scene",
+        "lucerna-photometry",
+        "lucerna-pictures",
+        "lucerna-datasheet",
+    ] {
         assert_free_of(krate, &["wgpu", "egui", "eframe", "naga", "winit"]);
     }
 }

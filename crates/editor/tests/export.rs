@@ -396,3 +396,53 @@ fn an_export_runs_on_its_own_thread_and_reports_its_stage() {
         "the frame after the click waited for the export"
     );
 }
+
+/// File ▸ Datasheet… opens the dialog with only the datasheet ticked; its
+/// three files are the bytes `lucerna report` of the same scene and
+/// settings writes (both through `ExportRequest`).
+#[test]
+fn the_datasheet_menu_writes_the_reports_bytes() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_path = scene_copy(dir.path());
+    let mut h = editor(&scene_path);
+    let snapshot = finished_run(&mut h);
+    let out = dir.path().join("sheet");
+    common::menu(&mut h, "File", "Datasheet…");
+    type_into(&mut h, "Output folder", &out.display().to_string());
+    type_into(&mut h, "Base name", "spot");
+    type_into(&mut h, "Issue date", "2026-05-06");
+    export(&mut h);
+    h.get_by_label("Wrote 3 files:");
+    assert_eq!(
+        names_in(&out),
+        [
+            "spot_datasheet.html",
+            "spot_datasheet.json",
+            "spot_datasheet.pdf"
+        ]
+    );
+    let options = ExportOptions {
+        symmetrise: None,
+        date: "2026-05-06".to_owned(),
+        seed: settings().seed,
+        scene_file: "spot.toml".to_owned(),
+        labels: Some(Labels::of(h.state().state.scene().unwrap())),
+    };
+    let mut request = ExportRequest::new(&snapshot, options, dir.path(), "spot");
+    request.formats = lucerna_simulation::ExportFormats {
+        ies: None,
+        ldt: false,
+        exr: false,
+        cube_png: false,
+        polar_png: false,
+        datasheet: true,
+    };
+    for (path, bytes) in request.render(&snapshot).unwrap().files {
+        let name = path.file_name().unwrap();
+        assert!(
+            std::fs::read(out.join(name)).unwrap() == bytes,
+            "{} differs from the report's",
+            name.to_string_lossy()
+        );
+    }
+}
