@@ -166,8 +166,126 @@ fn finite_figures(p: &Photometry, what: &str) -> Result<(), String> {
     }
 }
 
+/// The line-level rules of a written file: nothing but ASCII, LM-63's
+/// lines under 256 characters, EULUMDAT's fixed layout (one field a
+/// line, as many lines as its counts say) with free text within its
+/// fields' widths.
+fn layout(format: &str, bytes: &[u8], back: &Photometry) -> Result<(), String> {
+    if let Some(i) = bytes.iter().position(|b| !b.is_ascii()) {
+        return Err(format!(
+            "{format} written with a non-ASCII byte {:#04x} at {i}",
+            bytes[i]
+        ));
+    }
+    let text = String::from_utf8_lossy(bytes);
+    let lines: Vec<&str> = text.split("\r\n").collect();
+    let lines = &lines[..lines.len() - usize::from(lines.last() == Some(&""))];
+    if let Some(l) = lines.iter().find(|l| l.contains('\r') || l.contains('\n')) {
+        return Err(format!("{format}: a bare line break inside \"{l}\""));
+    }
+    if format.starts_with("IES") {
+        if let Some(l) = lines
+            .iter()
+            .find(|l| l.chars().count() > IES_MAX_LINE_CHARS)
+        {
+            return Err(format!(
+                "{format}: a line of {} characters (LM-63: under 256)",
+                l.chars().count()
+            ));
+        }
+        return Ok(());
+    }
+    // EULUMDAT: 26 header lines, 6 per lamp set, 10 direct ratios, the C
+    // and γ lists, and the stored planes' intensities.
+    let sets: usize = lines
+        .get(25)
+        .and_then(|l| l.trim().parse().ok())
+        .ok_or("LDT: no lamp-set count on line 26")?;
+    let mc: usize = lines
+        .get(3)
+        .and_then(|l| l.trim().parse().ok())
+        .ok_or("LDT: no Mc on line 4")?;
+    let ng: usize = lines
+        .get(5)
+        .and_then(|l| l.trim().parse().ok())
+        .ok_or("LDT: no Ng on line 6")?;
+    let isym: usize = lines
+        .get(2)
+        .and_then(|l| l.trim().parse().ok())
+        .ok_or("LDT: no Isym on line 3")?;
+    let stored = match isym {
+        1 => 1,
+        2 | 3 => mc / 2 + 1,
+        4 => mc / 4 + 1,
+        _ => mc,
+    };
+    let expected = 26 + 6 * sets + 10 + mc + ng + stored * ng;
+    if lines.len() != expected {
+        return Err(format!(
+            "LDT: {} lines where its counts make {expected}",
+            lines.len()
+        ));
+    }
+    use lucerna_photometry::ldt::field_width as w;
+    let mut fields = vec![
+        (0, w::COMPANY),
+        (7, w::REPORT),
+        (8, w::LUMINAIRE_NAME),
+        (9, w::LUMINAIRE_NUMBER),
+        (10, w::FILE_NAME),
+        (11, w::DATE_USER),
+    ];
+    for k in 0..sets {
+        let base = 26 + 6 * k;
+        fields.extend([
+            (base + 1, w::LAMP_TYPE),
+            (base + 3, w::COLOUR_APPEARANCE),
+            (base + 4, w::COLOUR_RENDERING),
+        ]);
+    }
+    for (line, width) in fields {
+        let n = lines[line].chars().count();
+        if n > width {
+            return Err(format!(
+                "LDT line {}: {n} characters in a field of {width}",
+                line + 1
+            ));
+        }
+    }
+    let _ = back;
+    Ok(())
+}
+
+/// The longest line LM-63 allows (lines under 256 characters).
+const IES_MAX_LINE_CHARS: usize = 255;
+
+/// Whether a written file keeps the declared symmetry, but for the two
+/// cases the writers change it by design: an IES mirror about C90-C270 is
+/// written over the whole circle (`WriteOptions::full_circle_for_c90_mirror`,
+/// since independent readers refuse LM-63's 90°-270° range), and an
+/// EULUMDAT whose listed planes the format's index arithmetic cannot
+/// halve is written whole (Isym 0).
+fn symmetry_kept(format: &str, p: &Photometry, back: &Photometry) -> Result<(), String> {
+    use lucerna_photometry::CPlaneSymmetry as S;
+    let by_design = match (format, p.symmetry, back.symmetry) {
+        (f, S::AboutC90C270, S::None) if f.starts_with("IES") => true,
+        ("LDT", declared, S::None) => !lucerna_photometry::ldt::states_symmetry(declared, &p.table),
+        _ => false,
+    };
+    if back.symmetry == p.symmetry || by_design {
+        Ok(())
+    } else {
+        Err(format!(
+            "{format}: declared {:?}, read back {:?}",
+            p.symmetry, back.symmetry
+        ))
+    }
+}
+
 /// Reads; if the file reads, its figures are finite and every file
-/// Lucerna writes from it reads back with the same flux and peak.
+/// Lucerna writes from it either is refused with a reason, or reads back
+/// with the same flux and peak (0.1 %), the declared symmetry, and the
+/// format's line rules (`layout`).
 pub fn photometry(bytes: &[u8]) -> Result<(), String> {
     let Ok(p) = read_photometry(bytes) else {
         return Ok(());
@@ -203,6 +321,8 @@ pub fn photometry(bytes: &[u8]) -> Result<(), String> {
                 flux, f.flux_lm, peak, f.peak_cd
             ));
         }
+        layout(format, &bytes, &back)?;
+        symmetry_kept(format, &p, &back)?;
     }
     Ok(())
 }

@@ -427,38 +427,83 @@ pub fn stored_c_planes(table: &CandelaTable, symmetry: CPlaneSymmetry) -> Vec<f6
     planes
 }
 
-/// Wraps `[KEY] value` into lines of at most 80 characters with `[MORE]`.
+/// The longest line an IES file may hold: LM-63 says lines are under
+/// 256 characters; the writer keeps to 80, as LM-63-2019 recommends.
+pub const MAX_LINE_CHARS: usize = 255;
+/// The longest keyword name written (LM-63 names are short; a file's own
+/// may be any length).
+const MAX_KEY_CHARS: usize = 32;
+
+/// Wraps `[KEY] value` into lines of at most 80 characters with `[MORE]`;
+/// a word longer than a line is cut across lines.
 fn keyword_lines(key: &str, value: &str, out: &mut String) {
+    let key: String = key.chars().take(MAX_KEY_CHARS).collect();
     let mut first = true;
     let mut current = String::new();
     let flush = |out: &mut String, current: &str, first: bool| {
-        let k = if first { key } else { "MORE" };
+        let k = if first { key.as_str() } else { "MORE" };
         out.push_str(format!("[{k}] {current}").trim_end());
         out.push_str("\r\n");
     };
+    // "[KEY] " takes the key's length and 3; lines stay within 80.
+    let room = |first: bool| {
+        77usize
+            .saturating_sub(if first { key.len() } else { 4 })
+            .max(8)
+    };
     for word in value.split_whitespace() {
-        let limit = 78usize.saturating_sub(if first { key.len() } else { 4 });
-        if !current.is_empty() && current.len() + 1 + word.len() > limit {
+        let mut word: Vec<char> = word.chars().collect();
+        loop {
+            let limit = room(first);
+            let used = current.chars().count();
+            let gap = usize::from(used > 0);
+            if used + gap + word.len() <= limit {
+                if gap == 1 {
+                    current.push(' ');
+                }
+                current.extend(word.iter());
+                break;
+            }
+            if used > 0 && (word.len() <= limit || used + gap >= limit) {
+                flush(out, &current, first);
+                first = false;
+                current.clear();
+                continue;
+            }
+            // A word longer than a whole line: fill this one with its head.
+            let take = limit - used - gap;
+            if gap == 1 {
+                current.push(' ');
+            }
+            current.extend(word.drain(..take));
             flush(out, &current, first);
             first = false;
             current.clear();
         }
-        if !current.is_empty() {
-            current.push(' ');
-        }
-        current.push_str(word);
     }
     flush(out, &current, first);
 }
 
-/// Writes numbers, ten to a line.
+/// Writes numbers, at most ten and 80 characters to a line.
 fn number_lines(values: impl IntoIterator<Item = f64>, significant: usize, out: &mut String) {
-    let values: Vec<String> = values
-        .into_iter()
-        .map(|v| format_number(v, significant))
-        .collect();
-    for chunk in values.chunks(10) {
-        out.push_str(&chunk.join(" "));
+    let mut line = String::new();
+    let mut on_line = 0;
+    for v in values {
+        let n = format_number(v, significant);
+        if on_line > 0 && (on_line == 10 || line.len() + 1 + n.len() > 80) {
+            out.push_str(&line);
+            out.push_str("\r\n");
+            line.clear();
+            on_line = 0;
+        }
+        if on_line > 0 {
+            line.push(' ');
+        }
+        line.push_str(&n);
+        on_line += 1;
+    }
+    if on_line > 0 {
+        out.push_str(&line);
         out.push_str("\r\n");
     }
 }
@@ -560,6 +605,12 @@ pub fn write_ies_with(
         .iter()
         .fold(0u32, |sum, l| sum.saturating_add(l.count.unsigned_abs()))
         .max(1);
+    check_written(
+        FORMAT,
+        "number of lamps",
+        f64::from(lamp_count),
+        plausible::MAX_LAMPS,
+    )?;
     let lumens_per_lamp = match p.lamp_flux_lm() {
         Some(total) => total / f64::from(lamp_count),
         None => -1.0,

@@ -183,19 +183,45 @@ impl Default for WriteOptions {
     }
 }
 
+/// Whether `c` ends a line to some reader or editor: the ASCII and C1
+/// controls (NUL makes a file "binary", CR and LF break it), and Unicode's
+/// line and paragraph separators (U+2028, U+2029), which word processors
+/// paste and transliteration turns into line breaks.
+fn breaks_a_line(c: char) -> bool {
+    c.is_control() || c == '\u{2028}' || c == '\u{2029}'
+}
+
 impl WriteOptions {
-    /// A free-text field on one line, in ASCII where asked.
+    /// A free-text field on one line, in ASCII where asked: the one
+    /// sanitiser of free text both writers use. Line breaks and control
+    /// characters become spaces, before and after transliteration (which
+    /// may itself yield a control character).
     pub fn text(&self, s: &str) -> String {
-        // Control characters (a NUL makes the file "binary" to readers)
-        // and line breaks become spaces.
-        let one_line: String = s
-            .chars()
-            .map(|c| if c.is_control() { ' ' } else { c })
-            .collect();
-        if self.ascii_text && !one_line.is_ascii() {
-            deunicode::deunicode_with_tofu(&one_line, "?")
+        let one_line = |t: &str| -> String {
+            t.chars()
+                .map(|c| if breaks_a_line(c) { ' ' } else { c })
+                .collect()
+        };
+        let line = one_line(s);
+        if self.ascii_text && !line.is_ascii() {
+            one_line(&deunicode::deunicode_with_tofu(&line, "?"))
         } else {
-            one_line
+            line
+        }
+    }
+
+    /// [`WriteOptions::text`] cut to at most `width` characters (a
+    /// fixed-width field of EULUMDAT).
+    pub fn text_within(&self, s: &str, width: usize) -> String {
+        let t = self.text(s);
+        if t.chars().count() <= width {
+            t
+        } else {
+            t.chars()
+                .take(width)
+                .collect::<String>()
+                .trim_end()
+                .to_owned()
         }
     }
 }

@@ -71,17 +71,34 @@ pub fn convert(
             input.display()
         )
     })?;
+    // What the file says, read back before it is written: the figures
+    // printed are the written file's, and a file that would not read back
+    // with the same flux is not written.
+    let written = lucerna_photometry::read_photometry(&bytes).with_context(|| {
+        format!(
+            "the {format:?} written from {} would not read back; nothing was written",
+            input.display()
+        )
+    })?;
+    let (before, after) = (p.figures(), written.figures());
+    if (after.flux_lm - before.flux_lm).abs() > 1e-3 * before.flux_lm.abs().max(1e-12) {
+        bail!(
+            "the {format:?} file would hold {:.1} lm where {} holds {:.1} lm; nothing was written",
+            after.flux_lm,
+            input.display(),
+            before.flux_lm
+        );
+    }
     lucerna_scene::write_atomically(output, &bytes)
         .with_context(|| format!("cannot write {}", output.display()))?;
-    let f = p.figures();
     Ok(format!(
-        "{} ({}) -> {} ({:?}): {:.1} lm, peak {:.1} cd, symmetry {}",
+        "{} ({}) -> {} ({:?}): {:.1} lm, peak {:.1} cd, symmetry {} (as written)",
         input.display(),
         p.format,
         output.display(),
         format,
-        f.flux_lm,
-        f.peak_cd,
-        p.symmetry.describe()
+        after.flux_lm,
+        after.peak_cd,
+        written.symmetry.describe()
     ))
 }
