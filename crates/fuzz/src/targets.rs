@@ -337,6 +337,14 @@ fn scene(dir: &Path, file: &str) -> Result<(), String> {
     let Ok(scene) = lucerna_scene::load_scene(&path) else {
         return Ok(());
     };
+    // What the editor saves, it opens again as the same scene.
+    let saved = lucerna_scene::scene_to_toml(&scene)
+        .map_err(|e| format!("a loaded scene cannot be saved: {e}"))?;
+    let reopened = lucerna_scene::parse_scene(&saved, &path)
+        .map_err(|e| format!("a saved scene does not open again: {e}"))?;
+    if reopened != scene {
+        return Err("save then open gives another scene".to_owned());
+    }
     let Ok(tessellated) = lucerna_scene::tessellate(&scene, path.parent().unwrap_or(dir)) else {
         return Ok(());
     };
