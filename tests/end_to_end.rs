@@ -662,3 +662,22 @@ fn bake_writes_what_the_export_dialog_offers_with_the_scenes_keywords() {
     let bad = bake_on_cpu(&scene_path, 1000, 16, &out_dir, &["--name", "a/b"]);
     assert!(!bad.status.success() && text(&bad.stderr).contains("--name"));
 }
+
+/// `convert` prints the flux of the file it wrote (read back), not of the
+/// one it read: the two agree to the printed digit on every sample.
+#[test]
+fn convert_prints_the_written_files_flux() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["avad_srl_isym4.ldt", "rab_roadway1_2002_quadrant.ies"] {
+        let input = assets().join("profiles/samples").join(name);
+        for out_name in ["x.ldt", "x.ies"] {
+            let output = dir.path().join(out_name);
+            let o = lucerna(&["convert", input.to_str().unwrap(), output.to_str().unwrap()]);
+            assert!(o.status.success(), "{}", text(&o.stderr));
+            let said = text(&o.stdout);
+            assert!(said.contains("(as written)"), "{said}");
+            let (flux, _) = figures(&output);
+            assert!(said.contains(&format!("{flux:.1} lm")), "{said} vs {flux:.1} lm");
+        }
+    }
+}
