@@ -108,7 +108,7 @@ pub enum WritePhotometryError {
         max: usize,
         got: usize,
     },
-    #[error("{what} is {value}, which a {format} file cannot hold")]
+    #[error("{what} is {value}, which {format} files cannot hold")]
     Value {
         format: &'static str,
         what: String,
