@@ -677,7 +677,10 @@ fn convert_prints_the_written_files_flux() {
             let said = text(&o.stdout);
             assert!(said.contains("(as written)"), "{said}");
             let (flux, _) = figures(&output);
-            assert!(said.contains(&format!("{flux:.1} lm")), "{said} vs {flux:.1} lm");
+            assert!(
+                said.contains(&format!("{flux:.1} lm")),
+                "{said} vs {flux:.1} lm"
+            );
         }
     }
 }

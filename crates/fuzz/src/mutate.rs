@@ -52,6 +52,9 @@ const EXTREMES: &[&str] = &[
     "x",
     "1,5",
     "2147483648",
+    "1000001",
+    "1e12",
+    "1e13",
 ];
 
 /// Junk inserted as it comes: Unicode, control characters, format
@@ -76,6 +79,12 @@ const JUNK: &[&str] = &[
     "mtllib m.mtl",
     "usemtl x",
     "[[part]]",
+    // What word processors paste: line and paragraph separators, NEL.
+    "\u{2028}",
+    "\u{2029}",
+    "\u{85}",
+    // A word longer than any line.
+    "WWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWW",
 ];
 
 /// One mutation of `bytes`.

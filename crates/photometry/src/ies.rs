@@ -647,9 +647,13 @@ pub fn write_ies_with(
     ));
     let second = match version {
         IesVersion::Lm63_2002 => "1".to_owned(),
+        // LM-63-2019's codes are 1.00000-1.11100 (section 5.13); what a
+        // file held beyond them (-1e308 printed 300 digits) is undefined.
         IesVersion::Lm63_2019 => format!(
             "{:.5}",
-            m.file_generation_type.unwrap_or(FILE_GENERATION_UNDEFINED)
+            m.file_generation_type
+                .filter(|t| (1.0..2.0).contains(t))
+                .unwrap_or(FILE_GENERATION_UNDEFINED)
         ),
     };
     out.push_str(&format!(
