@@ -184,7 +184,13 @@ impl ExportDialog {
         self.filtered = state.settings().filter != FilterChoice::Raw;
         self.grid = Some(state.settings().table);
         self.date = chrono::Local::now().format("%Y-%m-%d").to_string();
-        self.folder = state.scene_dir().display().to_string();
+        // Absolute: a relative folder is taken from the scene's (as its
+        // other paths), so a scene opened by a relative path would have
+        // written into assets/luminaires/assets/luminaires/.
+        self.folder = std::path::absolute(state.scene_dir())
+            .unwrap_or_else(|_| state.scene_dir().to_path_buf())
+            .display()
+            .to_string();
         self.base_name = state.path().and_then(Path::file_stem).map_or_else(
             || "luminaire".to_owned(),
             |s| s.to_string_lossy().into_owned(),
