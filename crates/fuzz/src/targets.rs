@@ -316,10 +316,8 @@ pub fn photometry(bytes: &[u8]) -> Result<(), String> {
         // (most of a figures() call) is checked on the file as read.
         let (f_flux, f_peak) = (back.table.flux_lm(), back.table.peak().0);
         let close = |a: f64, b: f64| (a - b).abs() <= 1e-3 * b.abs().max(a.abs()) + 1e-9;
-        let kept = f_flux.is_finite()
-            && f_peak.is_finite()
-            && close(f_flux, flux)
-            && close(f_peak, peak);
+        let kept =
+            f_flux.is_finite() && f_peak.is_finite() && close(f_flux, flux) && close(f_peak, peak);
         if !kept {
             return Err(format!(
                 "{format} round trip: flux {flux} -> {f_flux}, peak {peak} -> {f_peak}"
