@@ -21,7 +21,7 @@ const CONTENT_W: f64 = PAGE_WIDTH_PT - 2.0 * MARGIN;
 const BODY: f64 = 8.0;
 const ROW: f64 = 11.5;
 
-/// A number with a thousands separator-free, sensible precision.
+/// A number with `decimals` decimals.
 fn num(v: f64, decimals: usize) -> String {
     format!("{v:.decimals$}")
 }

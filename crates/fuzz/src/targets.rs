@@ -170,7 +170,7 @@ fn finite_figures(p: &Photometry, what: &str) -> Result<(), String> {
 /// lines under 256 characters, EULUMDAT's fixed layout (one field a
 /// line, as many lines as its counts say) with free text within its
 /// fields' widths.
-fn layout(format: &str, bytes: &[u8], back: &Photometry) -> Result<(), String> {
+fn layout(format: &str, bytes: &[u8]) -> Result<(), String> {
     if let Some(i) = bytes.iter().position(|b| !b.is_ascii()) {
         return Err(format!(
             "{format} written with a non-ASCII byte {:#04x} at {i}",
@@ -252,7 +252,6 @@ fn layout(format: &str, bytes: &[u8], back: &Photometry) -> Result<(), String> {
             ));
         }
     }
-    let _ = back;
     Ok(())
 }
 
@@ -323,7 +322,7 @@ pub fn photometry(bytes: &[u8]) -> Result<(), String> {
                 "{format} round trip: flux {flux} -> {f_flux}, peak {peak} -> {f_peak}"
             ));
         }
-        layout(format, &bytes, &back)?;
+        layout(format, &bytes)?;
         symmetry_kept(format, &p, &back)?;
     }
     Ok(())
