@@ -16,6 +16,7 @@
 //! illuminance over π, as in CIE 190; the indirect vertical illuminance
 //! at the eye itself is reported beside it.
 
+use glam::DVec3;
 use lucerna_photometry::CandelaTable;
 use serde::Serialize;
 
@@ -26,62 +27,45 @@ use crate::ugr::{H_M, REFLECTANCES, ROOMS};
 /// One patch: centre, unit normal (into the room), two half-edge vectors.
 #[derive(Debug, Clone, Copy)]
 struct Patch {
-    centre: [f64; 3],
-    normal: [f64; 3],
-    u: [f64; 3],
-    v: [f64; 3],
+    centre: DVec3,
+    normal: DVec3,
+    u: DVec3,
+    v: DVec3,
     area: f64,
     /// 0 floor, 1 walls, 2 ceiling.
     surface: usize,
 }
 
-fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
 impl Patch {
     /// The 2 × 2 Gauss-like sample points (at the quarter points).
-    fn points(&self) -> [[f64; 3]; 4] {
+    fn points(&self) -> [DVec3; 4] {
         let h = 0.5;
-        [(-h, -h), (h, -h), (-h, h), (h, h)]
-            .map(|(a, b)| add(add(self.centre, scale(self.u, a)), scale(self.v, b)))
+        [(-h, -h), (h, -h), (-h, h), (h, h)].map(|(a, b)| self.centre + self.u * a + self.v * b)
     }
 }
 
 /// A rectangle from `origin` spanned by `a` and `b`, cut into na × nb
 /// patches facing `normal`.
 fn rectangle(
-    origin: [f64; 3],
-    a: [f64; 3],
-    b: [f64; 3],
+    origin: DVec3,
+    a: DVec3,
+    b: DVec3,
     na: usize,
     nb: usize,
-    normal: [f64; 3],
+    normal: DVec3,
     surface: usize,
     out: &mut Vec<Patch>,
 ) {
-    let (da, db) = (scale(a, 1.0 / na as f64), scale(b, 1.0 / nb as f64));
-    let area = dot(da, da).sqrt() * dot(db, db).sqrt();
+    let (da, db) = (a / na as f64, b / nb as f64);
+    let area = da.length() * db.length();
     for i in 0..na {
         for j in 0..nb {
-            let centre = add(
-                add(origin, scale(da, i as f64 + 0.5)),
-                scale(db, j as f64 + 0.5),
-            );
+            let centre = origin + da * (i as f64 + 0.5) + db * (j as f64 + 0.5);
             out.push(Patch {
                 centre,
                 normal,
-                u: scale(da, 0.5),
-                v: scale(db, 0.5),
+                u: da * 0.5,
+                v: db * 0.5,
                 area,
                 surface,
             });
@@ -99,62 +83,62 @@ fn room_patches(x_m: f64, y_m: f64) -> Vec<Patch> {
     );
     let mut p = Vec::new();
     rectangle(
-        [0.0, 0.0, 0.0],
-        [x_m, 0.0, 0.0],
-        [0.0, y_m, 0.0],
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(x_m, 0.0, 0.0),
+        DVec3::new(0.0, y_m, 0.0),
         nx,
         ny,
-        [0.0, 0.0, 1.0],
+        DVec3::new(0.0, 0.0, 1.0),
         0,
         &mut p,
     );
     rectangle(
-        [0.0, 0.0, h],
-        [x_m, 0.0, 0.0],
-        [0.0, y_m, 0.0],
+        DVec3::new(0.0, 0.0, h),
+        DVec3::new(x_m, 0.0, 0.0),
+        DVec3::new(0.0, y_m, 0.0),
         nx,
         ny,
-        [0.0, 0.0, -1.0],
+        DVec3::new(0.0, 0.0, -1.0),
         2,
         &mut p,
     );
     rectangle(
-        [0.0, 0.0, 0.0],
-        [x_m, 0.0, 0.0],
-        [0.0, 0.0, h],
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(x_m, 0.0, 0.0),
+        DVec3::new(0.0, 0.0, h),
         nx,
         nz,
-        [0.0, 1.0, 0.0],
+        DVec3::new(0.0, 1.0, 0.0),
         1,
         &mut p,
     );
     rectangle(
-        [0.0, y_m, 0.0],
-        [x_m, 0.0, 0.0],
-        [0.0, 0.0, h],
+        DVec3::new(0.0, y_m, 0.0),
+        DVec3::new(x_m, 0.0, 0.0),
+        DVec3::new(0.0, 0.0, h),
         nx,
         nz,
-        [0.0, -1.0, 0.0],
+        DVec3::new(0.0, -1.0, 0.0),
         1,
         &mut p,
     );
     rectangle(
-        [0.0, 0.0, 0.0],
-        [0.0, y_m, 0.0],
-        [0.0, 0.0, h],
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(0.0, y_m, 0.0),
+        DVec3::new(0.0, 0.0, h),
         ny,
         nz,
-        [1.0, 0.0, 0.0],
+        DVec3::new(1.0, 0.0, 0.0),
         1,
         &mut p,
     );
     rectangle(
-        [x_m, 0.0, 0.0],
-        [0.0, y_m, 0.0],
-        [0.0, 0.0, h],
+        DVec3::new(x_m, 0.0, 0.0),
+        DVec3::new(0.0, y_m, 0.0),
+        DVec3::new(0.0, 0.0, h),
         ny,
         nz,
-        [-1.0, 0.0, 0.0],
+        DVec3::new(-1.0, 0.0, 0.0),
         1,
         &mut p,
     );
@@ -167,10 +151,10 @@ fn form_factor(i: &Patch, j: &Patch) -> f64 {
     let mut f = 0.0;
     for a in i.points() {
         for b in j.points() {
-            let d = sub(b, a);
-            let r2 = dot(d, d);
-            let ci = dot(i.normal, d);
-            let cj = -dot(j.normal, d);
+            let d = b - a;
+            let r2 = d.dot(d);
+            let ci = i.normal.dot(d);
+            let cj = -j.normal.dot(d);
             if ci > 0.0 && cj > 0.0 && r2 > 1e-12 {
                 f += ci * cj / (std::f64::consts::PI * r2 * r2);
             }
@@ -180,12 +164,16 @@ fn form_factor(i: &Patch, j: &Patch) -> f64 {
 }
 
 /// Luminaire positions (m) of the array at spacing `s` (in H).
-fn luminaires(x: f64, y: f64, s: f64) -> Vec<[f64; 3]> {
+fn luminaires(x: f64, y: f64, s: f64) -> Vec<DVec3> {
     let (nx, ny) = ((x / s).round() as usize, (y / s).round() as usize);
     let mut v = Vec::with_capacity(nx * ny);
     for i in 0..nx {
         for j in 0..ny {
-            v.push([(i as f64 + 0.5) * s * H_M, (j as f64 + 0.5) * s * H_M, H_M]);
+            v.push(DVec3::new(
+                (i as f64 + 0.5) * s * H_M,
+                (j as f64 + 0.5) * s * H_M,
+                H_M,
+            ));
         }
     }
     v
@@ -193,7 +181,7 @@ fn luminaires(x: f64, y: f64, s: f64) -> Vec<[f64; 3]> {
 
 /// The luminaire's (C, γ) towards a point `d` away from it, with its C0
 /// axis along `c0_axis` (unit, horizontal).
-fn c_gamma(d: [f64; 3], c0_axis: [f64; 2]) -> (f64, f64) {
+fn c_gamma(d: DVec3, c0_axis: [f64; 2]) -> (f64, f64) {
     let horizontal = d[0].hypot(d[1]);
     let gamma = horizontal.atan2(-d[2]).to_degrees();
     let c90_axis = [-c0_axis[1], c0_axis[0]];
@@ -239,9 +227,9 @@ pub fn direct_room(klm: &CandelaTable, opening: &Opening, x: f64, y: f64, s: f64
             let mut e = 0.0;
             for point in p.points() {
                 for l in &lights {
-                    let d = sub(point, *l);
-                    let r2 = dot(d, d);
-                    let cos_in = -dot(p.normal, d) / r2.sqrt();
+                    let d = point - *l;
+                    let r2 = d.dot(d);
+                    let cos_in = -p.normal.dot(d) / r2.sqrt();
                     if cos_in <= 0.0 || d[2] >= 0.0 {
                         continue;
                     }
@@ -272,17 +260,17 @@ pub fn direct_room(klm: &CandelaTable, opening: &Opening, x: f64, y: f64, s: f64
     }
     // The eye: at the middle of the wall y = 0, at eye height, facing +y;
     // a hair inside the room.
-    let eye = [0.5 * x_m, 1e-3, 1e-3];
+    let eye = DVec3::new(0.5 * x_m, 1e-3, 1e-3);
     let eye_factor: Vec<f64> = patches
         .iter()
         .map(|p| {
             p.points()
                 .iter()
                 .map(|&b| {
-                    let d = sub(b, eye);
-                    let r2 = dot(d, d);
+                    let d = b - eye;
+                    let r2 = d.dot(d);
                     let ce = d[1] / r2.sqrt();
-                    let cp = -dot(p.normal, d) / r2.sqrt();
+                    let cp = -p.normal.dot(d) / r2.sqrt();
                     if ce > 0.0 && cp > 0.0 {
                         ce * cp / (std::f64::consts::PI * r2)
                     } else {
@@ -349,8 +337,8 @@ pub fn direct_room(klm: &CandelaTable, opening: &Opening, x: f64, y: f64, s: f64
 fn glare_sum_direct(
     klm: &CandelaTable,
     opening: &Opening,
-    lights: &[[f64; 3]],
-    eye: [f64; 3],
+    lights: &[DVec3],
+    eye: DVec3,
     endwise: bool,
 ) -> f64 {
     // Endwise the luminaires are turned a quarter: their C0 axis across
@@ -358,7 +346,7 @@ fn glare_sum_direct(
     let c0_axis = if endwise { [1.0, 0.0] } else { [0.0, 1.0] };
     let mut sum = 0.0;
     for l in lights {
-        let to_eye = sub([eye[0], eye[1], 0.0], [l[0], l[1], H_M]);
+        let to_eye = DVec3::new(eye.x, eye.y, 0.0) - DVec3::new(l.x, l.y, H_M);
         let (r, t, h) = (-to_eye[1], to_eye[0].abs(), H_M);
         if r <= 0.0 {
             continue;
@@ -366,7 +354,7 @@ fn glare_sum_direct(
         let Some(p) = position_index(h / r, t / r) else {
             continue;
         };
-        let d2 = dot(to_eye, to_eye);
+        let d2 = to_eye.dot(to_eye);
         let (c, g) = c_gamma(to_eye, c0_axis);
         let i = klm.intensity(c, g);
         let area = opening.projected_area_m2(c, g);

@@ -4,9 +4,6 @@
 //! all in points on an A4 page.
 
 use std::fmt::Write as _;
-use std::sync::LazyLock;
-
-use ab_glyph::{Font, FontRef};
 
 /// The family name the SVG asks for; the PDF's font database and the
 /// HTML's `@font-face` both give it the bundled DejaVu Sans.
@@ -16,26 +13,9 @@ pub const FONT_FAMILY: &str = "DejaVu Sans";
 pub const PAGE_WIDTH_PT: f64 = 595.28;
 pub const PAGE_HEIGHT_PT: f64 = 841.89;
 
-static FONT: LazyLock<Option<FontRef<'static>>> =
-    LazyLock::new(|| FontRef::try_from_slice(lucerna_pictures::canvas::FONT_TTF).ok());
-
 /// Width (pt) of `text` set at `size_pt` in the bundled font.
 pub fn text_width_pt(text: &str, size_pt: f64) -> f64 {
-    let Some(font) = FONT.as_ref() else {
-        return 0.55 * size_pt * text.chars().count() as f64;
-    };
-    let units = font.units_per_em().unwrap_or(2048.0) as f64;
-    let mut width = 0.0;
-    let mut previous = None;
-    for ch in text.chars() {
-        let id = font.glyph_id(ch);
-        if let Some(p) = previous {
-            width += font.kern_unscaled(p, id) as f64;
-        }
-        width += font.h_advance_unscaled(id) as f64;
-        previous = Some(id);
-    }
-    width / units * size_pt
+    f64::from(lucerna_pictures::canvas::text_width_em(text)) * size_pt
 }
 
 /// `text` cut with an ellipsis to fit `width_pt`.
@@ -43,15 +23,7 @@ pub fn fitted(text: &str, size_pt: f64, width_pt: f64) -> String {
     if text_width_pt(text, size_pt) <= width_pt {
         return text.to_owned();
     }
-    let mut chars: Vec<char> = text.chars().collect();
-    while !chars.is_empty() {
-        chars.pop();
-        let candidate: String = chars.iter().collect::<String>().trim_end().to_owned() + "…";
-        if text_width_pt(&candidate, size_pt) <= width_pt {
-            return candidate;
-        }
-    }
-    String::new()
+    lucerna_pictures::canvas::cut_with_ellipsis(text, |t| text_width_pt(t, size_pt) <= width_pt)
 }
 
 /// `text` broken into lines of at most `width_pt` at spaces (a word

@@ -52,6 +52,36 @@ fn layout(
     caret
 }
 
+/// Width of `text` in ems of the bundled font (advances and kerning): its
+/// width at any type size, for layouts drawn elsewhere (the datasheet's
+/// SVG pages, whose font size is the em).
+pub fn text_width_em(text: &str) -> f32 {
+    let Ok(font) = &*FONT else {
+        return 0.55 * text.chars().count() as f32;
+    };
+    let em = font.units_per_em().unwrap_or(2048.0);
+    // A scale of the font's height over its em makes one em one pixel.
+    layout(
+        &font.as_scaled(PxScale::from(font.height_unscaled() / em)),
+        text,
+        |_, _| {},
+    )
+}
+
+/// `text` cut short with an ellipsis until `fits` takes it (empty if
+/// nothing does).
+pub fn cut_with_ellipsis(text: &str, fits: impl Fn(&str) -> bool) -> String {
+    let mut cut: String = text.to_owned();
+    while !cut.is_empty() {
+        cut.pop();
+        let shown = format!("{}…", cut.trim_end());
+        if fits(&shown) {
+            return shown;
+        }
+    }
+    String::new()
+}
+
 /// Black or white, whichever reads better on `background` (by its
 /// luma, Rec. 601 weights).
 pub fn contrasting(background: Colour) -> Colour {
@@ -200,15 +230,10 @@ impl Canvas {
         if Canvas::text_width(text, size) <= max_width_px {
             return (text.to_owned(), size);
         }
-        let mut cut: String = text.to_owned();
-        while !cut.is_empty() {
-            cut.pop();
-            let shown = format!("{}…", cut.trim_end());
-            if Canvas::text_width(&shown, size) <= max_width_px {
-                return (shown, size);
-            }
-        }
-        (String::new(), size)
+        (
+            cut_with_ellipsis(text, |t| Canvas::text_width(t, size) <= max_width_px),
+            size,
+        )
     }
 
     /// PNG bytes.
