@@ -80,13 +80,13 @@ pub fn tick_label(v: f64) -> String {
     }
 }
 
-/// The polar diagram: both main planes in cd/klm (`factor` converts the
-/// table's cd), nadir down, C0 and C90 to the right.
-pub fn polar(svg: &mut Svg, frame: Frame, table: &CandelaTable, factor: f64) {
+/// The polar diagram of a table in cd/klm: both main planes, nadir down,
+/// C0 and C90 to the right.
+pub fn polar(svg: &mut Svg, frame: Frame, table: &CandelaTable) {
     let legend_h = 14.0;
     let r = 0.5 * frame.w.min(frame.h - legend_h) - 12.0;
     let (cx, cy) = (frame.x + 0.5 * frame.w, frame.y + 12.0 + r);
-    let peak = factor * table.peak().0;
+    let peak = table.peak().0;
     let step = round_step(peak.max(1e-9) / 4.0);
     let top = (peak / step).ceil().max(1.0) * step;
     let at = |theta_deg: f64, v: f64| {
@@ -129,7 +129,7 @@ pub fn polar(svg: &mut Svg, frame: Frame, table: &CandelaTable, factor: f64) {
     for (c, colour, dash) in [(0.0, C0_COLOUR, ""), (90.0, C90_COLOUR, "4 2")] {
         let points: Vec<[f64; 2]> = angles
             .iter()
-            .map(|&t| at(t, factor * plane_value(table, c, t)))
+            .map(|&t| at(t, plane_value(table, c, t)))
             .collect();
         svg.polyline(&points, colour, 1.3, dash);
     }
@@ -146,10 +146,10 @@ pub fn polar(svg: &mut Svg, frame: Frame, table: &CandelaTable, factor: f64) {
 }
 
 /// The cartesian I(γ) of both main planes over ±`limit_deg`, cd/klm.
-pub fn cartesian(svg: &mut Svg, frame: Frame, table: &CandelaTable, factor: f64, limit_deg: f64) {
+pub fn cartesian(svg: &mut Svg, frame: Frame, table: &CandelaTable, limit_deg: f64) {
     let (left, bottom) = (frame.x + 34.0, frame.y + frame.h - 34.0);
     let (right, top_y) = (frame.x + frame.w - 6.0, frame.y + 12.0);
-    let peak = factor * table.peak().0;
+    let peak = table.peak().0;
     let step = round_step(peak.max(1e-9) / 5.0);
     let top = (peak / step).ceil().max(1.0) * step;
     let x_of = |t: f64| left + (t + limit_deg) / (2.0 * limit_deg) * (right - left);
@@ -187,7 +187,7 @@ pub fn cartesian(svg: &mut Svg, frame: Frame, table: &CandelaTable, factor: f64,
     for (c, colour, dash) in [(0.0, C0_COLOUR, ""), (90.0, C90_COLOUR, "4 2")] {
         let points: Vec<[f64; 2]> = angles
             .iter()
-            .map(|&t| [x_of(t), y_of(factor * plane_value(table, c, t))])
+            .map(|&t| [x_of(t), y_of(plane_value(table, c, t))])
             .collect();
         svg.polyline(&points, colour, 1.3, dash);
     }
@@ -212,7 +212,7 @@ const LEVEL_COLOURS: [&str; 6] = [
 /// peak, seen from below the luminaire in an azimuthal projection (γ
 /// from the centre, C round it, C0 to the right, C90 up), over the lit γ
 /// range.
-pub fn isocandela(svg: &mut Svg, frame: Frame, table: &CandelaTable, factor: f64) {
+pub fn isocandela(svg: &mut Svg, frame: Frame, table: &CandelaTable) {
     let range = lit_gamma_range(table);
     let g_max = range.1.max(1.0);
     let r = 0.5 * frame.w.min(frame.h - 26.0) - 12.0;
@@ -250,7 +250,7 @@ pub fn isocandela(svg: &mut Svg, frame: Frame, table: &CandelaTable, factor: f64
             &format!("C{}", c as i64),
         );
     }
-    let peak = factor * table.peak().0;
+    let peak = table.peak().0;
     let lines = isolines(table, range);
     for (i, line) in lines.iter().enumerate() {
         let colour = LEVEL_COLOURS[i.min(LEVEL_COLOURS.len() - 1)];

@@ -49,12 +49,6 @@ pub enum DatasheetError {
     Svg(String),
     #[error("cannot write the PDF: {0}")]
     Pdf(String),
-    #[error("cannot write {path}: {source}")]
-    Write {
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
 }
 
 /// Whether the luminaire is rated as an outdoor one (BUG).
@@ -173,7 +167,7 @@ impl Datasheet {
             return Err(DatasheetError::NoLight);
         }
         for &s in &options.ugr_spacings {
-            if ![0.25, 0.5, 1.0].iter().any(|v| (v - s).abs() < 1e-9) {
+            if !ugr::is_method_spacing(s) {
                 return Err(DatasheetError::Spacing(s));
             }
         }
@@ -274,7 +268,7 @@ impl Datasheet {
                 beam_angle_deg: figures.beam_angle_deg,
                 field_angle_deg: figures.field_angle_deg,
             },
-            zonal_lumens: zonal::zonal_summary(table, lamp_flux),
+            zonal_lumens: zonal::zonal_summary(&figures, lamp_flux),
             cie_flux_code: zonal::cie_flux_code(table, lamp_flux),
             polar_curves,
             cone: cone::cone_diagram(table, figures.beam_angle_deg).into(),
@@ -291,10 +285,6 @@ impl Datasheet {
     /// The table in cd/klm the figures were drawn from.
     pub fn table_cd_per_klm(&self) -> &CandelaTable {
         &self.table_cd_per_klm
-    }
-
-    pub fn options(&self) -> &DatasheetOptions {
-        &self.options
     }
 
     /// Every figure as one JSON document.

@@ -266,7 +266,6 @@ fn page1(sheet: &Datasheet, pages: usize) -> String {
             h: col + 16.0,
         },
         &sheet.table_cd_per_klm,
-        1.0,
     );
     y = y.max(py + col + 24.0);
 
@@ -415,7 +414,7 @@ fn page2(sheet: &Datasheet, pages: usize) -> String {
     let x2 = MARGIN + col + 16.0;
     let top = 88.0;
     let table_klm = &sheet.table_cd_per_klm;
-    let mut y_left = match narrow(sheet) {
+    let y_left = match narrow(sheet) {
         Some(limit) => {
             let y = title(
                 &mut svg,
@@ -433,7 +432,6 @@ fn page2(sheet: &Datasheet, pages: usize) -> String {
                     h: 210.0,
                 },
                 table_klm,
-                1.0,
                 limit,
             );
             y + 212.0
@@ -461,18 +459,11 @@ fn page2(sheet: &Datasheet, pages: usize) -> String {
             h: col + 30.0,
         },
         table_klm,
-        1.0,
     );
     let y_right = y + col + 34.0;
-    y_left = y_left.max(if narrow(sheet).is_some() {
-        0.0
-    } else {
-        y_right
-    });
 
     // Cone diagram.
-    let mut y = y_left.max(y_right.min(y_left + 400.0)) + 6.0;
-    y = y.max(y_right);
+    let y = y_left.max(y_right) + 6.0;
     let yc = title(&mut svg, MARGIN, y, col, "Cone diagram");
     let mut y_cone = match &sheet.cone {
         Section::Shown(cone) => {

@@ -27,14 +27,6 @@ impl<T> Section<T> {
             Section::Omitted { .. } => None,
         }
     }
-
-    /// The reason it is left out, if it is.
-    pub fn reason(&self) -> Option<&str> {
-        match self {
-            Section::Shown(_) => None,
-            Section::Omitted { omitted } => Some(omitted),
-        }
-    }
 }
 
 impl<T, E: std::fmt::Display> From<Result<T, E>> for Section<T> {

@@ -247,8 +247,18 @@ pub enum UgrError {
         "UGR is not applicable: the method's flux transfer gives this distribution no indirect light on the walls"
     )]
     NoBackground,
-    #[error("UGR spacing-to-height ratio {0} is not one of the method's (0.25 to 1)")]
+    #[error("UGR spacing-to-height ratio {0} is not one of the method's arrays (0.25, 0.5 or 1)")]
     Spacing(f64),
+}
+
+/// The spacing-to-height ratios the tabular method lays arrays out at:
+/// 0.25 (catalogues), 0.5, and 1 (CIE 190's standard table). Each puts a
+/// whole number of luminaires across every standard room.
+pub const SPACINGS: [f64; 3] = [0.25, 0.5, 1.0];
+
+/// Whether `spacing` is one of [`SPACINGS`].
+pub fn is_method_spacing(spacing: f64) -> bool {
+    SPACINGS.iter().any(|v| (v - spacing).abs() < 1e-9)
 }
 
 /// The UGR table, as `lucerna report --json` prints it.
@@ -399,9 +409,7 @@ pub fn ugr_table(
     spacing: f64,
     lamp_flux_lm: f64,
 ) -> Result<UgrTable, UgrError> {
-    if !(0.25 - 1e-9..=1.0 + 1e-9).contains(&spacing)
-        || ((1.0 / spacing) - (1.0 / spacing).round()).abs() > 1e-9
-    {
+    if !is_method_spacing(spacing) {
         return Err(UgrError::Spacing(spacing));
     }
     if klm.flux_between_lm(0.0, 90.0) <= 1e-9 * klm.flux_lm().max(1e-30) {

@@ -1,8 +1,8 @@
 //! The zonal lumen summary and the CIE flux code (CIE 52:1982): how the
 //! luminaire's flux divides between cones about the nadir.
 
-use lucerna_photometry::CandelaTable;
 use lucerna_photometry::figures::ZONES_DEG;
+use lucerna_photometry::{CandelaTable, Figures};
 use serde::Serialize;
 
 /// One zone of the summary.
@@ -18,19 +18,18 @@ pub struct Zone {
 }
 
 /// The zonal lumen summary at 0-30°, 0-40°, 0-60°, 0-90° and 90-180°.
-pub fn zonal_summary(table: &CandelaTable, lamp_flux_lm: Option<f64>) -> Vec<Zone> {
-    let total = table.flux_lm();
+/// The zonal lumen summary of the figures' zones (`ZONES_DEG`).
+pub fn zonal_summary(figures: &Figures, lamp_flux_lm: Option<f64>) -> Vec<Zone> {
+    let total = figures.flux_lm;
     ZONES_DEG
         .iter()
-        .map(|&(g0, g1)| {
-            let flux = table.flux_between_lm(g0, g1);
-            Zone {
-                gamma_from_deg: g0,
-                gamma_to_deg: g1,
-                flux_lm: flux,
-                percent_of_luminaire: percent(flux, total),
-                percent_of_lamp: lamp_flux_lm.map(|l| percent(flux, l)),
-            }
+        .zip(figures.zonal_flux_lm)
+        .map(|(&(g0, g1), flux)| Zone {
+            gamma_from_deg: g0,
+            gamma_to_deg: g1,
+            flux_lm: flux,
+            percent_of_luminaire: percent(flux, total),
+            percent_of_lamp: lamp_flux_lm.map(|l| percent(flux, l)),
         })
         .collect()
 }
@@ -88,7 +87,7 @@ mod tests {
         assert!((table.flux_lm() - total).abs() / total < 1e-4);
         let code = cie_flux_code(&table, Some(total / 0.8));
         assert_eq!(code, [44, 75, 94, 100, 80]);
-        let zones = zonal_summary(&table, None);
+        let zones = zonal_summary(&lucerna_photometry::figures(&table, None), None);
         // 0-30°: sin² 30° = 1/4 of the flux.
         assert!((zones[0].percent_of_luminaire - 25.0).abs() < 0.01);
         assert!((zones[2].percent_of_luminaire - 75.0).abs() < 0.01);

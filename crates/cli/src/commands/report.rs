@@ -6,7 +6,16 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use lucerna_datasheet::{Datasheet, DatasheetOptions, Outdoor};
 
-use super::bake::{self, BakeArgs, FileFormat, IesVersionArg, PoolSymmetry, SymmetryArg};
+use clap::Parser;
+
+use super::bake::{self, BakeArgs, FileFormat};
+
+/// `lucerna bake`'s arguments on their own, to take their defaults.
+#[derive(Debug, Parser)]
+struct BakeCommand {
+    #[command(flatten)]
+    bake: BakeArgs,
+}
 
 /// Whether the BUG rating of outdoor luminaires is shown.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -92,7 +101,8 @@ fn is_scene(path: &Path) -> bool {
 
 pub fn report(args: &ReportArgs) -> Result<ReportSummary> {
     for &s in &args.sheet.ugr_spacing {
-        if ![0.25, 0.5, 1.0].iter().any(|v| (v - s).abs() < 1e-9) {
+        // Refused before a scene is traced, not after.
+        if !lucerna_datasheet::ugr::is_method_spacing(s) {
             anyhow::bail!("--ugr-spacing: {s} is not one of 0.25, 0.5 or 1 (the method's arrays)");
         }
     }
@@ -102,27 +112,25 @@ pub fn report(args: &ReportArgs) -> Result<ReportSummary> {
             .map_or("luminaire".to_owned(), |s| s.to_string_lossy().into_owned())
     });
     if is_scene(&args.input) {
-        let bake_args = BakeArgs {
-            scene: args.input.clone(),
-            photons: Some(args.photons),
-            time: None,
-            rel_error: None,
-            resolution: args.resolution,
-            seed: args.seed,
-            backend: args.backend,
-            max_bounces: 64,
-            c_step: 5.0,
-            gamma_step: None,
-            symmetrise: SymmetryArg::Auto,
-            symmetry: PoolSymmetry::Auto,
-            filter: lucerna_simulation::FilterChoice::Raw,
-            out: args.out.clone(),
-            formats: vec![FileFormat::Datasheet],
-            ies_version: IesVersionArg::Lm63_2019,
-            name: Some(stem),
-            date: args.date.clone(),
-            sheet: args.sheet.clone(),
-        };
+        // `lucerna bake SCENE --out DIR` with the bake's own defaults
+        // (parsed, so they cannot drift from it), then the report's own
+        // settings, writing only the datasheet.
+        let mut bake_args = BakeCommand::try_parse_from([
+            "bake".as_ref(),
+            args.input.as_os_str(),
+            "--out".as_ref(),
+            args.out.as_os_str(),
+        ])
+        .map_err(|e| anyhow::anyhow!("{e}"))?
+        .bake;
+        bake_args.photons = Some(args.photons);
+        bake_args.seed = args.seed;
+        bake_args.resolution = args.resolution;
+        bake_args.backend = args.backend;
+        bake_args.formats = vec![FileFormat::Datasheet];
+        bake_args.name = Some(stem);
+        bake_args.date = args.date.clone();
+        bake_args.sheet = args.sheet.clone();
         let summary = bake::bake(&bake_args)
             .with_context(|| format!("bake of {} failed", args.input.display()))?;
         let json = if args.json {
