@@ -83,6 +83,18 @@ fn open_dialog(h: &mut Harness<'_, EditorApp>, out: &Path, base: &str) {
     type_into(h, "Issue date", "2026-05-06");
 }
 
+/// What the dialog's defaults and `open_dialog`'s date give to a bake of
+/// `spot.toml`.
+fn dialog_options(h: &Harness<'_, EditorApp>) -> ExportOptions {
+    ExportOptions {
+        symmetrise: None,
+        date: "2026-05-06".to_owned(),
+        seed: settings().seed,
+        scene_file: "spot.toml".to_owned(),
+        labels: Some(Labels::of(h.state().state.scene().unwrap())),
+    }
+}
+
 /// Clicks Export and steps frames until the export's thread has ended
 /// (its result shown).
 fn export(h: &mut Harness<'_, EditorApp>) {
@@ -184,13 +196,7 @@ fn exported_files_read_back_with_the_editors_figures_and_are_the_bakes_bytes() {
         },
     )
     .unwrap();
-    let options = ExportOptions {
-        symmetrise: None,
-        date: "2026-05-06".to_owned(),
-        seed: settings().seed,
-        scene_file: "spot.toml".to_owned(),
-        labels: Some(Labels::of(h.state().state.scene().unwrap())),
-    };
+    let options = dialog_options(&h);
     let mut request = ExportRequest::new(&baked, options, dir.path(), "spot");
     request.formats.ies = Some(IesVersion::Lm63_2002);
     let files = request.render(&baked).unwrap().files;
@@ -421,21 +427,11 @@ fn the_datasheet_menu_writes_the_reports_bytes() {
             "spot_datasheet.pdf"
         ]
     );
-    let options = ExportOptions {
-        symmetrise: None,
-        date: "2026-05-06".to_owned(),
-        seed: settings().seed,
-        scene_file: "spot.toml".to_owned(),
-        labels: Some(Labels::of(h.state().state.scene().unwrap())),
-    };
+    let options = dialog_options(&h);
     let mut request = ExportRequest::new(&snapshot, options, dir.path(), "spot");
     request.formats = lucerna_simulation::ExportFormats {
-        ies: None,
-        ldt: false,
-        exr: false,
-        cube_png: false,
-        polar_png: false,
         datasheet: true,
+        ..lucerna_simulation::ExportFormats::NONE
     };
     for (path, bytes) in request.render(&snapshot).unwrap().files {
         let name = path.file_name().unwrap();

@@ -269,6 +269,16 @@ impl Default for ExportFormats {
 }
 
 impl ExportFormats {
+    /// No file: the start of a request for only some.
+    pub const NONE: ExportFormats = ExportFormats {
+        ies: None,
+        ldt: false,
+        exr: false,
+        cube_png: false,
+        polar_png: false,
+        datasheet: false,
+    };
+
     pub fn is_empty(&self) -> bool {
         !(self.ies.is_some()
             || self.ldt

@@ -285,12 +285,8 @@ fn the_datasheet_of_an_export_is_the_reports_to_the_byte() {
     let dir = tempfile::tempdir().unwrap();
     let mut request = ExportRequest::new(&snapshot, options(), dir.path(), "spot");
     request.formats = ExportFormats {
-        ies: None,
-        ldt: false,
-        exr: false,
-        cube_png: false,
-        polar_png: false,
         datasheet: true,
+        ..ExportFormats::NONE
     };
     let first = request.render(&snapshot).unwrap();
     let again = request.render(&snapshot).unwrap();
