@@ -48,6 +48,27 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// The files the scene reads besides itself (OBJ meshes, measured
+    /// emitter profiles), relative to the scene file as written, each
+    /// once, in the order they appear: what a scene's identity covers.
+    pub fn referenced_files(&self) -> Vec<&str> {
+        let meshes = self.parts.iter().filter_map(|p| match &p.shape {
+            Shape::Mesh(m) => Some(m.path.as_str()),
+            _ => None,
+        });
+        let profiles = self.emitters.iter().filter_map(|e| match &e.emission {
+            Emission::Profile(path) => Some(path.as_str()),
+            _ => None,
+        });
+        let mut files: Vec<&str> = Vec::new();
+        for f in meshes.chain(profiles) {
+            if !files.contains(&f) {
+                files.push(f);
+            }
+        }
+        files
+    }
+
     /// Whether the two scenes emit the same light: equal but for the
     /// labels exported files carry (name, description, manufacturer,
     /// `[export]`), which an editor changes without restarting a run.

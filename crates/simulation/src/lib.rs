@@ -12,6 +12,7 @@ mod error;
 pub mod export;
 mod live_filter;
 mod luminaire;
+pub mod part;
 mod run;
 mod settings;
 mod snapshot;
@@ -25,7 +26,8 @@ pub use export::{
 pub use live_filter::LiveFilter;
 pub use lucerna_gpu::BackendRequest;
 pub use luminaire::Luminaire;
-pub use run::{Run, bake, prepare_snapshots};
+pub use part::{PartError, PartManifest, PartSpec, PhotonRange};
+pub use run::{Run, bake, prepare_snapshots, snapshot_of_map};
 pub use settings::{FilterChoice, SettingsError, SimulationSettings, StoppingRule, TableGrid};
 pub use snapshot::{FilterSummary, Noise, RunState, Snapshot, StopReason};
 pub use worker::{Pace, Published, Simulation};

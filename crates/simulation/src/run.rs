@@ -155,6 +155,20 @@ impl Run {
         self.settings.stop = stop;
     }
 
+    /// Continues the seed's photon stream at `first_photon +
+    /// traced.photons_emitted`, with `traced` as the map so far: a part of
+    /// a split bake starts at its range's first photon, a resumed
+    /// checkpoint with the photons it held. The photon limit of the
+    /// stopping rule counts `traced`'s photons. Before the first step only.
+    pub fn continue_from(
+        &mut self,
+        first_photon: u64,
+        traced: IntensityMap,
+    ) -> Result<(), SimulationError> {
+        self.session.continue_from(first_photon, traced)?;
+        Ok(())
+    }
+
     /// [`Run::step`], given up when `stop` says so (`Ok(None)`: nothing
     /// traced counts).
     pub fn step_unless(
@@ -382,6 +396,24 @@ pub(crate) fn resolve_backend(
         Backend::Gpu(g) => (Some(g.context().clone()), choice.reason),
         Backend::Cpu => (None, choice.reason),
     })
+}
+
+/// The final snapshot of a map traced elsewhere (the merged parts of a
+/// split bake): pooled, filtered and tabulated exactly as [`bake`]'s own
+/// final snapshot of the same counts, so its files are the same bytes.
+pub fn snapshot_of_map(
+    luminaire: Arc<Luminaire>,
+    settings: SimulationSettings,
+    map: IntensityMap,
+) -> Result<Snapshot, SimulationError> {
+    // Nothing is traced: the CPU backend costs nothing to open.
+    let settings = SimulationSettings {
+        backend: BackendRequest::Cpu,
+        ..settings
+    };
+    let mut run = Run::new(luminaire, settings)?;
+    run.continue_from(0, map)?;
+    Ok(run.snapshot(0, RunState::Finished(StopReason::Photons), true))
 }
 
 /// Traces `luminaire` on the calling thread until the settings' stopping

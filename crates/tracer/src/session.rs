@@ -165,6 +165,20 @@ pub fn choose_backend(
     }
 }
 
+/// Why a map cannot be continued by a session.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ContinueError {
+    #[error("the session has already traced photons")]
+    AlreadyTracing,
+    #[error("the map has {map} texels per face edge, the run {run}")]
+    Resolution { map: u32, run: u32 },
+    #[error("the map is of {map} lm of emitters, the scene has {run} lm")]
+    Flux { map: f64, run: f64 },
+    #[error("the map's photons do not add up (emitted ≠ escaped + absorbed + cut off)")]
+    Unbalanced,
+}
+
 /// Photons per random-number block (the tracers' `iteration` argument).
 const PHOTONS_PER_BLOCK: u64 = 1 << 30;
 
@@ -205,6 +219,12 @@ pub struct Session {
     symmetry: TexelSymmetry,
     /// The CPU tracer's per-thread count buffers, kept between iterations.
     buffers: CountBuffers,
+    /// The number of the map's first photon in the seed's stream: a part
+    /// of a split bake traces a range that need not start at zero.
+    first_photon: u64,
+    /// Photons the map held before this session traced any (a resumed
+    /// checkpoint's), left out of the rates.
+    restored_photons: u64,
 }
 
 impl Session {
@@ -238,7 +258,47 @@ impl Session {
             tracing_time: Duration::ZERO,
             symmetry: TexelSymmetry::none(settings.layout),
             buffers: CountBuffers::default(),
+            first_photon: 0,
+            restored_photons: 0,
         }
+    }
+
+    /// Continues the stream at photon `first_photon + traced.photons_emitted`
+    /// with `traced` as the map so far: a part of a split bake starts at
+    /// its range's first photon with an empty map; a resumed checkpoint
+    /// brings the photons it had traced. Before the first iteration only.
+    pub fn continue_from(
+        &mut self,
+        first_photon: u64,
+        traced: IntensityMap,
+    ) -> Result<(), ContinueError> {
+        if self.iteration != 0 || self.map.photons_emitted != 0 {
+            return Err(ContinueError::AlreadyTracing);
+        }
+        if traced.layout != self.settings.layout {
+            return Err(ContinueError::Resolution {
+                map: traced.layout.resolution,
+                run: self.settings.layout.resolution,
+            });
+        }
+        if traced.emitter_flux_lm != self.scene.total_flux_lm {
+            return Err(ContinueError::Flux {
+                map: traced.emitter_flux_lm,
+                run: self.scene.total_flux_lm,
+            });
+        }
+        if !traced.is_balanced() {
+            return Err(ContinueError::Unbalanced);
+        }
+        self.first_photon = first_photon;
+        self.restored_photons = traced.photons_emitted;
+        self.map = traced;
+        Ok(())
+    }
+
+    /// The number, in the seed's stream, of the next photon to trace.
+    pub fn next_photon(&self) -> u64 {
+        self.first_photon + self.map.photons_emitted
     }
 
     /// Reports the peak error of the map pooled over the luminaire's
@@ -301,7 +361,7 @@ impl Session {
         // block k / 2³⁰, however iterations split the photons: a seed and a
         // photon count give the same counts on one backend, whatever the
         // timing.
-        let emitted = self.map.photons_emitted;
+        let emitted = self.next_photon();
         let (block, first) = (emitted / PHOTONS_PER_BLOCK, emitted % PHOTONS_PER_BLOCK);
         let photons = u64::from(self.photons_per_iteration)
             .min(limit)
@@ -341,15 +401,16 @@ impl Session {
 
     fn report(&self, photons: u64, elapsed: Duration) -> IterationReport {
         let total = self.map.photons_emitted;
+        let traced_here = total - self.restored_photons;
         let seconds = self.tracing_time.as_secs_f64().max(1e-9);
         IterationReport {
             iteration: self.iteration,
             photons,
             elapsed,
             photons_total: total,
-            photons_per_second: total as f64 / seconds,
+            photons_per_second: traced_here as f64 / seconds,
             rays_per_second: self.rays as f64 / seconds,
-            mean_bounces: self.bounces as f64 / total.max(1) as f64,
+            mean_bounces: self.bounces as f64 / traced_here.max(1) as f64,
             flux_relative_error: flux_relative_error(&self.map),
             peak_relative_error: peak_relative_error(&self.map, &self.symmetry),
         }
