@@ -12,7 +12,9 @@ mod edit;
 mod filter_bench;
 mod info;
 mod live_bench;
+mod merge;
 mod near_field;
+mod part_bake;
 mod render;
 mod report;
 mod validate;
@@ -57,7 +59,17 @@ enum Command {
     Report(report::ReportArgs),
     /// Trace a luminaire and write IES (LM-63-2019), LDT, the raw map as
     /// EXR, a false-colour cube map PNG and a polar diagram PNG.
+    ///
+    /// Split over a cluster: `--part K/N` (or `auto` under Slurm or
+    /// Kubernetes) traces one part of the run's photons as a partial map,
+    /// `--checkpoint 5m` writes the photons so far that often, `--resume
+    /// DIR` goes on from the last checkpoint.
     Bake(bake::BakeArgs),
+    /// Sum the parts of a split bake (`lucerna bake --part K/N`) exactly
+    /// and write the bake's files: the same bytes as the bake on one
+    /// machine. Checks that the parts are of one run, each once, and
+    /// names any photons missing.
+    Merge(merge::MergeArgs),
     /// Measure photons/s, rays/s and bounces per photon of every example on
     /// every available backend, and BVH build times.
     Bench(bench::BenchArgs),
@@ -119,8 +131,12 @@ pub fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::Bake(args) => {
-            let summary = bake::bake(&args)
-                .with_context(|| format!("bake of {} failed", args.scene.display()))?;
+            let what = match (&args.scene, &args.resume) {
+                (Some(scene), _) => format!("bake of {}", scene.display()),
+                (None, Some(dir)) => format!("resumed bake in {}", dir.display()),
+                (None, None) => "bake".to_owned(),
+            };
+            let summary = bake::bake(&args).with_context(|| format!("{what} failed"))?;
             if summary.interrupted {
                 println!("interrupted: writing what was traced");
             }
@@ -129,6 +145,17 @@ pub fn run(cli: Cli) -> Result<()> {
                 summary.photons,
                 summary.seconds,
                 summary.photons as f64 / summary.seconds.max(1e-9) / 1e6
+            );
+            for f in &summary.files {
+                println!("wrote {}", f.display());
+            }
+            Ok(())
+        }
+        Command::Merge(args) => {
+            let summary = merge::merge(&args).context("merge failed")?;
+            println!(
+                "{} parts merged: {} photons, in {:.2} s",
+                summary.parts, summary.photons, summary.seconds
             );
             for f in &summary.files {
                 println!("wrote {}", f.display());

@@ -314,6 +314,13 @@ pub struct PartManifest {
     /// The backend that traced it (counts are bit-identical on one
     /// backend; CPU and GPU differ in the last digits of their floats).
     pub backend: String,
+    /// `cpu` or `gpu`: what a resume traces on, so that one part's
+    /// photons all come from one backend.
+    pub backend_kind: String,
+    /// Whether the bake writes its photometric files itself once complete
+    /// (a whole bake with checkpoints) rather than leaving the partial
+    /// map to `lucerna merge` (a part).
+    pub write_outputs: bool,
     /// Wall time of tracing so far, over every resume (s).
     pub wall_seconds: f64,
     pub photons_per_second: f64,
@@ -337,17 +344,19 @@ impl PartManifest {
     }
 }
 
-/// The file names of part `spec` of a bake whose files are `stem`.
-pub fn part_file_names(stem: &str, spec: PartSpec) -> (String, String) {
-    let base = format!("{stem}.part-{}-of-{}", spec.index, spec.count);
-    (format!("{base}.json"), format!("{base}.counts"))
+/// The manifest's file name of part `spec` of a bake whose files are
+/// `stem` (its counts files are named after it).
+pub fn manifest_file_name(stem: &str, spec: PartSpec) -> String {
+    format!("{stem}.part-{}-of-{}.json", spec.index, spec.count)
 }
 
 /// Why a part cannot be used: every variant names its file.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum PartError {
-    #[error("--part {0}")]
+    /// A part number that is not one (`0/4`, `5/4`, a scheduler's
+    /// variables that do not make one).
+    #[error("{0}")]
     Spec(String),
     #[error("cannot read {path}")]
     Io {
@@ -568,39 +577,50 @@ pub fn decode_counts(bytes: &[u8], path: &Path) -> Result<IntensityMap, PartErro
     Ok(map)
 }
 
-/// Writes a partial map into `dir`: the counts file, then the manifest
-/// (each atomically), so a manifest on disk always has its counts. Returns
-/// the manifest's path.
+/// Writes a partial map: its counts, then its manifest at
+/// `manifest_path`, each atomically. The counts go to the one of two slot
+/// files (`….a.counts`, `….b.counts`) the manifest on disk does not name,
+/// and the other is removed only once the new manifest is in place: a
+/// process killed at any instant leaves a manifest whose counts are
+/// intact.
 pub fn write_part(
-    dir: &Path,
+    manifest_path: &Path,
     manifest: &mut PartManifest,
     map: &IntensityMap,
-) -> Result<PathBuf, PartError> {
+) -> Result<(), PartError> {
+    let dir = manifest_path.parent().unwrap_or(Path::new("."));
+    let base = manifest_path
+        .file_name()
+        .and_then(|n| n.to_str())
+        .and_then(|n| n.strip_suffix(".json"))
+        .unwrap_or("part");
+    let slots = [format!("{base}.a.counts"), format!("{base}.b.counts")];
+    let previous = std::mem::take(&mut manifest.counts.file);
+    let slot = if previous == slots[0] { &slots[1] } else { &slots[0] };
     let bytes = encode_counts(map);
-    manifest.counts.bytes = bytes.len() as u64;
-    manifest.counts.crc32 = crc32fast::hash(&bytes[..bytes.len() - 4]);
+    manifest.counts = CountsFile {
+        file: slot.clone(),
+        bytes: bytes.len() as u64,
+        crc32: crc32fast::hash(&bytes[..bytes.len() - 4]),
+    };
     manifest.photons_traced = map.photons_emitted;
     manifest.complete = map.photons_emitted == manifest.range.len();
-    let counts_path = dir.join(&manifest.counts.file);
+    let counts_path = dir.join(slot);
     write_atomically(&counts_path, &bytes).map_err(|source| PartError::Write {
         path: counts_path,
         source,
     })?;
-    let (json_name, _) = part_file_names(stem_of(&manifest.counts.file), manifest.spec());
-    let json_path = dir.join(json_name);
     let mut text = serde_json::to_string_pretty(manifest).expect("a manifest serialises");
     text.push('\n');
-    write_atomically(&json_path, text.as_bytes()).map_err(|source| PartError::Write {
-        path: json_path.clone(),
+    write_atomically(manifest_path, text.as_bytes()).map_err(|source| PartError::Write {
+        path: manifest_path.to_path_buf(),
         source,
     })?;
-    Ok(json_path)
-}
-
-fn stem_of(counts_file: &str) -> &str {
-    counts_file
-        .rsplit_once(".part-")
-        .map_or(counts_file, |(stem, _)| stem)
+    if !previous.is_empty() && previous != *slot {
+        // Stale now; a failure to remove it loses nothing.
+        let _ = std::fs::remove_file(dir.join(&previous));
+    }
+    Ok(())
 }
 
 /// Reads and checks a manifest (not yet its counts).
@@ -956,15 +976,15 @@ pub fn find_checkpoint(
 }
 
 /// A manifest to be written for part `spec` of a run (its counts file's
-/// size and CRC filled in by [`write_part`]).
+/// file, size and CRC filled in by [`write_part`]).
 pub fn new_manifest(
     scene: SceneIdentity,
     trace: TraceIdentity,
     export_args: Vec<String>,
     spec: PartSpec,
-    stem: &str,
+    backend_kind: &str,
+    write_outputs: bool,
 ) -> PartManifest {
-    let (_, counts) = part_file_names(stem, spec);
     PartManifest {
         format: MANIFEST_FORMAT.to_owned(),
         version: PARTIAL_MAP_VERSION,
@@ -977,10 +997,12 @@ pub fn new_manifest(
         photons_traced: 0,
         complete: false,
         backend: String::new(),
+        backend_kind: backend_kind.to_owned(),
+        write_outputs,
         wall_seconds: 0.0,
         photons_per_second: 0.0,
         counts: CountsFile {
-            file: counts,
+            file: String::new(),
             bytes: 0,
             crc32: 0,
         },

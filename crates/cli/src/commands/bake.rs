@@ -1,6 +1,6 @@
 //! `lucerna bake`: trace a luminaire headlessly and write its photometry.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
@@ -10,7 +10,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use lucerna_photometry::{CPlaneSymmetry, IesVersion};
 use lucerna_simulation::{
     BackendRequest, ExportFormats, ExportOptions, ExportRequest, FilterChoice, Luminaire, Pace,
-    RunState, SettingsError, Simulation, SimulationSettings, Snapshot, StopReason, StoppingRule,
+    PartSpec, RunState, SettingsError, Simulation, SimulationSettings, Snapshot, StopReason, StoppingRule,
     TableGrid,
 };
 
@@ -80,10 +80,47 @@ pub enum PoolSymmetry {
     None,
 }
 
+/// `--part`: a part number, or the scheduler's task.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PartChoice {
+    /// From `SLURM_ARRAY_TASK_ID` (with `SLURM_ARRAY_TASK_COUNT` or
+    /// `_MIN`/`_MAX`) or `JOB_COMPLETION_INDEX` (with `--parts`).
+    Auto,
+    Part(PartSpec),
+}
+
+fn parse_part(s: &str) -> Result<PartChoice, String> {
+    if s.trim() == "auto" {
+        return Ok(PartChoice::Auto);
+    }
+    s.parse::<PartSpec>()
+        .map(PartChoice::Part)
+        .map_err(|e| e.to_string())
+}
+
+impl PartChoice {
+    /// The part this choice is, the scheduler's read from the environment.
+    pub fn resolve(self, parts: Option<u32>) -> Result<PartSpec> {
+        match self {
+            PartChoice::Part(spec) => {
+                if let Some(n) = parts
+                    && n != spec.count
+                {
+                    anyhow::bail!("--parts {n} disagrees with --part {spec}");
+                }
+                Ok(spec)
+            }
+            PartChoice::Auto => PartSpec::from_scheduler(&|name| std::env::var(name).ok(), parts)
+                .map_err(|e| anyhow::anyhow!("--part auto: {e}")),
+        }
+    }
+}
+
 #[derive(Debug, clap::Args)]
 pub struct BakeArgs {
     /// The luminaire scene (TOML).
-    pub scene: PathBuf,
+    #[arg(required_unless_present = "resume")]
+    pub scene: Option<PathBuf>,
     /// Stop after this many photons (default 10 000 000 when no other
     /// limit is given).
     #[arg(long)]
@@ -135,8 +172,8 @@ pub struct BakeArgs {
     #[arg(long, default_value = "none")]
     pub filter: FilterChoice,
     /// Output directory (created if needed).
-    #[arg(long)]
-    pub out: PathBuf,
+    #[arg(long, required_unless_present = "resume")]
+    pub out: Option<PathBuf>,
     /// The files to write, comma-separated.
     #[arg(long, value_enum, value_delimiter = ',', default_values_t = [FileFormat::Ies, FileFormat::Ldt, FileFormat::Exr, FileFormat::Cube, FileFormat::Polar])]
     pub formats: Vec<FileFormat>,
@@ -154,6 +191,59 @@ pub struct BakeArgs {
     /// The datasheet's UGR spacings and outdoor rating (`--formats datasheet`).
     #[command(flatten)]
     pub sheet: super::report::DatasheetArgs,
+    /// Trace only part K of N of the run's `--photons` (e.g. 3/8), as a
+    /// partial map (STEM.part-K-of-N.json and its counts) for `lucerna
+    /// merge`; `auto` takes K and N from the scheduler (a Slurm job
+    /// array's task, or a Kubernetes Indexed Job's JOB_COMPLETION_INDEX
+    /// with --parts).
+    #[arg(long, value_parser = parse_part)]
+    pub part: Option<PartChoice>,
+    /// The number of parts, for `--part auto` in a Kubernetes Indexed Job
+    /// (its `completions`).
+    #[arg(long)]
+    pub parts: Option<u32>,
+    /// Write the photons traced so far every this long (e.g. 5m), so that
+    /// a killed job loses at most that much: `--resume` goes on from the
+    /// last. A part's bake checkpoints every 5m unless told.
+    #[arg(long, value_parser = parse_duration)]
+    pub checkpoint: Option<Duration>,
+    /// Continue the checkpointed bake in this folder to its total (every
+    /// setting is the checkpoint's; with --part, that part's checkpoint).
+    #[arg(long, conflicts_with_all = [
+        "scene", "photons", "time", "rel_error", "resolution", "seed", "backend",
+        "max_bounces", "c_step", "gamma_step", "symmetrise", "symmetry", "filter",
+        "out", "formats", "ies_version", "name", "date", "ugr_spacing", "outdoor",
+    ])]
+    pub resume: Option<PathBuf>,
+}
+
+/// `lucerna bake`'s arguments on their own: to take their defaults, or
+/// to rebuild a checkpoint's bake from the flags it stored.
+#[derive(Debug, clap::Parser)]
+#[command(name = "bake")]
+struct BakeCommand {
+    #[command(flatten)]
+    bake: BakeArgs,
+}
+
+/// Parses `lucerna bake`'s flags (`argv` without the program name).
+pub fn parse_bake_args<I, T>(argv: I) -> Result<BakeArgs>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    use clap::Parser;
+    let argv = std::iter::once(std::ffi::OsString::from("bake")).chain(argv.into_iter().map(Into::into));
+    BakeCommand::try_parse_from(argv)
+        .map(|c| c.bake)
+        .map_err(|e| anyhow::anyhow!("{e}"))
+}
+
+/// A clap value's own name (`quadrant`, `2019`).
+fn value_name<T: clap::ValueEnum>(value: &T) -> String {
+    value
+        .to_possible_value()
+        .map_or_else(String::new, |v| v.get_name().to_owned())
 }
 
 /// "30s", "2m", "1.5h", "500ms", or plain seconds.
@@ -239,6 +329,39 @@ pub fn describe_filter(snapshot: &Snapshot) {
     }
 }
 
+/// Writes the files `args` ask for from a final snapshot (all or none),
+/// after saying how the table and filter came out.
+pub fn export(args: &BakeArgs, snapshot: &Snapshot) -> Result<Vec<PathBuf>> {
+    eprintln!("table: {}", snapshot.table_fidelity.summary());
+    for warning in &snapshot.warnings {
+        eprintln!("warning: {warning}");
+    }
+    describe_filter(snapshot);
+    let scene_file = args
+        .scene
+        .as_deref()
+        .and_then(Path::file_name)
+        .map_or(String::new(), |s| s.to_string_lossy().into_owned());
+    let options = ExportOptions {
+        symmetrise: args.symmetrise.imposed(),
+        date: args
+            .date
+            .clone()
+            .unwrap_or_else(|| chrono::Local::now().format("%Y-%m-%d").to_string()),
+        seed: args.seed,
+        scene_file: scene_file.clone(),
+        // The scene's name, manufacturer and [export] keywords.
+        labels: None,
+    };
+    let out = args.out_dir()?;
+    std::fs::create_dir_all(out)
+        .with_context(|| format!("cannot create output directory {}", out.display()))?;
+    let mut request = ExportRequest::new(snapshot, options, out, &args.stem());
+    request.formats = formats(&args.formats, args.ies_version);
+    request.datasheet = args.sheet.options(scene_file);
+    Ok(request.write(snapshot)?)
+}
+
 /// The files `--formats` and `--ies-version` ask for.
 pub fn formats(formats: &[FileFormat], version: IesVersionArg) -> ExportFormats {
     ExportFormats {
@@ -251,6 +374,70 @@ pub fn formats(formats: &[FileFormat], version: IesVersionArg) -> ExportFormats 
         cube_png: formats.contains(&FileFormat::Cube),
         polar_png: formats.contains(&FileFormat::Polar),
         datasheet: formats.contains(&FileFormat::Datasheet),
+    }
+}
+
+impl BakeArgs {
+    /// The scene (given unless resuming).
+    pub fn scene_path(&self) -> Result<&Path> {
+        self.scene
+            .as_deref()
+            .context("no scene given (lucerna bake SCENE --out DIR)")
+    }
+
+    pub fn out_dir(&self) -> Result<&Path> {
+        self.out.as_deref().context("no output folder given (--out DIR)")
+    }
+
+    /// The base name of the files.
+    pub fn stem(&self) -> String {
+        self.name.clone().unwrap_or_else(|| {
+            self.scene
+                .as_deref()
+                .and_then(Path::file_stem)
+                .map_or("luminaire".to_owned(), |s| s.to_string_lossy().into_owned())
+        })
+    }
+
+    /// The flags that shape the files but not the photons (filter,
+    /// pooling, table grid, formats, labels), as `lucerna bake` takes
+    /// them: a part stores them so that a merge writes the files the
+    /// one-machine bake would.
+    pub fn export_args(&self) -> Vec<String> {
+        let filter = match self.filter {
+            FilterChoice::Raw => "none".to_owned(),
+            FilterChoice::Automatic => "auto".to_owned(),
+            FilterChoice::Threshold(t) => t.to_string(),
+        };
+        let join = |v: Vec<String>| v.join(",");
+        let mut args = vec![
+            "--c-step".to_owned(),
+            self.c_step.to_string(),
+            "--symmetrise".to_owned(),
+            value_name(&self.symmetrise),
+            "--symmetry".to_owned(),
+            value_name(&self.symmetry),
+            "--filter".to_owned(),
+            filter,
+            "--formats".to_owned(),
+            join(self.formats.iter().map(value_name).collect()),
+            "--ies-version".to_owned(),
+            value_name(&self.ies_version),
+            "--name".to_owned(),
+            self.stem(),
+            "--ugr-spacing".to_owned(),
+            join(self.sheet.ugr_spacing.iter().map(f64::to_string).collect()),
+            "--outdoor".to_owned(),
+            value_name(&self.sheet.outdoor),
+        ];
+        if let Some(step) = self.gamma_step {
+            args.extend(["--gamma-step".to_owned(), step.to_string()]);
+        }
+        // Without --date each merge states its own day.
+        if let Some(date) = &self.date {
+            args.extend(["--date".to_owned(), date.clone()]);
+        }
+        args
     }
 }
 
@@ -269,19 +456,28 @@ fn flag_of(e: &SettingsError) -> &'static str {
     }
 }
 
-pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
-    let settings = args.settings();
-    settings
-        .validate()
-        .map_err(|e| anyhow::anyhow!("{}: {e}", flag_of(&e)))?;
-    // Refused before tracing, not after.
+/// Refuses a `--name` that is not a plain file name, before tracing.
+pub fn check_name(args: &BakeArgs) -> Result<()> {
     if let Some(name) = &args.name
         && (name.trim().is_empty()
             || std::path::Path::new(name).file_name() != Some(std::ffi::OsStr::new(name)))
     {
         anyhow::bail!("--name: '{name}' is not a plain file name (no folders)");
     }
-    let luminaire = Luminaire::load(&args.scene)?;
+    Ok(())
+}
+
+/// Checks the settings, naming the flag at fault.
+pub fn checked_settings(args: &BakeArgs) -> Result<SimulationSettings> {
+    let settings = args.settings();
+    settings
+        .validate()
+        .map_err(|e| anyhow::anyhow!("{}: {e}", flag_of(&e)))?;
+    Ok(settings)
+}
+
+/// Says what symmetry the photons are pooled over.
+pub fn describe_symmetry(luminaire: &Luminaire, settings: &SimulationSettings) {
     if let Some(why) = &luminaire.find_symmetry().limited_by
         && settings.pool_symmetry
     {
@@ -294,8 +490,23 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
             symmetry.order()
         );
     }
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("cannot create output directory {}", args.out.display()))?;
+}
+
+pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
+    if args.resume.is_some() {
+        return super::part_bake::resume(args);
+    }
+    if args.part.is_some() || args.checkpoint.is_some() || args.parts.is_some() {
+        return super::part_bake::bake_part(args);
+    }
+    let settings = checked_settings(args)?;
+    // Refused before tracing, not after.
+    check_name(args)?;
+    let out = args.out_dir()?;
+    let luminaire = Luminaire::load(args.scene_path()?)?;
+    describe_symmetry(&luminaire, &settings);
+    std::fs::create_dir_all(out)
+        .with_context(|| format!("cannot create output directory {}", out.display()))?;
 
     let stop = Arc::new(AtomicBool::new(false));
     {
@@ -354,38 +565,7 @@ pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
         seen = Some(s);
     };
     bar.finish();
-    eprintln!("table: {}", snapshot.table_fidelity.summary());
-    for warning in &snapshot.warnings {
-        eprintln!("warning: {warning}");
-    }
-    describe_filter(&snapshot);
-    let options = ExportOptions {
-        symmetrise: args.symmetrise.imposed(),
-        date: args
-            .date
-            .clone()
-            .unwrap_or_else(|| chrono::Local::now().format("%Y-%m-%d").to_string()),
-        seed: args.seed,
-        scene_file: args
-            .scene
-            .file_name()
-            .map_or(String::new(), |s| s.to_string_lossy().into_owned()),
-        // The scene's name, manufacturer and [export] keywords.
-        labels: None,
-    };
-    let stem = args.name.clone().unwrap_or_else(|| {
-        args.scene
-            .file_stem()
-            .map_or("luminaire".to_owned(), |s| s.to_string_lossy().into_owned())
-    });
-    let mut request = ExportRequest::new(&snapshot, options, &args.out, &stem);
-    request.formats = formats(&args.formats, args.ies_version);
-    request.datasheet = args.sheet.options(
-        args.scene
-            .file_name()
-            .map_or(String::new(), |s| s.to_string_lossy().into_owned()),
-    );
-    let files = request.write(&snapshot)?;
+    let files = export(args, &snapshot)?;
     Ok(BakeSummary {
         files,
         photons: snapshot.photons,

@@ -6,16 +6,8 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use lucerna_datasheet::{Datasheet, DatasheetOptions, Outdoor};
 
-use clap::Parser;
 
-use super::bake::{self, BakeArgs, FileFormat};
-
-/// `lucerna bake`'s arguments on their own, to take their defaults.
-#[derive(Debug, Parser)]
-struct BakeCommand {
-    #[command(flatten)]
-    bake: BakeArgs,
-}
+use super::bake::{self, FileFormat};
 
 /// Whether the BUG rating of outdoor luminaires is shown.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -115,14 +107,11 @@ pub fn report(args: &ReportArgs) -> Result<ReportSummary> {
         // `lucerna bake SCENE --out DIR` with the bake's own defaults
         // (parsed, so they cannot drift from it), then the report's own
         // settings, writing only the datasheet.
-        let mut bake_args = BakeCommand::try_parse_from([
-            "bake".as_ref(),
+        let mut bake_args = bake::parse_bake_args([
             args.input.as_os_str(),
             "--out".as_ref(),
             args.out.as_os_str(),
-        ])
-        .map_err(|e| anyhow::anyhow!("{e}"))?
-        .bake;
+        ])?;
         bake_args.photons = Some(args.photons);
         bake_args.seed = args.seed;
         bake_args.resolution = args.resolution;

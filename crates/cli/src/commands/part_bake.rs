@@ -1,0 +1,381 @@
+//! `lucerna bake --part`, `--checkpoint` and `--resume`: a bake as a
+//! well-behaved batch job. It traces a fixed range of the seed's photon
+//! stream on the calling thread, writes its partial map atomically every
+//! checkpoint interval and on SIGTERM or Ctrl+C, and goes on from the last
+//! checkpoint when resumed, so that no photon is traced twice and a killed
+//! job loses at most one interval.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result};
+use indicatif::{ProgressBar, ProgressStyle};
+use lucerna_simulation::part::{
+    self, PartManifest, SceneIdentity, TraceIdentity, manifest_file_name, new_manifest,
+};
+use lucerna_simulation::{
+    BackendRequest, Luminaire, PartError, PartSpec, Run, RunState, StopReason,
+};
+use lucerna_tracer::Backend;
+
+use super::bake::{self, BakeArgs, BakeSummary};
+
+/// How often a part's bake checkpoints unless told (`--checkpoint`).
+pub const DEFAULT_CHECKPOINT_INTERVAL: Duration = Duration::from_secs(5 * 60);
+
+/// Photons per iteration are sized to this: short enough that a
+/// checkpoint comes on time, long enough to cost nothing.
+const ITERATION_TIME: Duration = Duration::from_millis(500);
+
+/// A fresh part (`--part`) or a whole bake with checkpoints
+/// (`--checkpoint`).
+pub fn bake_part(args: &BakeArgs) -> Result<BakeSummary> {
+    let Some(total) = args.photons else {
+        anyhow::bail!(
+            "--part and --checkpoint need --photons TOTAL: a part is a fixed range of the \
+             run's photons, the same on every machine"
+        );
+    };
+    if args.time.is_some() || args.rel_error.is_some() {
+        anyhow::bail!(
+            "--time and --rel-error cannot split a bake: give its photons (--photons TOTAL)"
+        );
+    }
+    let spec = match args.part {
+        Some(choice) => choice.resolve(args.parts)?,
+        None if args.parts.is_some() => anyhow::bail!("--parts N goes with --part auto"),
+        None => PartSpec::WHOLE,
+    };
+    if total < u64::from(spec.count) {
+        anyhow::bail!(
+            "--photons {total} is fewer than the {} parts: each part traces at least one",
+            spec.count
+        );
+    }
+    bake::check_name(args)?;
+    let mut settings = bake::checked_settings(args)?;
+    let range = spec.range(total);
+    settings.stop.photons = Some(range.len());
+    let scene_path = args.scene_path()?;
+    let out = args.out_dir()?;
+    let stem = args.stem();
+    let manifest_path = out.join(manifest_file_name(&stem, spec));
+    // A checkpoint is never overwritten by a fresh start: that would lose
+    // its photons, and a requeued job should resume instead.
+    if manifest_path.exists() {
+        let what = match part::read_manifest(&manifest_path) {
+            Ok(m) if m.complete => "a complete".to_owned(),
+            Ok(m) => format!("a checkpoint ({} of {} photons) of", m.photons_traced, m.range.len()),
+            Err(_) => "a file of".to_owned(),
+        };
+        anyhow::bail!(
+            "{} already holds {what} part {spec}: resume it with `lucerna bake --resume {}{}`, \
+             or remove it to start over",
+            manifest_path.display(),
+            out.display(),
+            if spec == PartSpec::WHOLE { String::new() } else { format!(" --part {spec}") }
+        );
+    }
+    let luminaire = Luminaire::load(scene_path)?;
+    let scene = SceneIdentity::of(scene_path, &luminaire.scene)?;
+    bake::describe_symmetry(&luminaire, &settings);
+    let trace = TraceIdentity {
+        resolution: settings.resolution,
+        seed: settings.seed,
+        max_bounces: settings.max_bounces,
+        photons_total: total,
+        parts: spec.count,
+        emitter_flux_lm: luminaire.prepared.total_flux_lm,
+    };
+    let mut run = Run::new(Arc::new(luminaire), settings)?;
+    let empty = run.session().map().clone();
+    run.continue_from(range.first, empty)?;
+    let manifest = new_manifest(
+        scene,
+        trace,
+        args.export_args(),
+        spec,
+        backend_kind(run.backend()),
+        args.part.is_none(),
+    );
+    std::fs::create_dir_all(out)
+        .with_context(|| format!("cannot create output directory {}", out.display()))?;
+    let interval = args.checkpoint.unwrap_or(DEFAULT_CHECKPOINT_INTERVAL);
+    drive(run, manifest, &manifest_path, interval, args)
+}
+
+/// `--resume DIR`: the checkpoint there (of `--part`, if given) traced on
+/// to its total.
+pub fn resume(args: &BakeArgs) -> Result<BakeSummary> {
+    let dir = args.resume.as_deref().context("no folder to resume")?;
+    let part = args.part.map(|p| p.resolve(args.parts)).transpose()?;
+    let (manifest_path, manifest) = part::find_checkpoint(dir, part)?;
+    let scene_path = manifest.scene.path.clone();
+    let scene = lucerna_scene::load_scene(&scene_path).with_context(|| {
+        format!(
+            "the scene of {} cannot be loaded",
+            manifest_path.display()
+        )
+    })?;
+    check_scene_unchanged(&manifest_path, &manifest, &scene_path, &scene)?;
+    let stored = stored_bake_args(&manifest_path, &manifest, &scene_path, dir)?;
+    let mut settings = bake::checked_settings(&stored)?;
+    settings.backend = match manifest.backend_kind.as_str() {
+        "gpu" => BackendRequest::Gpu,
+        _ => BackendRequest::Cpu,
+    };
+    settings.stop.photons = Some(manifest.range.len());
+    let luminaire = Luminaire::new(scene, scene_path.parent().unwrap_or(Path::new(".")))?;
+    if luminaire.prepared.total_flux_lm != manifest.trace.emitter_flux_lm {
+        anyhow::bail!(
+            "{}: the scene now emits {} lm, the checkpoint {} lm",
+            manifest_path.display(),
+            luminaire.prepared.total_flux_lm,
+            manifest.trace.emitter_flux_lm
+        );
+    }
+    let traced = part::read_part_counts(&manifest_path, &manifest)?;
+    eprintln!(
+        "resuming part {} of {}: {} of its {} photons traced ({}), on the {} backend",
+        manifest.spec(),
+        manifest_path.display(),
+        manifest.photons_traced,
+        manifest.range.len(),
+        manifest.range,
+        manifest.backend_kind
+    );
+    let mut run = Run::new(Arc::new(luminaire), settings).with_context(|| {
+        format!(
+            "{} was traced on the {} backend, which is needed to go on with it",
+            manifest_path.display(),
+            manifest.backend_kind
+        )
+    })?;
+    run.continue_from(manifest.range.first, traced)?;
+    let interval = args.checkpoint.unwrap_or(DEFAULT_CHECKPOINT_INTERVAL);
+    drive(run, manifest, &manifest_path, interval, &stored)
+}
+
+/// The scene hashed again, compared with the one a part was traced from.
+pub fn check_scene_unchanged(
+    manifest_path: &Path,
+    manifest: &PartManifest,
+    scene_path: &Path,
+    scene: &lucerna_scene::Scene,
+) -> Result<(), PartError> {
+    let now = SceneIdentity::of(scene_path, scene)?;
+    if now.sha256 != manifest.scene.sha256 {
+        return Err(PartError::SceneChanged {
+            path: manifest_path.to_path_buf(),
+            why: manifest
+                .scene
+                .first_difference(&now)
+                .unwrap_or_else(|| "its files differ".to_owned()),
+        });
+    }
+    Ok(())
+}
+
+/// The bake a part belongs to, rebuilt from what its manifest stored:
+/// the photons' settings and the output flags.
+pub fn stored_bake_args(
+    manifest_path: &Path,
+    manifest: &PartManifest,
+    scene: &Path,
+    out: &Path,
+) -> Result<BakeArgs> {
+    let t = &manifest.trace;
+    let mut argv: Vec<std::ffi::OsString> = vec![
+        scene.into(),
+        "--out".into(),
+        out.into(),
+        "--photons".into(),
+        t.photons_total.to_string().into(),
+        "--resolution".into(),
+        t.resolution.to_string().into(),
+        "--seed".into(),
+        t.seed.to_string().into(),
+        "--max-bounces".into(),
+        t.max_bounces.to_string().into(),
+    ];
+    argv.extend(manifest.export_args.iter().map(Into::into));
+    bake::parse_bake_args(argv).with_context(|| {
+        format!(
+            "{}: its stored bake settings are not this Lucerna's",
+            manifest_path.display()
+        )
+    })
+}
+
+fn backend_kind(backend: &Backend) -> &'static str {
+    match backend {
+        Backend::Cpu => "cpu",
+        Backend::Gpu(_) => "gpu",
+    }
+}
+
+/// Set by SIGTERM, SIGINT or SIGHUP: the bake writes a checkpoint and
+/// stops.
+fn stop_flag() -> Arc<AtomicBool> {
+    static FLAG: std::sync::OnceLock<Arc<AtomicBool>> = std::sync::OnceLock::new();
+    FLAG.get_or_init(|| {
+        let flag = Arc::new(AtomicBool::new(false));
+        let f = flag.clone();
+        // Set once per process; if another handler came first, a signal
+        // ends the process, and the last checkpoint stands.
+        let _ = ctrlc::set_handler(move || f.store(true, Ordering::SeqCst));
+        flag
+    })
+    .clone()
+}
+
+/// Traces until the part is complete, checkpointing; then, for a whole
+/// bake, writes its files.
+fn drive(
+    mut run: Run,
+    mut manifest: PartManifest,
+    manifest_path: &Path,
+    interval: Duration,
+    args: &BakeArgs,
+) -> Result<BakeSummary> {
+    let stop = stop_flag();
+    run.set_iteration_time(ITERATION_TIME);
+    let started = Instant::now();
+    let wall_before = manifest.wall_seconds;
+    let traced_before = manifest.photons_traced;
+    let range = manifest.range;
+    eprintln!(
+        "part {} of {} photons: {} on the {}, checkpoint every {}",
+        manifest.spec(),
+        manifest.trace.photons_total,
+        range,
+        run.backend().describe(),
+        describe_interval(interval)
+    );
+    let bar = ProgressBar::new(range.len());
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {bar:30} {human_pos}/{human_len} photons ({per_sec}, ETA {eta})",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar.set_position(traced_before);
+    bar.reset_eta();
+    let checkpoint = |run: &Run, manifest: &mut PartManifest, bar: &ProgressBar| -> Result<()> {
+        let t0 = Instant::now();
+        let map = run.session().map();
+        manifest.wall_seconds = wall_before + started.elapsed().as_secs_f64();
+        let traced_here = map.photons_emitted - traced_before;
+        manifest.photons_per_second = if manifest.wall_seconds > 0.0 {
+            map.photons_emitted as f64 / manifest.wall_seconds
+        } else {
+            0.0
+        };
+        if manifest.backend.is_empty() || traced_here > 0 {
+            manifest.backend = run.backend().describe();
+        }
+        part::write_part(manifest_path, manifest, map)?;
+        bar.suspend(|| {
+            eprintln!(
+                "checkpoint: {} of {} photons of part {} in {} ({:.3} s)",
+                map.photons_emitted,
+                range.len(),
+                manifest.spec(),
+                manifest_path.display(),
+                t0.elapsed().as_secs_f64()
+            )
+        });
+        Ok(())
+    };
+    let mut last_checkpoint = Instant::now();
+    let stopping = || stop.load(Ordering::SeqCst);
+    while run.stop_reason().is_none() {
+        if stopping() {
+            break;
+        }
+        if let Some(r) = run.step_unless(&stopping)? {
+            bar.set_position(r.photons_total);
+        }
+        if last_checkpoint.elapsed() >= interval && run.stop_reason().is_none() {
+            checkpoint(&run, &mut manifest, &bar)?;
+            last_checkpoint = Instant::now();
+        }
+    }
+    checkpoint(&run, &mut manifest, &bar)?;
+    bar.finish_and_clear();
+    if !manifest.complete {
+        let part = if manifest.spec() == PartSpec::WHOLE {
+            String::new()
+        } else {
+            format!(" --part {}", manifest.spec())
+        };
+        anyhow::bail!(
+            "stopped by a signal: {} of {} photons are in {}; go on with `lucerna bake --resume \
+             {}{part}`",
+            manifest.photons_traced,
+            range.len(),
+            manifest_path.display(),
+            manifest_path.parent().unwrap_or(Path::new(".")).display()
+        );
+    }
+    let photons = manifest.photons_traced - traced_before;
+    let seconds = started.elapsed().as_secs_f64();
+    if !manifest.write_outputs {
+        eprintln!(
+            "part {} complete: {} photons; merge the parts with `lucerna merge`",
+            manifest.spec(),
+            manifest.photons_traced
+        );
+        let counts = manifest_path.with_file_name(&manifest.counts.file);
+        return Ok(BakeSummary {
+            files: vec![manifest_path.to_path_buf(), counts],
+            photons,
+            seconds,
+            interrupted: false,
+        });
+    }
+    // A whole bake: its files, then its checkpoint is spent.
+    let snapshot = run.snapshot(0, RunState::Finished(StopReason::Photons), true);
+    let files = bake::export(args, &snapshot)?;
+    let counts = manifest_path.with_file_name(&manifest.counts.file);
+    let _ = std::fs::remove_file(manifest_path);
+    let _ = std::fs::remove_file(counts);
+    Ok(BakeSummary {
+        files,
+        photons,
+        seconds,
+        interrupted: false,
+    })
+}
+
+fn describe_interval(d: Duration) -> String {
+    let s = d.as_secs_f64();
+    if s >= 120.0 {
+        format!("{:.0} min", s / 60.0)
+    } else {
+        format!("{s:.1} s")
+    }
+}
+
+/// The manifests a merge is given: files as they are, folders for the
+/// parts they hold.
+pub fn expand_part_paths(paths: &[PathBuf]) -> Result<Vec<PathBuf>, PartError> {
+    let mut out = Vec::new();
+    for p in paths {
+        if p.is_dir() {
+            let found = part::manifests_in(p)?;
+            if found.is_empty() {
+                return Err(PartError::NoCheckpoint {
+                    dir: p.clone(),
+                    which: String::new(),
+                });
+            }
+            out.extend(found);
+        } else {
+            out.push(p.clone());
+        }
+    }
+    Ok(out)
+}
