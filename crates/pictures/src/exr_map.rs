@@ -74,7 +74,9 @@ fn sort_header_attributes(bytes: &mut [u8]) {
             break; // the header's end
         }
         let Some(name_end) = cstr_end(at) else { return };
-        let Some(type_end) = cstr_end(name_end + 1) else { return };
+        let Some(type_end) = cstr_end(name_end + 1) else {
+            return;
+        };
         let Some(size) = bytes
             .get(type_end + 1..type_end + 5)
             .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize)

@@ -83,9 +83,11 @@ impl PartSpec {
         let number = |name: &str| -> Result<Option<u32>, PartError> {
             match env(name) {
                 None => Ok(None),
-                Some(v) => v.trim().parse::<u32>().map(Some).map_err(|_| {
-                    PartError::Spec(format!("{name}='{v}' is not a task number"))
-                }),
+                Some(v) => v
+                    .trim()
+                    .parse::<u32>()
+                    .map(Some)
+                    .map_err(|_| PartError::Spec(format!("{name}='{v}' is not a task number"))),
             }
         };
         if let Some(id) = number("SLURM_ARRAY_TASK_ID")? {
@@ -115,9 +117,8 @@ impl PartSpec {
                     "SLURM_ARRAY_TASK_ID={id} is below the array's first task {first}"
                 ))
             })?;
-            return PartSpec::new(index + 1, count).map_err(|e| {
-                PartError::Spec(format!("the Slurm array task is not a part: {e}"))
-            });
+            return PartSpec::new(index + 1, count)
+                .map_err(|e| PartError::Spec(format!("the Slurm array task is not a part: {e}")));
         }
         if let Some(index) = number("JOB_COMPLETION_INDEX")? {
             let Some(count) = parts else {
@@ -596,7 +597,11 @@ pub fn write_part(
         .unwrap_or("part");
     let slots = [format!("{base}.a.counts"), format!("{base}.b.counts")];
     let previous = std::mem::take(&mut manifest.counts.file);
-    let slot = if previous == slots[0] { &slots[1] } else { &slots[0] };
+    let slot = if previous == slots[0] {
+        &slots[1]
+    } else {
+        &slots[0]
+    };
     let bytes = encode_counts(map);
     manifest.counts = CountsFile {
         file: slot.clone(),
@@ -625,12 +630,11 @@ pub fn write_part(
 
 /// Reads and checks a manifest (not yet its counts).
 pub fn read_manifest(path: &Path) -> Result<PartManifest, PartError> {
-    let text = lucerna_scene::file::read_limited_text(path, 1 << 20).map_err(|e| {
-        PartError::Io {
+    let text =
+        lucerna_scene::file::read_limited_text(path, 1 << 20).map_err(|e| PartError::Io {
             path: path.to_path_buf(),
             source: std::io::Error::other(e.to_string()),
-        }
-    })?;
+        })?;
     let value: serde_json::Value =
         serde_json::from_str(&text).map_err(|e| PartError::NotAPart {
             path: path.to_path_buf(),
@@ -658,17 +662,15 @@ pub fn read_manifest(path: &Path) -> Result<PartManifest, PartError> {
             });
         }
     }
-    let manifest: PartManifest =
-        serde_json::from_value(value).map_err(|e| PartError::Corrupt {
+    let manifest: PartManifest = serde_json::from_value(value).map_err(|e| PartError::Corrupt {
+        path: path.to_path_buf(),
+        why: e.to_string(),
+    })?;
+    let spec =
+        PartSpec::new(manifest.part, manifest.trace.parts).map_err(|e| PartError::Corrupt {
             path: path.to_path_buf(),
             why: e.to_string(),
         })?;
-    let spec = PartSpec::new(manifest.part, manifest.trace.parts).map_err(|e| {
-        PartError::Corrupt {
-            path: path.to_path_buf(),
-            why: e.to_string(),
-        }
-    })?;
     if spec.range(manifest.trace.photons_total) != manifest.range
         || manifest.photons_traced > manifest.range.len()
         || manifest.complete != (manifest.photons_traced == manifest.range.len())
@@ -759,8 +761,14 @@ pub fn check_parts(parts: &[(PathBuf, PartManifest)]) -> Result<(), PartError> {
                 .unwrap_or_else(|| "the scene".to_owned());
             return Err(mismatch(
                 "the scene",
-                format!("{}…", &first.scene.sha256[..12.min(first.scene.sha256.len())]),
-                format!("{}…: {why}", &m.scene.sha256[..12.min(m.scene.sha256.len())]),
+                format!(
+                    "{}…",
+                    &first.scene.sha256[..12.min(first.scene.sha256.len())]
+                ),
+                format!(
+                    "{}…: {why}",
+                    &m.scene.sha256[..12.min(m.scene.sha256.len())]
+                ),
             ));
         }
         let (a, b) = (&first.trace, &m.trace);
@@ -781,7 +789,11 @@ pub fn check_parts(parts: &[(PathBuf, PartManifest)]) -> Result<(), PartError> {
                 a.photons_total.to_string(),
                 b.photons_total.to_string(),
             ),
-            ("the number of parts", a.parts.to_string(), b.parts.to_string()),
+            (
+                "the number of parts",
+                a.parts.to_string(),
+                b.parts.to_string(),
+            ),
             (
                 "the emitter flux",
                 a.emitter_flux_lm.to_string(),
@@ -836,10 +848,26 @@ pub fn check_parts(parts: &[(PathBuf, PartManifest)]) -> Result<(), PartError> {
         // The part whose range holds `photon` (ranges are floor(T·k/N)).
         let mut k = ((u128::from(photon) * u128::from(count)) / u128::from(total.max(1))) as u32;
         k = k.min(count - 1);
-        while k + 1 < count && (PartSpec { index: k + 2, count }).range(total).first <= photon {
+        while k + 1 < count
+            && (PartSpec {
+                index: k + 2,
+                count,
+            })
+            .range(total)
+            .first
+                <= photon
+        {
             k += 1;
         }
-        while k > 0 && (PartSpec { index: k + 1, count }).range(total).first > photon {
+        while k > 0
+            && (PartSpec {
+                index: k + 1,
+                count,
+            })
+            .range(total)
+            .first
+                > photon
+        {
             k -= 1;
         }
         PartSpec {

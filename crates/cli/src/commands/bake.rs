@@ -10,8 +10,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use lucerna_photometry::{CPlaneSymmetry, IesVersion};
 use lucerna_simulation::{
     BackendRequest, ExportFormats, ExportOptions, ExportRequest, FilterChoice, Luminaire, Pace,
-    PartSpec, RunState, SettingsError, Simulation, SimulationSettings, Snapshot, StopReason, StoppingRule,
-    TableGrid,
+    PartSpec, RunState, SettingsError, Simulation, SimulationSettings, Snapshot, StopReason,
+    StoppingRule, TableGrid,
 };
 
 /// The C-plane symmetry the files declare (the table is averaged over it,
@@ -233,7 +233,8 @@ where
     T: Into<std::ffi::OsString> + Clone,
 {
     use clap::Parser;
-    let argv = std::iter::once(std::ffi::OsString::from("bake")).chain(argv.into_iter().map(Into::into));
+    let argv =
+        std::iter::once(std::ffi::OsString::from("bake")).chain(argv.into_iter().map(Into::into));
     BakeCommand::try_parse_from(argv)
         .map(|c| c.bake)
         .map_err(|e| anyhow::anyhow!("{e}"))
@@ -386,7 +387,9 @@ impl BakeArgs {
     }
 
     pub fn out_dir(&self) -> Result<&Path> {
-        self.out.as_deref().context("no output folder given (--out DIR)")
+        self.out
+            .as_deref()
+            .context("no output folder given (--out DIR)")
     }
 
     /// The base name of the files.

@@ -42,7 +42,10 @@ pub fn merge(args: &MergeArgs) -> Result<MergeSummary> {
     let merged = part::merge_parts(&paths)?;
     let first = paths.first().map_or(Path::new(""), PathBuf::as_path);
     let manifest = &merged.manifest;
-    let scene_path = args.scene.clone().unwrap_or_else(|| manifest.scene.path.clone());
+    let scene_path = args
+        .scene
+        .clone()
+        .unwrap_or_else(|| manifest.scene.path.clone());
     let scene = lucerna_scene::load_scene(&scene_path)
         .with_context(|| format!("the scene of {} cannot be loaded", first.display()))?;
     check_scene_unchanged(first, manifest, &scene_path, &scene)?;

@@ -67,7 +67,11 @@ pub fn bake_part(args: &BakeArgs) -> Result<BakeSummary> {
     if manifest_path.exists() {
         let what = match part::read_manifest(&manifest_path) {
             Ok(m) if m.complete => "a complete".to_owned(),
-            Ok(m) => format!("a checkpoint ({} of {} photons) of", m.photons_traced, m.range.len()),
+            Ok(m) => format!(
+                "a checkpoint ({} of {} photons) of",
+                m.photons_traced,
+                m.range.len()
+            ),
             Err(_) => "a file of".to_owned(),
         };
         anyhow::bail!(
@@ -75,7 +79,11 @@ pub fn bake_part(args: &BakeArgs) -> Result<BakeSummary> {
              or remove it to start over",
             manifest_path.display(),
             out.display(),
-            if spec == PartSpec::WHOLE { String::new() } else { format!(" --part {spec}") }
+            if spec == PartSpec::WHOLE {
+                String::new()
+            } else {
+                format!(" --part {spec}")
+            }
         );
     }
     let luminaire = Luminaire::load(scene_path)?;
@@ -113,12 +121,8 @@ pub fn resume(args: &BakeArgs) -> Result<BakeSummary> {
     let part = args.part.map(|p| p.resolve(args.parts)).transpose()?;
     let (manifest_path, manifest) = part::find_checkpoint(dir, part)?;
     let scene_path = manifest.scene.path.clone();
-    let scene = lucerna_scene::load_scene(&scene_path).with_context(|| {
-        format!(
-            "the scene of {} cannot be loaded",
-            manifest_path.display()
-        )
-    })?;
+    let scene = lucerna_scene::load_scene(&scene_path)
+        .with_context(|| format!("the scene of {} cannot be loaded", manifest_path.display()))?;
     check_scene_unchanged(&manifest_path, &manifest, &scene_path, &scene)?;
     let stored = stored_bake_args(&manifest_path, &manifest, &scene_path, dir)?;
     let mut settings = bake::checked_settings(&stored)?;
@@ -290,6 +294,7 @@ fn drive(
         Ok(())
     };
     let mut last_checkpoint = Instant::now();
+    let mut written: Option<u64> = None;
     let stopping = || stop.load(Ordering::SeqCst);
     while run.stop_reason().is_none() {
         if stopping() {
@@ -300,10 +305,15 @@ fn drive(
         }
         if last_checkpoint.elapsed() >= interval && run.stop_reason().is_none() {
             checkpoint(&run, &mut manifest, &bar)?;
+            written = Some(run.session().map().photons_emitted);
             last_checkpoint = Instant::now();
         }
     }
-    checkpoint(&run, &mut manifest, &bar)?;
+    // The last state, unless the last checkpoint holds it already (a
+    // signal during the iteration after it).
+    if written != Some(run.session().map().photons_emitted) {
+        checkpoint(&run, &mut manifest, &bar)?;
+    }
     bar.finish_and_clear();
     if !manifest.complete {
         let part = if manifest.spec() == PartSpec::WHOLE {

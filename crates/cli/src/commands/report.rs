@@ -6,7 +6,6 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use lucerna_datasheet::{Datasheet, DatasheetOptions, Outdoor};
 
-
 use super::bake::{self, FileFormat};
 
 /// Whether the BUG rating of outdoor luminaires is shown.
