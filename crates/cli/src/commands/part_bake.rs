@@ -294,26 +294,18 @@ fn drive(
         Ok(())
     };
     let mut last_checkpoint = Instant::now();
-    let mut written: Option<u64> = None;
-    let stopping = || stop.load(Ordering::SeqCst);
-    while run.stop_reason().is_none() {
-        if stopping() {
-            break;
-        }
-        if let Some(r) = run.step_unless(&stopping)? {
-            bar.set_position(r.photons_total);
-        }
+    // A signal lets the iteration in flight finish (at most
+    // ITERATION_TIME; schedulers wait 30 s before SIGKILL), so its photons
+    // are kept, then the loop ends with a checkpoint.
+    while run.stop_reason().is_none() && !stop.load(Ordering::SeqCst) {
+        let r = run.step()?;
+        bar.set_position(r.photons_total);
         if last_checkpoint.elapsed() >= interval && run.stop_reason().is_none() {
             checkpoint(&run, &mut manifest, &bar)?;
-            written = Some(run.session().map().photons_emitted);
             last_checkpoint = Instant::now();
         }
     }
-    // The last state, unless the last checkpoint holds it already (a
-    // signal during the iteration after it).
-    if written != Some(run.session().map().photons_emitted) {
-        checkpoint(&run, &mut manifest, &bar)?;
-    }
+    checkpoint(&run, &mut manifest, &bar)?;
     bar.finish_and_clear();
     if !manifest.complete {
         let part = if manifest.spec() == PartSpec::WHOLE {
