@@ -347,12 +347,22 @@ fn bad_parts_and_flags_are_refused_naming_the_file_and_nothing_is_written() {
         s(&nothing),
     ]));
     assert!(e.contains("the output settings differ"), "{e}");
-    // A fresh start over a checkpoint is refused: it would lose photons.
-    let e = refused(&part(&spot(), "2/3", photons, &parts, &[]));
+    // The same part again goes on from its checkpoint (a requeued job);
+    // another bake's over it is refused, as it would lose its photons.
+    let o = part(&spot(), "2/3", photons, &parts, &[]);
+    ok(&o);
     assert!(
-        e.contains("already holds a complete part 2/3") && e.contains("--resume"),
+        text(&o.stderr).contains("holds this bake's part 2/3: going on from it"),
+        "{}",
+        text(&o.stderr)
+    );
+    let e = refused(&part(&spot(), "2/3", photons, &parts, &["--seed", "2"]));
+    assert!(
+        e.contains("holds part 2/3 of another bake: the photons asked for"),
         "{e}"
     );
+    let e = refused(&part(&spot(), "2/3", photons, &parts, &["--c-step", "10"]));
+    assert!(e.contains("the output settings (--c-step 5"), "{e}");
 
     // A truncated part and a newer one.
     ok(&part(&spot(), "3/3", photons, &parts, &[]));

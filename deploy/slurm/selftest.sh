@@ -5,7 +5,9 @@
 # example luminaire in 4 parts and the dependent merge (submit.sh), waits,
 # and compares the merged files with a bake of the same photons in one
 # process: the counts (EXR), IES and LDT must be the same bytes. Stops
-# every daemon it started, whatever happens.
+# every daemon it started, whatever happens. On the way it requeues the
+# second task while it traces (`scontrol requeue`: SIGTERM, then a new
+# start), which must go on from its final checkpoint.
 #
 #   deploy/slurm/selftest.sh            # uses target/{release,debug}/lucerna
 #   LUCERNA=/path/to/lucerna deploy/slurm/selftest.sh
@@ -25,7 +27,7 @@ for tool in munged slurmctld slurmd sbatch squeue scontrol sinfo; do
     command -v "$tool" > /dev/null || { echo "selftest: $tool is missing (apt-get install slurm-wlm munge)" >&2; exit 2; }
 done
 SCENE=${SCENE:-$REPO/assets/luminaires/parabolic_spot.toml}
-PHOTONS=${PHOTONS:-2000000}
+PHOTONS=${PHOTONS:-24000000}
 PARTS=4
 BAKE_ARGS="--resolution 64 --backend cpu --date 2026-01-31"
 
@@ -113,10 +115,33 @@ done
 printf 'selftest: Slurm up in %.1f s (node %s, %s CPUs)\n' "$(echo "$(date +%s.%N) - $START" | bc)" "$HOST" "$CPUS"
 
 cd "$WORK/jobs"
-export LUCERNA BAKE_ARGS CHECKPOINT=30s
+export LUCERNA BAKE_ARGS CHECKPOINT=1s
 SUBMITTED=$("$REPO/deploy/slurm/submit.sh" "$SCENE" "$PHOTONS" "$PARTS" "$WORK/parts" "$WORK/merged" --cpus-per-task=1)
 echo "selftest: $SUBMITTED"
 MERGE_JOB=$(echo "$SUBMITTED" | sed -n 's/.*merge: job \([0-9]*\).*/\1/p')
+ARRAY_JOB=$(echo "$SUBMITTED" | sed -n 's/.*job array \([0-9]*\).*/\1/p')
+
+# Task 2 requeued once it has written a checkpoint, as a preempting
+# scheduler does.
+STEM=$(basename "${SCENE%.*}")
+for _ in $(seq 600); do
+    [[ -f $WORK/parts/$STEM.part-2-of-$PARTS.json ]] && break
+    sleep 0.1
+done
+if grep -q '"complete": false' "$WORK/parts/$STEM.part-2-of-$PARTS.json"; then
+    scontrol requeue "${ARRAY_JOB}_2"
+    # A requeued job is held back 2 minutes before it may start again.
+    for _ in $(seq 100); do
+        [[ $(scontrol show job "${ARRAY_JOB}_2" | sed -n 's/.*JobState=\([A-Z_]*\).*/\1/p' | head -n 1) == PENDING ]] && break
+        sleep 0.1
+    done
+    scontrol update jobid="${ARRAY_JOB}_2" StartTime=now
+    echo "selftest: requeued task 2 while it traced"
+    REQUEUED=1
+else
+    echo "selftest: task 2 finished before it could be requeued (raise PHOTONS)" >&2
+    REQUEUED=""
+fi
 
 # Meanwhile, the same photons in one process.
 "$LUCERNA" bake "$SCENE" --photons "$PHOTONS" $BAKE_ARGS --out "$WORK/single" > "$WORK/single.log" 2>&1
@@ -134,9 +159,15 @@ for _ in $(seq 600); do
 done
 [[ $(state "$MERGE_JOB") == COMPLETED ]] || { echo "selftest: the merge did not finish within 5 min" >&2; exit 1; }
 echo "selftest: the tasks said:"
-grep -h -e "^lucerna-bake: part" -e "complete" -e "parts merged" "$WORK"/jobs/*.out | sed 's/^/  /'
+grep -h -e "^lucerna-bake: task" -e "complete" -e "parts merged" "$WORK"/jobs/*.out | sed 's/^/  /'
 
-STEM=$(basename "${SCENE%.*}")
+if [[ -n $REQUEUED ]]; then
+    grep -q "stopped by a signal" "$WORK"/jobs/lucerna-bake-*_2.out \
+        && grep -q "going on from it" "$WORK"/jobs/lucerna-bake-*_2.out \
+        || { echo "selftest: the requeued task did not checkpoint and resume" >&2; exit 1; }
+    echo "selftest: the requeued task wrote a checkpoint on SIGTERM and went on from it:"
+    grep -h -e "stopped by a signal" -e "resuming part" "$WORK"/jobs/lucerna-bake-*_2.out | sed 's/^/  /'
+fi
 SAME=1
 for f in "$STEM.exr" "$STEM.ies" "$STEM.ldt"; do
     if cmp -s "$WORK/single/$f" "$WORK/merged/$f"; then

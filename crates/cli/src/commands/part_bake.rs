@@ -62,30 +62,6 @@ pub fn bake_part(args: &BakeArgs) -> Result<BakeSummary> {
     let out = args.out_dir()?;
     let stem = args.stem();
     let manifest_path = out.join(manifest_file_name(&stem, spec));
-    // A checkpoint is never overwritten by a fresh start: that would lose
-    // its photons, and a requeued job should resume instead.
-    if manifest_path.exists() {
-        let what = match part::read_manifest(&manifest_path) {
-            Ok(m) if m.complete => "a complete".to_owned(),
-            Ok(m) => format!(
-                "a checkpoint ({} of {} photons) of",
-                m.photons_traced,
-                m.range.len()
-            ),
-            Err(_) => "a file of".to_owned(),
-        };
-        anyhow::bail!(
-            "{} already holds {what} part {spec}: resume it with `lucerna bake --resume {}{}`, \
-             or remove it to start over",
-            manifest_path.display(),
-            out.display(),
-            if spec == PartSpec::WHOLE {
-                String::new()
-            } else {
-                format!(" --part {spec}")
-            }
-        );
-    }
     let luminaire = Luminaire::load(scene_path)?;
     let scene = SceneIdentity::of(scene_path, &luminaire.scene)?;
     bake::describe_symmetry(&luminaire, &settings);
@@ -97,6 +73,42 @@ pub fn bake_part(args: &BakeArgs) -> Result<BakeSummary> {
         parts: spec.count,
         emitter_flux_lm: luminaire.prepared.total_flux_lm,
     };
+    // A checkpoint is never overwritten by a fresh start, which would
+    // lose its photons: the same bake goes on from it (a requeued or
+    // resubmitted job), another is refused.
+    if manifest_path.exists() {
+        let existing = part::read_manifest(&manifest_path)?;
+        let differs = if existing.scene.sha256 != scene.sha256 {
+            Some(format!(
+                "the scene ({})",
+                existing
+                    .scene
+                    .first_difference(&scene)
+                    .unwrap_or_else(|| "its files differ".to_owned())
+            ))
+        } else if existing.trace != trace {
+            Some("the photons asked for (--photons, --resolution, --seed or --max-bounces)".into())
+        } else if existing.export_args != args.export_args() {
+            Some(format!(
+                "the output settings ({} then, {} now)",
+                existing.export_args.join(" "),
+                args.export_args().join(" ")
+            ))
+        } else {
+            None
+        };
+        if let Some(what) = differs {
+            anyhow::bail!(
+                "{} holds part {spec} of another bake: {what} differs. Remove its files to start                  over, or choose another --out",
+                manifest_path.display()
+            );
+        }
+        eprintln!(
+            "{} holds this bake's part {spec}: going on from it",
+            manifest_path.display()
+        );
+        return resume_checkpoint(manifest_path, existing, args.checkpoint);
+    }
     let mut run = Run::new(Arc::new(luminaire), settings)?;
     let empty = run.session().map().clone();
     run.continue_from(range.first, empty)?;
@@ -120,11 +132,25 @@ pub fn resume(args: &BakeArgs) -> Result<BakeSummary> {
     let dir = args.resume.as_deref().context("no folder to resume")?;
     let part = args.part.map(|p| p.resolve(args.parts)).transpose()?;
     let (manifest_path, manifest) = part::find_checkpoint(dir, part)?;
+    resume_checkpoint(manifest_path, manifest, args.checkpoint)
+}
+
+/// The checkpoint at `manifest_path` traced on to its total, with the
+/// settings it stored, after checking its scene is the same bytes.
+fn resume_checkpoint(
+    manifest_path: PathBuf,
+    manifest: PartManifest,
+    checkpoint: Option<Duration>,
+) -> Result<BakeSummary> {
+    let dir = manifest_path
+        .parent()
+        .unwrap_or(Path::new("."))
+        .to_path_buf();
     let scene_path = manifest.scene.path.clone();
     let scene = lucerna_scene::load_scene(&scene_path)
         .with_context(|| format!("the scene of {} cannot be loaded", manifest_path.display()))?;
     check_scene_unchanged(&manifest_path, &manifest, &scene_path, &scene)?;
-    let stored = stored_bake_args(&manifest_path, &manifest, &scene_path, dir)?;
+    let stored = stored_bake_args(&manifest_path, &manifest, &scene_path, &dir)?;
     let mut settings = bake::checked_settings(&stored)?;
     settings.backend = match manifest.backend_kind.as_str() {
         "gpu" => BackendRequest::Gpu,
@@ -158,7 +184,7 @@ pub fn resume(args: &BakeArgs) -> Result<BakeSummary> {
         )
     })?;
     run.continue_from(manifest.range.first, traced)?;
-    let interval = args.checkpoint.unwrap_or(DEFAULT_CHECKPOINT_INTERVAL);
+    let interval = checkpoint.unwrap_or(DEFAULT_CHECKPOINT_INTERVAL);
     drive(run, manifest, &manifest_path, interval, &stored)
 }
 
