@@ -17,6 +17,7 @@ mod near_field;
 mod part_bake;
 mod render;
 mod report;
+mod split_bench;
 mod validate;
 
 #[derive(Debug, Parser)]
@@ -70,6 +71,10 @@ enum Command {
     /// machine. Checks that the parts are of one run, each once, and
     /// names any photons missing.
     Merge(merge::MergeArgs),
+    /// What a split bake costs besides tracing: writing a partial map (a
+    /// checkpoint) and merging N parts, on maps as dense as a final
+    /// bake's parts.
+    SplitBench(split_bench::SplitBenchArgs),
     /// Measure photons/s, rays/s and bounces per photon of every example on
     /// every available backend, and BVH build times.
     Bench(bench::BenchArgs),
@@ -175,6 +180,7 @@ pub fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::Bench(args) => bench::bench(&args),
+        Command::SplitBench(args) => split_bench::split_bench(&args),
         Command::LiveBench(args) => live_bench::live_bench(&args),
         Command::FilterBench(args) => filter_bench::filter_bench(&args),
         Command::Convert {
