@@ -214,9 +214,10 @@ fn a_part_killed_or_stopped_resumes_to_the_counts_of_an_uninterrupted_one() {
     assert!(status.success());
     let out = child.wait_with_output().unwrap();
     let stderr = text(&out.stderr);
-    assert!(
-        !out.status.success(),
-        "a stopped part is not a finished one"
+    assert_eq!(
+        out.status.code(),
+        Some(75),
+        "a stopped part exits with EX_TEMPFAIL, for a scheduler's retry rules"
     );
     assert!(
         stderr.contains("stopped by a signal") && stderr.contains("--resume"),

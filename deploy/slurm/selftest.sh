@@ -35,6 +35,11 @@ WORK=$(mktemp -d /tmp/lucerna-slurm-selftest.XXXXXX)
 PIDS=()
 cleanup() {
     local rc=$?
+    # The jobs first: their processes outlive slurmd.
+    if [[ -n ${SLURM_CONF:-} ]]; then
+        scancel --full --quiet --user=root 2> /dev/null || true
+        for _ in $(seq 100); do [[ -z $(squeue -h 2> /dev/null) ]] && break; sleep 0.1; done
+    fi
     for pid in "${PIDS[@]}"; do kill "$pid" 2> /dev/null || true; done
     for pid in "${PIDS[@]}"; do
         for _ in $(seq 50); do kill -0 "$pid" 2> /dev/null || break; sleep 0.1; done
@@ -128,8 +133,8 @@ for _ in $(seq 600); do
     [[ -f $WORK/parts/$STEM.part-2-of-$PARTS.json ]] && break
     sleep 0.1
 done
-if grep -q '"complete": false' "$WORK/parts/$STEM.part-2-of-$PARTS.json"; then
-    scontrol requeue "${ARRAY_JOB}_2"
+if grep -q '"complete": false' "$WORK/parts/$STEM.part-2-of-$PARTS.json" \
+    && scontrol requeue "${ARRAY_JOB}_2" 2> /dev/null; then
     # A requeued job is held back 2 minutes before it may start again.
     for _ in $(seq 100); do
         [[ $(scontrol show job "${ARRAY_JOB}_2" | sed -n 's/.*JobState=\([A-Z_]*\).*/\1/p' | head -n 1) == PENDING ]] && break
@@ -140,7 +145,7 @@ if grep -q '"complete": false' "$WORK/parts/$STEM.part-2-of-$PARTS.json"; then
     REQUEUED=1
 else
     echo "selftest: task 2 finished before it could be requeued (raise PHOTONS)" >&2
-    REQUEUED=""
+    exit 1
 fi
 
 # Meanwhile, the same photons in one process.

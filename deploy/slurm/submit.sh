@@ -14,14 +14,20 @@ if (($# < 5)); then
     sed -n '2,12p' "$0" >&2
     exit 2
 fi
-SCENE=$(realpath "$1") PHOTONS=$2 PARTS=$3 OUT=$(realpath -m "$4") RESULT=$(realpath -m "$5")
+[[ -f $1 ]] || { echo "submit.sh: no scene file $1" >&2; exit 2; }
+SCENE=$(realpath "$1")
+PHOTONS=$2
+PARTS=$3
+OUT=$(realpath -m "$4")
+RESULT=$(realpath -m "$5")
 shift 5
 HERE=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$OUT"
 export SCENE PHOTONS OUT RESULT
 ARRAY=$(sbatch --parsable --array="1-$PARTS" --export=ALL "$@" "$HERE/bake-array.sbatch")
 ARRAY=${ARRAY%%;*}
+# The same options (partition, account, …) for the merge.
 MERGE=$(sbatch --parsable --dependency="afterok:$ARRAY" --kill-on-invalid-dep=yes --export=ALL \
-    "$HERE/merge.sbatch")
+    "$@" "$HERE/merge.sbatch")
 MERGE=${MERGE%%;*}
 echo "parts: job array $ARRAY (tasks 1-$PARTS); merge: job $MERGE after all of them"

@@ -15,6 +15,7 @@ mod live_bench;
 mod merge;
 mod near_field;
 mod part_bake;
+pub use part_bake::Interrupted;
 mod render;
 mod report;
 mod split_bench;

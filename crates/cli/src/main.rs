@@ -15,7 +15,11 @@ fn main() -> std::process::ExitCode {
             for cause in e.chain().skip(1) {
                 eprintln!("  caused by: {cause}");
             }
-            std::process::ExitCode::FAILURE
+            if e.downcast_ref::<commands::Interrupted>().is_some() {
+                std::process::ExitCode::from(commands::Interrupted::EXIT_CODE)
+            } else {
+                std::process::ExitCode::FAILURE
+            }
         }
     }
 }

@@ -105,6 +105,17 @@ impl PartSpec {
                     ));
                 }
             };
+            if let (Some(min), Some(max), Some(listed)) =
+                (min, max, number("SLURM_ARRAY_TASK_COUNT")?)
+                && max >= min
+                && listed != max - min + 1
+            {
+                return Err(PartError::Spec(format!(
+                    "the job array has {listed} tasks numbered {min} to {max}: number them \
+                     contiguously (--array={min}-{}) so that each task is one part",
+                    min + listed - 1
+                )));
+            }
             if let Some(parts) = parts
                 && parts != count
             {
@@ -683,6 +694,28 @@ pub fn read_manifest(path: &Path) -> Result<PartManifest, PartError> {
             ),
         });
     }
+    let is_digest = |d: &str| d.len() == 64 && d.bytes().all(|b| b.is_ascii_hexdigit());
+    if !is_digest(&manifest.scene.sha256)
+        || !manifest.scene.files.iter().all(|f| is_digest(&f.sha256))
+    {
+        return Err(PartError::Corrupt {
+            path: path.to_path_buf(),
+            why: "a scene digest is not 64 hexadecimal digits".to_owned(),
+        });
+    }
+    let t = &manifest.trace;
+    if !(1..=4096).contains(&t.resolution)
+        || t.photons_total > 1 << 62
+        || !(t.emitter_flux_lm.is_finite() && t.emitter_flux_lm > 0.0)
+    {
+        return Err(PartError::Corrupt {
+            path: path.to_path_buf(),
+            why: format!(
+                "its trace ({} texels per face edge, {} photons, {} lm) is not one Lucerna traces",
+                t.resolution, t.photons_total, t.emitter_flux_lm
+            ),
+        });
+    }
     let counts = Path::new(&manifest.counts.file);
     if counts.file_name() != Some(counts.as_os_str()) {
         return Err(PartError::Corrupt {
@@ -942,8 +975,15 @@ pub fn merge_parts(paths: &[PathBuf]) -> Result<MergedParts, PartError> {
             path: path.clone(),
             why: e.to_string(),
         })?;
-        if !backends.contains(&manifest.backend) {
-            backends.push(manifest.backend.clone());
+        // CPU parts are bit-identical whatever their thread count; GPU
+        // parts per adapter.
+        let backend = if manifest.backend_kind == "cpu" {
+            "CPU tracer".to_owned()
+        } else {
+            manifest.backend.clone()
+        };
+        if !backends.contains(&backend) {
+            backends.push(backend);
         }
         wall_seconds += manifest.wall_seconds;
     }

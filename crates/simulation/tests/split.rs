@@ -430,3 +430,74 @@ fn a_counts_file_round_trips_exactly_even_with_counts_beyond_u32() {
         .expect_err("unbalanced");
     assert!(matches!(e, PartError::Corrupt { .. }), "{e}");
 }
+
+#[test]
+fn a_flux_of_seventeen_digits_and_hostile_manifests_read_back_exactly_or_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = example("parabolic_spot.toml");
+    let luminaire = Luminaire::load(&scene).unwrap();
+    // A flux whose shortest decimal has 17 digits must come back to the bit.
+    let flux = 130.653_316_326_530_61_f64;
+    let mut map = IntensityMap::new(lucerna_photometry::CubeMapLayout::new(8), flux);
+    map.counts[3] = 5;
+    map.photons_emitted = 7;
+    map.photons_absorbed = 2;
+    let spec = PartSpec::WHOLE;
+    let trace = TraceIdentity {
+        resolution: 8,
+        seed: 1,
+        max_bounces: 64,
+        photons_total: 7,
+        parts: 1,
+        emitter_flux_lm: flux,
+    };
+    let identity = SceneIdentity::of(&scene, &luminaire.scene).unwrap();
+    let mut manifest = new_manifest(identity, trace, Vec::new(), spec, "cpu", false);
+    let path = dir.path().join(manifest_file_name("flux", spec));
+    write_part(&path, &mut manifest, &map).unwrap();
+    let back = part::read_manifest(&path).unwrap();
+    assert_eq!(back.trace.emitter_flux_lm.to_bits(), flux.to_bits());
+    let counts = part::read_part_counts(&path, &back).unwrap();
+    assert_same_counts(&counts, &map, "17-digit flux");
+
+    // Hostile values are refused as corrupt, never a panic.
+    let edits: [(&str, fn(&mut serde_json::Value)); 4] = [
+        ("a short non-ASCII digest", |v| {
+            v["scene"]["sha256"] = "ééééééé".into()
+        }),
+        ("a huge resolution", |v| {
+            v["trace"]["resolution"] = 100_000.into()
+        }),
+        ("photons past 2^62", |v| {
+            v["trace"]["photons_total"] = u64::MAX.into()
+        }),
+        ("a file digest of the wrong length", |v| {
+            v["scene"]["files"][0]["sha256"] = "ab".into()
+        }),
+    ];
+    let good = std::fs::read_to_string(&path).unwrap();
+    for (what, edit) in edits {
+        edit_manifest(&path, edit);
+        let e = part::read_manifest(&path).expect_err(what);
+        assert!(
+            e.to_string().contains(&path.display().to_string()),
+            "{what}: {e}"
+        );
+        std::fs::write(&path, &good).unwrap();
+    }
+}
+
+#[test]
+fn a_stepped_slurm_array_is_refused_rather_than_misnumbered() {
+    let env = |name: &str| match name {
+        "SLURM_ARRAY_TASK_ID" => Some("3".to_owned()),
+        "SLURM_ARRAY_TASK_MIN" => Some("1".to_owned()),
+        "SLURM_ARRAY_TASK_MAX" => Some("63".to_owned()),
+        "SLURM_ARRAY_TASK_COUNT" => Some("32".to_owned()),
+        _ => None,
+    };
+    let e = PartSpec::from_scheduler(&env, None)
+        .expect_err("1-63:2")
+        .to_string();
+    assert!(e.contains("contiguously"), "{e}");
+}

@@ -22,6 +22,21 @@ use lucerna_tracer::Backend;
 
 use super::bake::{self, BakeArgs, BakeSummary};
 
+/// A part stopped by a signal once its final checkpoint is written: the
+/// process exits with [`Interrupted::EXIT_CODE`], which a scheduler's
+/// retry rules can tell from a failure.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct Interrupted(String);
+
+impl Interrupted {
+    /// EX_TEMPFAIL of sysexits.h: try again later (from the checkpoint).
+    pub const EXIT_CODE: u8 = 75;
+}
+
+/// The most photons a run can have: 2³² random-number blocks of 2³⁰.
+const MAX_PHOTONS: u64 = 1 << 62;
+
 /// How often a part's bake checkpoints unless told (`--checkpoint`).
 pub const DEFAULT_CHECKPOINT_INTERVAL: Duration = Duration::from_secs(5 * 60);
 
@@ -48,6 +63,9 @@ pub fn bake_part(args: &BakeArgs) -> Result<BakeSummary> {
         None if args.parts.is_some() => anyhow::bail!("--parts N goes with --part auto"),
         None => PartSpec::WHOLE,
     };
+    if total > MAX_PHOTONS {
+        anyhow::bail!("--photons {total} is more than a run can trace (2^62)");
+    }
     if total < u64::from(spec.count) {
         anyhow::bail!(
             "--photons {total} is fewer than the {} parts: each part traces at least one",
@@ -99,7 +117,8 @@ pub fn bake_part(args: &BakeArgs) -> Result<BakeSummary> {
         };
         if let Some(what) = differs {
             anyhow::bail!(
-                "{} holds part {spec} of another bake: {what} differs. Remove its files to start                  over, or choose another --out",
+                "{} holds part {spec} of another bake: {what} differs. Remove its files to start \
+                 over, or choose another --out",
                 manifest_path.display()
             );
         }
@@ -339,14 +358,15 @@ fn drive(
         } else {
             format!(" --part {}", manifest.spec())
         };
-        anyhow::bail!(
+        return Err(Interrupted(format!(
             "stopped by a signal: {} of {} photons are in {}; go on with `lucerna bake --resume \
              {}{part}`",
             manifest.photons_traced,
             range.len(),
             manifest_path.display(),
             manifest_path.parent().unwrap_or(Path::new(".")).display()
-        );
+        ))
+        .into());
     }
     let photons = manifest.photons_traced - traced_before;
     let seconds = started.elapsed().as_secs_f64();

@@ -55,12 +55,22 @@ fn synthetic_map(
         *c = (-(u.ln()) * mean as f64) as u64;
     }
     let escaped: u64 = map.counts.iter().sum();
-    map.photons_emitted = photons;
-    map.photons_absorbed = photons - escaped;
+    // Every photon escaped or absorbed (an exponential sum stays far
+    // below the callers' 1.25 × the mean; should it not, all escaped).
+    map.photons_emitted = photons.max(escaped);
+    map.photons_absorbed = map.photons_emitted - escaped;
     map
 }
 
 pub fn split_bench(args: &SplitBenchArgs) -> Result<()> {
+    anyhow::ensure!(
+        (1..=4096).contains(&args.parts) && (1..=2048).contains(&args.resolution),
+        "--parts must be 1 to 4096 and --resolution 1 to 2048"
+    );
+    anyhow::ensure!(
+        (1..=1_000_000).contains(&args.mean_count),
+        "--mean-count must be 1 to 1 000 000"
+    );
     let scene_path = super::bench::example_scenes(&[])?
         .into_iter()
         .next()
