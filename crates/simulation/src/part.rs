@@ -633,6 +633,10 @@ pub fn write_part(
         source,
     })?;
     if !previous.is_empty() && previous != *slot {
+        // The renames must be on disk before the older slot goes, or a
+        // power cut could leave a manifest naming a removed file.
+        #[cfg(unix)]
+        let _ = std::fs::File::open(dir).and_then(|d| d.sync_all());
         // Stale now; a failure to remove it loses nothing.
         let _ = std::fs::remove_file(dir.join(&previous));
     }

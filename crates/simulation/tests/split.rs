@@ -461,7 +461,8 @@ fn a_flux_of_seventeen_digits_and_hostile_manifests_read_back_exactly_or_are_ref
     assert_same_counts(&counts, &map, "17-digit flux");
 
     // Hostile values are refused as corrupt, never a panic.
-    let edits: [(&str, fn(&mut serde_json::Value)); 4] = [
+    type ManifestEdit = fn(&mut serde_json::Value);
+    let edits: [(&str, ManifestEdit); 4] = [
         ("a short non-ASCII digest", |v| {
             v["scene"]["sha256"] = "ééééééé".into()
         }),
