@@ -1,14 +1,18 @@
-// Preview room: photometric polygonal lights shaded with the cubature of
-// Luksch et al. 2020 (prefiltered, exact cosine weights; CPU twin:
-// crates/room/src/cubature.rs) and LTC specular (crates/room/src/ltc.rs).
+// Preview room: photometric polygonal lights shaded by polar integration
+// of the polygonal-light integral of Luksch et al. 2020 (CPU twin:
+// crates/room/src/polar.rs) and LTC specular (crates/room/src/ltc.rs).
 // One invocation per pixel (`render`) or per shading point (`shade_points`).
 
 const PI: f32 = 3.14159265358979;
 const MAX_VERTICES: u32 = 12u;
 const MAX_CLIPPED: u32 = 16u;
-const BLUR_LEVELS: u32 = 7u;
-const BLUR_BASE_DEG: f32 = 1.0;
-const PLANE_EPSILON: f32 = 1e-3;
+// Largest angle one group of 4 Gauss–Legendre nodes spans (π/4).
+const MAX_ARC: f32 = 0.785398163397448;
+// Grids of a profile: candela, then the radial tables (polar::RadialTables).
+const RADIAL_SEC: u32 = 1u;
+const RADIAL_SIN: u32 = 2u;
+// Closer to an opening's plane than this × its size: the front-side limit.
+const IN_PLANE: f32 = 1e-4;
 const LTC_SIZE: u32 = 64u;
 
 struct Params {
@@ -120,39 +124,6 @@ fn candela(l: Light, lum_dir: vec3<f32>) -> f32 {
     return sample_grid(l, 0u, lum_dir);
 }
 
-fn filter_level(radius_rad: f32) -> f32 {
-    let r = degrees(radius_rad) / BLUR_BASE_DEG;
-    if r <= 0.5 {
-        return 0.0;
-    }
-    return clamp(log2(r) + 1.0, 0.0, f32(BLUR_LEVELS));
-}
-
-// I / |cos γ| over a cap of `radius` around a luminaire direction.
-fn projected_filtered(l: Light, d: vec3<f32>, radius: f32) -> f32 {
-    let level = filter_level(radius);
-    let l0 = min(u32(floor(level)), BLUR_LEVELS);
-    let t = level - f32(l0);
-    let cosine = BLUR_LEVELS + 1u;
-    let cell = grid_cell(l, d);
-    var i = sample_cell(l, l0, cell);
-    var c = sample_cell(l, cosine + l0, cell);
-    if t > 0.0 && l0 < BLUR_LEVELS {
-        i = i * (1.0 - t) + sample_cell(l, l0 + 1u, cell) * t;
-        c = c * (1.0 - t) + sample_cell(l, cosine + l0 + 1u, cell) * t;
-    }
-    if c > 1e-9 {
-        return i / c;
-    }
-    return 0.0;
-}
-
-fn triangle_solid_angle(a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -> f32 {
-    let numerator = abs(dot(a, cross(b, c)));
-    let denominator = 1.0 + dot(a, b) + dot(a, c) + dot(b, c);
-    return 2.0 * atan2(numerator, denominator);
-}
-
 fn edge_integral(p: vec3<f32>, q: vec3<f32>, n: vec3<f32>) -> f32 {
     let c = cross(p, q);
     let s = length(c);
@@ -160,10 +131,6 @@ fn edge_integral(p: vec3<f32>, q: vec3<f32>, n: vec3<f32>) -> f32 {
         return 0.0;
     }
     return atan2(s, dot(p, q)) * dot(c, n) / s;
-}
-
-fn triangle_cosine_solid_angle(a: vec3<f32>, b: vec3<f32>, c: vec3<f32>, n: vec3<f32>) -> f32 {
-    return 0.5 * abs(edge_integral(a, b, n) + edge_integral(b, c, n) + edge_integral(c, a, n));
 }
 
 fn safe_normalize(v: vec3<f32>) -> vec3<f32> {
@@ -190,122 +157,220 @@ fn point_illuminance(l: Light, x: vec3<f32>, n: vec3<f32>) -> f32 {
     return candela(l, to_luminaire(l, omega)) * cos_x / d2;
 }
 
-// Vertex i of piece j of k of the opening: elongated rectangles are cut
-// into strips across their longer sides (twin of `light::split_quad`).
-fn piece_vertex(l: Light, j: u32, k: u32, i: u32) -> vec3<f32> {
-    if k <= 1u || l.info.x != 4u {
-        return l.vertices[i].xyz;
-    }
-    let v0 = l.vertices[0].xyz;
-    let v1 = l.vertices[1].xyz;
-    let v3 = l.vertices[3].xyz;
-    let e01 = v1 - v0;
-    let e03 = v3 - v0;
-    let t0 = f32(j) / f32(k);
-    let t1 = f32(j + 1u) / f32(k);
-    if dot(e01, e01) > dot(e03, e03) {
-        switch i {
-            case 0u: { return v0 + e01 * t0; }
-            case 1u: { return v0 + e01 * t1; }
-            case 2u: { return v3 + e01 * t1; }
-            default: { return v3 + e01 * t0; }
-        }
-    }
-    switch i {
-        case 0u: { return v0 + e03 * t0; }
-        case 1u: { return v1 + e03 * t0; }
-        case 2u: { return v1 + e03 * t1; }
-        default: { return v0 + e03 * t1; }
-    }
+// Ti₂(y) = ∫₀^y atan(t)/t dt for small y (polar::inverse_tangent_integral).
+fn inverse_tangent_integral(y: f32) -> f32 {
+    let y2 = y * y;
+    return y * (1.0 - y2 * (1.0 / 9.0 - y2 * (1.0 / 25.0 - y2 * (1.0 / 49.0 - y2 / 81.0))));
 }
 
-// Illuminance at x (normal n); `clipped` is scratch space.
-fn illuminance(l: Light, x_in: vec3<f32>, n: vec3<f32>, clipped: ptr<function, array<vec3<f32>, 16>>) -> Cubature {
+// The radial integrals (x: the sec − cos kernel, y: the sin kernel) from
+// the opening's axis to angle atan(t) along C-plane `c_deg`, on the side
+// `front` (CPU twin: polar::radial).
+fn radial_column(l: Light, c: u32, i_lo: u32, i_hi: u32, theta0: f32, theta: f32, u0: f32, u: f32) -> vec2<f32> {
+    let g_count = l.info.w;
+    let level = l.info.z * g_count;
+    let base = l.info.y + c * g_count;
+    let step = radians(l.steps.y);
+    let i0 = profiles[base + i_lo];
+    let slope = (profiles[base + i_hi] - i0) / step;
+    let s0 = sin(theta0);
+    let c0 = cos(theta0);
+    let s1 = sin(theta);
+    let c1 = cos(theta);
+    let dt = theta - theta0;
+    let sin_kernel = i0 * (c0 - c1) + slope * (s1 - s0 - dt * c1);
+    let cos_kernel = i0 * (s1 - s0) + slope * (dt * s1 + c1 - c0);
+    // About the piece's value at 90°: π/2 − θ = 2 atan(e^−u).
+    let at_axis = i0 + slope * (0.5 * PI - theta0);
+    var moment = atan(exp(-0.5 * (u0 + u))) * (u - u0);
+    if u0 >= 2.0 {
+        moment = inverse_tangent_integral(exp(-u0)) - inverse_tangent_integral(exp(-u));
+    }
+    let sec_kernel = at_axis * (u - u0) - 2.0 * slope * moment - cos_kernel;
+    return vec2<f32>(
+        profiles[base + RADIAL_SEC * level + i_lo] + sec_kernel,
+        profiles[base + RADIAL_SIN * level + i_lo] + sin_kernel,
+    );
+}
+
+fn radial(l: Light, c_deg: f32, t: f32, front: bool) -> vec2<f32> {
+    let g_count = l.info.w;
+    let half = (g_count - 1u) / 2u;
+    let step = radians(l.steps.y);
+    let theta = atan(t);
+    let j0 = min(u32(theta / step), half - 1u);
+    let theta0 = f32(j0) * step;
+    let u = asinh(t);
+    let u0 = asinh(tan(theta0));
+    var i_lo = j0;
+    var i_hi = j0 + 1u;
+    if !front {
+        i_lo = g_count - 1u - j0;
+        i_hi = g_count - 2u - j0;
+    }
+    if l.info.z == 1u {
+        return radial_column(l, 0u, i_lo, i_hi, theta0, theta, u0, u);
+    }
+    var c = c_deg % 360.0;
+    if c < 0.0 {
+        c += 360.0;
+    }
+    let cf = clamp(c / l.steps.x, 0.0, f32(l.info.z - 1u));
+    let c0 = min(u32(floor(cf)), l.info.z - 2u);
+    let tc = cf - f32(c0);
+    let low = radial_column(l, c0, i_lo, i_hi, theta0, theta, u0, u);
+    let high = radial_column(l, c0 + 1u, i_lo, i_hi, theta0, theta, u0, u);
+    return low + (high - low) * tc;
+}
+
+// J(φ): the radial integral over the part of the ray along φ inside the
+// clipped opening (`m` vertices relative to the foot point), both ends
+// read in the same C column (polar::PolarSetup::ray_integral).
+fn ray_integral(l: Light, phi: f32, poly: ptr<function, array<vec3<f32>, 16>>, m: u32, inside: bool, height: f32, front: bool, nl: vec3<f32>) -> f32 {
+    let dir = vec2<f32>(cos(phi), sin(phi));
+    var lo = 1e30;
+    var hi = -1e30;
+    for (var i = 0u; i < m; i++) {
+        let a = (*poly)[i].xy;
+        let edge = (*poly)[(i + 1u) % m].xy - a;
+        let denominator = dir.x * edge.y - dir.y * edge.x;
+        if denominator == 0.0 {
+            continue;
+        }
+        // ρ dir = a + s (b − a).
+        let along = (a.x * dir.y - a.y * dir.x) / denominator;
+        if along < -1e-5 || along > 1.0 + 1e-5 {
+            continue;
+        }
+        let rho = max((a.x * edge.y - a.y * edge.x) / denominator, 0.0);
+        lo = min(lo, rho);
+        hi = max(hi, rho);
+    }
+    if hi < lo {
+        return 0.0;
+    }
+    let c_deg = degrees(phi) + 180.0;
+    var r = radial(l, c_deg, hi / height, front);
+    if !inside && lo > 0.0 {
+        r -= radial(l, c_deg, lo / height, front);
+    }
+    let side = select(-1.0, 1.0, front);
+    return (dir.x * nl.x + dir.y * nl.y) * r.x + side * nl.z * r.y;
+}
+
+// Illuminance at x (normal n) by the polar rule (CPU twin:
+// crates/room/src/polar.rs): the opening clipped by x's horizon in the
+// luminaire's frame, relative to x's foot point on the opening's plane;
+// between consecutive vertex directions seen from the foot point, 4
+// Gauss–Legendre nodes in angle per MAX_ARC, each an exact radial integral
+// of the profile from the radial tables (a midpoint in u below 74.6°).
+// `clipped` is scratch space.
+fn illuminance(l: Light, x_in: vec3<f32>, n_in: vec3<f32>, clipped: ptr<function, array<vec3<f32>, 16>>) -> Cubature {
     var result = Cubature(0.0, 0.0);
     let count = l.info.x;
     let area = l.position.w;
     if count < 3u || area <= 0.0 {
-        result.lux = point_illuminance(l, x_in, n);
+        result.lux = point_illuminance(l, x_in, n_in);
         return result;
     }
-    let normal_a = -l.col2.xyz;
-    let epsilon = PLANE_EPSILON * l.steps.z;
-    let height = dot(x_in - l.position.xyz, normal_a);
-    var x = x_in;
-    if abs(height) < epsilon {
-        x = x_in + normal_a * (epsilon - height);
+    let xl = to_luminaire(l, x_in - l.position.xyz);
+    let nl = to_luminaire(l, n_in);
+    let epsilon = IN_PLANE * l.steps.z;
+    // The emitting normal is −z; in the plane, the front-side limit.
+    var height = abs(xl.z);
+    var front = xl.z < 0.0;
+    if height < epsilon {
+        height = epsilon;
+        front = true;
     }
-    let pieces = max(u32(l.steps.w), 1u);
-    for (var piece = 0u; piece < pieces; piece++) {
-        // Clip the opening (relative to x) by x's horizon.
-        var m = 0u;
-        for (var i = 0u; i < count; i++) {
-            let a = piece_vertex(l, piece, pieces, i) - x;
-            let b = piece_vertex(l, piece, pieces, (i + 1u) % count) - x;
-            let da = dot(a, n);
-            let db = dot(b, n);
-            if da >= 0.0 {
-                (*clipped)[m] = a;
-                m++;
-            }
-            if (da >= 0.0) != (db >= 0.0) {
-                (*clipped)[m] = a + (b - a) * (da / (da - db));
-                m++;
-            }
+    let side = select(-1.0, 1.0, front);
+    let foot = xl.xy;
+    // Horizon clip: (p − x)·n ≥ 0 for p on the opening's plane.
+    let axial = side * height * nl.z;
+    var m = 0u;
+    for (var i = 0u; i < count; i++) {
+        let a = to_luminaire(l, l.vertices[i].xyz - l.position.xyz).xy - foot;
+        let b = to_luminaire(l, l.vertices[(i + 1u) % count].xyz - l.position.xyz).xy - foot;
+        let da = dot(a, nl.xy) + axial;
+        let db = dot(b, nl.xy) + axial;
+        if da >= 0.0 {
+            (*clipped)[m] = vec3<f32>(a, 0.0);
+            m++;
         }
-        if m < 3u {
+        if (da >= 0.0) != (db >= 0.0) {
+            (*clipped)[m] = vec3<f32>(a + (b - a) * (da / (da - db)), 0.0);
+            m++;
+        }
+    }
+    if m < 3u {
+        return result;
+    }
+    // ∫ cos dω (Lambert's edge formula, for the specular term) and the
+    // winding of the edges around the foot point.
+    let z = select(height, -height, front);
+    var cosine = 0.0;
+    var winding = 0.0;
+    var centre = vec2<f32>(0.0);
+    for (var i = 0u; i < m; i++) {
+        let a = (*clipped)[i].xy;
+        let b = (*clipped)[(i + 1u) % m].xy;
+        cosine += edge_integral(safe_normalize(vec3<f32>(a, -z)), safe_normalize(vec3<f32>(b, -z)), nl);
+        winding += atan2(a.x * b.y - a.y * b.x, dot(a, b));
+        centre += a;
+    }
+    result.cosine_solid_angle = 0.5 * abs(cosine);
+    let inside = abs(winding) > PI;
+    // The vertex directions, increasing: the whole circle from inside,
+    // else the span between the tangent vertices.
+    var angles: array<f32, 16>;
+    var k = 0u;
+    let reference = atan2(centre.y, centre.x);
+    for (var i = 0u; i < m; i++) {
+        let v = (*clipped)[i].xy;
+        if inside {
+            if dot(v, v) > 0.0 {
+                angles[k] = atan2(v.y, v.x);
+                k++;
+            }
+        } else {
+            var d = atan2(v.y, v.x) - reference;
+            d -= 2.0 * PI * floor((d + PI) / (2.0 * PI));
+            angles[k] = reference + d;
+            k++;
+        }
+    }
+    for (var i = 1u; i < k; i++) {
+        let key = angles[i];
+        var j = i;
+        while j > 0u && angles[j - 1u] > key {
+            angles[j] = angles[j - 1u];
+            j--;
+        }
+        angles[j] = key;
+    }
+    if inside && k > 0u {
+        angles[k] = angles[0] + 2.0 * PI;
+        k++;
+    }
+    var sum = 0.0;
+    for (var w = 0u; w + 1u < k; w++) {
+        let span = angles[w + 1u] - angles[w];
+        if span <= 1e-7 {
             continue;
         }
-        // Closest point of the visible polygon to x's projection on the plane.
-        let q = -normal_a * dot(x - l.position.xyz, normal_a);
-        var inside = true;
-        var orientation = 0.0;
-        for (var i = 0u; i < m; i++) {
-            let a = (*clipped)[i];
-            let b = (*clipped)[(i + 1u) % m];
-            let s = dot(cross(b - a, q - a), normal_a);
-            if s != 0.0 {
-                if orientation == 0.0 {
-                    orientation = sign(s);
-                } else if sign(s) != orientation {
-                    inside = false;
-                }
-            }
-        }
-        var closest = q;
-        if !inside {
-            var best = 1e30;
-            for (var i = 0u; i < m; i++) {
-                let a = (*clipped)[i];
-                let ab = (*clipped)[(i + 1u) % m] - a;
-                let len2 = dot(ab, ab);
-                var t = 0.0;
-                if len2 > 0.0 {
-                    t = clamp(dot(q - a, ab) / len2, 0.0, 1.0);
-                }
-                let p = a + ab * t;
-                let d = dot(p - q, p - q);
-                if d < best {
-                    best = d;
-                    closest = p;
-                }
-            }
-        }
-        let dc = safe_normalize(closest);
-        var prev = safe_normalize((*clipped)[m - 1u]);
-        for (var i = 0u; i < m; i++) {
-            let cur = safe_normalize((*clipped)[i]);
-            let weight = triangle_cosine_solid_angle(dc, prev, cur, n);
-            if weight > 0.0 {
-                let omega = triangle_solid_angle(dc, prev, cur);
-                let radius = sqrt(omega / PI);
-                let centre = to_luminaire(l, -safe_normalize(dc + prev + cur));
-                result.lux += projected_filtered(l, centre, radius) / area * weight;
-            }
-            result.cosine_solid_angle += weight;
-            prev = cur;
+        let arcs = max(ceil(span / MAX_ARC), 1.0);
+        let width = span / arcs;
+        let w_outer = 0.1739274225687269 * width;
+        let w_inner = 0.3260725774312731 * width;
+        for (var a = 0u; a < u32(arcs); a++) {
+            let lo = angles[w] + f32(a) * width;
+            sum += w_outer * ray_integral(l, lo + 0.0694318442029737 * width, clipped, m, inside, height, front, nl);
+            sum += w_inner * ray_integral(l, lo + 0.3300094782075719 * width, clipped, m, inside, height, front, nl);
+            sum += w_inner * ray_integral(l, lo + 0.6699905217924281 * width, clipped, m, inside, height, front, nl);
+            sum += w_outer * ray_integral(l, lo + 0.9305681557970263 * width, clipped, m, inside, height, front, nl);
         }
     }
+    result.lux = max(sum / area, 0.0);
     return result;
 }
 

@@ -53,8 +53,14 @@ pub enum CubatureRule {
     /// samples, so narrow beams and fine detail are averaged rather than
     /// aliased (the paper's future work, section 8). The default: in our
     /// near-field evaluation it cuts the NRMS by 3–100× against eq. 10.
-    #[default]
     Prefiltered,
+    /// Not a fan cubature: polar integration around the receiver's foot
+    /// point with exact radial integrals of the profile and a few
+    /// Gauss–Legendre nodes per edge in angle (`polar::illuminance`).
+    /// Right in the near field, where one radiance per fan triangle is
+    /// not; the default.
+    #[default]
+    Polar,
 }
 
 /// ∫ max(0, ω·n) dω over the spherical triangle of three unit vectors
@@ -174,6 +180,9 @@ pub fn illuminance_of(
     if light.opening == Opening::Point {
         return point_illuminance(light, x, n);
     }
+    if rule == CubatureRule::Polar {
+        return crate::polar::illuminance(light, x, n);
+    }
     let area = light.opening.area_m2();
     let normal_a = light.normal();
     // Section 5.3: keep the shading point off the light's plane.
@@ -244,7 +253,7 @@ fn piece_illuminance(
                 0.0,
             ),
             CubatureRule::ExactCosine => (triangle_cosine_solid_angle(c.0, prev.0, cur.0, n), 0.0),
-            CubatureRule::Prefiltered => {
+            CubatureRule::Prefiltered | CubatureRule::Polar => {
                 let omega = triangle_solid_angle(c.0, prev.0, cur.0);
                 (
                     triangle_cosine_solid_angle(c.0, prev.0, cur.0, n),

@@ -180,8 +180,12 @@ impl GpuRoomRenderer {
                 Some(&(_, o)) => o,
                 None => {
                     let o = data.len() as u32;
-                    data.extend_from_slice(&light.profile.candela_levels);
-                    data.extend_from_slice(&light.profile.cosine_levels);
+                    // The shader's grids: candela, then the radial
+                    // tables of the polar rule.
+                    let profile = &light.profile;
+                    data.extend_from_slice(&profile.candela);
+                    data.extend(profile.radial.sec.iter().map(|&v| v as f32));
+                    data.extend(profile.radial.sin.iter().map(|&v| v as f32));
                     seen.push((key, o));
                     o
                 }
@@ -494,7 +498,7 @@ fn gpu_light(light: &PlacedLight, profile_offset: u32) -> GpuLight {
             light.profile.c_step_deg as f32,
             light.profile.gamma_step_deg as f32,
             light.size_m() as f32,
-            light.piece_count() as f32,
+            0.0,
         ],
         vertices,
     }

@@ -12,6 +12,7 @@ pub mod light;
 pub mod lighting;
 pub mod ltc;
 pub mod model;
+pub mod polar;
 pub mod profile;
 pub mod reference;
 pub mod render;

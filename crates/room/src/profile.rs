@@ -42,6 +42,9 @@ pub struct ProfileGrid {
     /// without dividing by zero in the opening's plane, and exactly for a
     /// Lambertian opening.
     pub cosine_levels: Vec<f32>,
+    /// Cumulative radial integrals per C column and hemisphere: what the
+    /// polar near-field rule and its exact reference read.
+    pub radial: crate::polar::RadialTables,
 }
 
 impl ProfileGrid {
@@ -75,8 +78,10 @@ impl ProfileGrid {
             candela,
             candela_levels: Vec::new(),
             cosine_levels: Vec::new(),
+            radial: Default::default(),
         }
         .with_prefiltered_levels()
+        .with_radial_tables()
     }
 
     /// Values per level.
@@ -145,6 +150,11 @@ impl ProfileGrid {
             self.candela_levels.extend(next_candela);
             self.cosine_levels.extend(next_cosine);
         }
+        self
+    }
+
+    fn with_radial_tables(mut self) -> ProfileGrid {
+        self.radial = crate::polar::RadialTables::new(&self);
         self
     }
 

@@ -64,25 +64,40 @@ fn wgsl_illuminance_matches_the_cpu_at_random_points() {
     for shading in [Shading::Cubature, Shading::PointLight] {
         let gpu = renderer.shade_points(&uploaded, &points, shading).unwrap();
         let mut errors: Vec<f64> = Vec::new();
+        let mut grazing_errors: Vec<f64> = Vec::new();
         for ((x, n), (g, _)) in points.iter().zip(&gpu) {
             assert!(g.is_finite() && *g >= 0.0, "{x} {n}: {g}");
-            // Within 1 cm of an opening's plane the grazing radiance
-            // I / (A cos) of a profile with light at γ = 90° is too
-            // sensitive for f32 against f64: checked above for sanity only.
-            let grazing = scene
-                .lights
-                .iter()
-                .any(|l| (*x - l.position).dot(l.normal()).abs() < 0.01);
-            if grazing {
-                continue;
-            }
             let cpu: f64 = scene
                 .lights
                 .iter()
                 .map(|l| light_illuminance(l, *x, *n, shading).lux)
                 .sum();
             // Relative, with a floor of 0.1 lx (a dark corner's noise floor).
-            errors.push((g - cpu).abs() / cpu.max(0.1));
+            let e = (g - cpu).abs() / cpu.max(0.1);
+            // Within 1 cm of an opening's plane (in it, the front-side
+            // limit) f32 heights lose digits: held to a looser bound.
+            let grazing = scene
+                .lights
+                .iter()
+                .any(|l| (*x - l.position).dot(l.normal()).abs() < 0.01);
+            if grazing {
+                grazing_errors.push(e);
+            } else {
+                errors.push(e);
+            }
+        }
+        grazing_errors.sort_by(f64::total_cmp);
+        if shading == Shading::Cubature {
+            let worst = grazing_errors.last().copied().unwrap_or(0.0);
+            let median = grazing_errors[grazing_errors.len() / 2];
+            eprintln!(
+                "{shading:?}: {} points within 1 cm of a plane, median {median:.1e}, max {worst:.1e}",
+                grazing_errors.len()
+            );
+            assert!(
+                median < 1e-4 && worst < 1e-2,
+                "in-plane: median {median}, max {worst}"
+            );
         }
         errors.sort_by(f64::total_cmp);
         let at = |q: f64| errors[((errors.len() - 1) as f64 * q) as usize];

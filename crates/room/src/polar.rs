@@ -1,0 +1,610 @@
+//! The polygonal-light integral (Luksch et al. 2020, eq. 1–3, with the
+//! radiance substitution L = I / (A cos θ)) in polar coordinates around
+//! the receiver's foot point on the opening's plane: the near-field rule
+//! of the preview room and its exact reference.
+//!
+//! In luminaire coordinates the opening lies in z = 0. A receiver at
+//! height h from that plane has its foot point F there; a point of the
+//! opening at distance ρ and angle φ from F is seen along an emission
+//! direction whose angle θ from the opening's normal depends on ρ only
+//! (tan θ = ρ / h) and whose C-plane depends on φ only (C = φ + 180°).
+//! E = 1/A ∫ I cos θx / r² dA then reads
+//!
+//!   E = 1/A ∫ dφ ∫ I(C, θ) [sₙ(φ) (sec θ − cos θ) ± n_z sin θ] dθ,
+//!
+//! sₙ the receiver normal's component along the ray, n_z the one along
+//! the opening's axis. Per C column the two radial integrals are
+//! cumulative sums of the profile ([`RadialTables`]), exact for its
+//! piecewise-linear interpolant: a narrow beam costs nothing extra. The
+//! angular integral is a sum, over the edges of the horizon-clipped
+//! opening, of signed triangles (F, a, b). The renderer's rule takes a few
+//! Gauss–Legendre nodes per edge ([`illuminance`]); the reference
+//! integrates the same triangles adaptively, with exact cell integrals
+//! ([`exact_illuminance`]).
+
+use glam::{DVec2, DVec3};
+use smallvec::SmallVec;
+
+use crate::cubature::CubatureResult;
+use crate::light::{Opening, PlacedLight};
+use crate::profile::ProfileGrid;
+
+/// Receivers closer to the opening's plane than this fraction of its size
+/// are shaded at that height in front: the front-side limit to 1e-4 beside
+/// the opening (E − E₀ = O(h)), a finite value on the opening itself
+/// (where E grows as ln(1/h) if the profile is lit at 90°, and the view
+/// shows the opening's luminance anyway), and a band wide enough that the
+/// shader's f32 heights fall in it as the CPU's do.
+pub const IN_PLANE: f64 = 1e-4;
+
+/// Largest angle (seen from the foot point) one group of Gauss–Legendre
+/// nodes of the renderer's rule spans; an edge subtending more is split.
+pub const MAX_ARC_RAD: f64 = std::f64::consts::FRAC_PI_4;
+
+/// Gauss–Legendre nodes on [0, 1] and their weights, 4 points.
+const GAUSS4: [(f64, f64); 4] = [
+    (0.069_431_844_202_973_7, 0.173_927_422_568_726_9),
+    (0.330_009_478_207_571_9, 0.326_072_577_431_273_1),
+    (0.669_990_521_792_428_1, 0.326_072_577_431_273_1),
+    (0.930_568_155_797_026_3, 0.173_927_422_568_726_9),
+];
+
+/// Cumulative radial integrals of a profile per C column and hemisphere,
+/// at the γ nodes: θ is the angle from the opening's axis on the side the
+/// receiver is (θ = γ in front, θ = 180° − γ behind), and
+/// `sec[c][j] = ∫₀^θⱼ I (sec θ − cos θ) dθ`, `sin[c][j] = ∫₀^θⱼ I sin θ dθ`,
+/// stored at the grid's own index of θⱼ (front half up to 89.5°, back
+/// half from 180° down to 90.5°; the 90° node is never a lower cell bound
+/// and holds 0).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct RadialTables {
+    pub sec: Vec<f64>,
+    pub sin: Vec<f64>,
+}
+
+/// The grid index of hemisphere angle node j.
+fn node_index(gamma_count: usize, front: bool, j: usize) -> usize {
+    if front { j } else { gamma_count - 1 - j }
+}
+
+/// Where the cells' angular moment switches from quadrature to the
+/// series of the inverse tangent integral (u₀ ≥ 2 is θ ≥ 74.6°, where
+/// e^−u ≤ 0.135 and four terms are exact to 1e-10).
+const SERIES_FROM_U: f64 = 2.0;
+
+/// Ti₂(y) = ∫₀^y atan(t)/t dt for 0 ≤ y ≤ 0.14, its Maclaurin series.
+fn inverse_tangent_integral(y: f64) -> f64 {
+    let y2 = y * y;
+    y * (1.0 - y2 * (1.0 / 9.0 - y2 * (1.0 / 25.0 - y2 * (1.0 / 49.0 - y2 / 81.0))))
+}
+
+/// ∫ atan(e^−v) dv over [u₀, u]: the angular moment of a cell, since
+/// π/2 − θ = 2 atan(e^−u) for u = asinh(tan θ). Towards 90° the cell
+/// spans ever more u (to infinity) and the series is exact there; below
+/// it a cell spans little u and `nodes` Gauss–Legendre points suffice.
+fn angular_moment(u0: f64, u: f64, exact: bool) -> f64 {
+    if u0 >= SERIES_FROM_U {
+        return inverse_tangent_integral((-u0).exp()) - inverse_tangent_integral((-u).exp());
+    }
+    let f = |v: f64| (-v).exp().atan();
+    if !exact {
+        return f(0.5 * (u0 + u)) * (u - u0);
+    }
+    let pieces = ((u - u0) / 0.25).ceil().max(1.0) as usize;
+    let step = (u - u0) / pieces as f64;
+    let mut sum = 0.0;
+    for p in 0..pieces {
+        let a = u0 + p as f64 * step;
+        for (x, w) in GAUSS8 {
+            sum += w * f(a + x * step);
+        }
+    }
+    sum * step
+}
+
+/// Gauss–Legendre nodes on [0, 1] and weights, 8 points.
+const GAUSS8: [(f64, f64); 8] = [
+    (0.019_855_071_751_231_8, 0.050_614_268_145_188_1),
+    (0.101_666_761_293_186_6, 0.111_190_517_226_687_2),
+    (0.237_233_795_041_835_5, 0.156_853_322_938_943_6),
+    (0.408_282_678_752_175, 0.181_341_891_689_181),
+    (0.591_717_321_247_825, 0.181_341_891_689_181),
+    (0.762_766_204_958_164_5, 0.156_853_322_938_943_6),
+    (0.898_333_238_706_813_4, 0.111_190_517_226_687_2),
+    (0.980_144_928_248_768_2, 0.050_614_268_145_188_1),
+];
+
+/// How the last, partial γ cell of a radial integral is taken.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Partial {
+    /// Gauss–Legendre in u to rounding: the reference.
+    Exact,
+    /// The angular moment by the midpoint in u below 74.6° (where a cell
+    /// spans at most 0.03 of u): the renderer.
+    Fast,
+}
+
+/// The two radial integrals of one column of a linear piece I₀ + m (θ − θ₀)
+/// from θ₀ to θ (u = asinh tan θ, `u0` at θ₀): (sec − cos kernel, sin kernel).
+/// The sec part is written about the piece's value at 90°,
+/// ∫ (I₉₀ − m (π/2 − θ)) sec θ dθ = I₉₀ (u − u₀) − 2 m ∫ atan(e^−v) dv,
+/// which does not cancel where the profile falls to 0 at 90°.
+fn partial_cell(
+    theta0: f64,
+    theta: f64,
+    u0: f64,
+    u: f64,
+    i0: f64,
+    m: f64,
+    how: Partial,
+) -> (f64, f64) {
+    let (s0, c0) = theta0.sin_cos();
+    let (s1, c1) = theta.sin_cos();
+    let dt = theta - theta0;
+    let sin_kernel = i0 * (c0 - c1) + m * (s1 - s0 - dt * c1);
+    let cos_kernel = i0 * (s1 - s0) + m * (dt * s1 + c1 - c0);
+    let at_axis = i0 + m * (std::f64::consts::FRAC_PI_2 - theta0);
+    let moment = angular_moment(u0, u, how == Partial::Exact);
+    (
+        at_axis * (u - u0) - 2.0 * m * moment - cos_kernel,
+        sin_kernel,
+    )
+}
+
+impl RadialTables {
+    /// The tables of a profile grid whose γ step divides 90°.
+    pub fn new(grid: &ProfileGrid) -> RadialTables {
+        let gc = grid.gamma_count;
+        let half = ((gc - 1) / 2).max(1);
+        let step = grid.gamma_step_deg.to_radians();
+        let mut sec = vec![0.0; grid.c_count * gc];
+        let mut sin = vec![0.0; grid.c_count * gc];
+        for c in 0..grid.c_count {
+            let at = |i: usize| grid.candela[c * gc + i] as f64;
+            for front in [true, false] {
+                let (mut s, mut k) = (0.0, 0.0);
+                for j in 0..half {
+                    let i = node_index(gc, front, j);
+                    sec[c * gc + i] = s;
+                    sin[c * gc + i] = k;
+                    if j + 1 == half {
+                        break; // the cell up to 90° is only ever partial
+                    }
+                    let (t0, t1) = (j as f64 * step, (j + 1) as f64 * step);
+                    let i0 = at(i);
+                    let m = (at(node_index(gc, front, j + 1)) - i0) / step;
+                    let (u0, u1) = (t0.tan().asinh(), t1.tan().asinh());
+                    let (ds, dk) = partial_cell(t0, t1, u0, u1, i0, m, Partial::Exact);
+                    s += ds;
+                    k += dk;
+                }
+            }
+        }
+        RadialTables { sec, sin }
+    }
+}
+
+/// A receiver seen in the opening's frame.
+#[derive(Debug, Clone)]
+struct PolarSetup {
+    /// The horizon-clipped opening, relative to the foot point (m).
+    polygon: SmallVec<[DVec2; 16]>,
+    /// Distance from the opening's plane (m), at least the plane epsilon.
+    height: f64,
+    /// In front of the opening (the emitting side).
+    front: bool,
+    /// The receiver's unit normal in luminaire coordinates.
+    normal: DVec3,
+}
+
+impl PolarSetup {
+    /// ±1: the sign of the axial term, + in front.
+    fn side(&self) -> f64 {
+        if self.front { 1.0 } else { -1.0 }
+    }
+}
+
+/// The foot point, side and horizon-clipped opening of receiver x
+/// (normal n, room coordinates). In the opening's plane (closer than
+/// `IN_PLANE` × size) the receiver takes the front-side limit, as the
+/// shader does.
+fn setup(light: &PlacedLight, x: DVec3, n: DVec3) -> Option<PolarSetup> {
+    let to_luminaire = light.rotation.transpose();
+    let xl = to_luminaire * (x - light.position);
+    let normal = to_luminaire * n;
+    // No radiance substitution is singular here (the radial integrals are
+    // finite at any height but 0); the plane is taken as its front-side
+    // limit, `IN_PLANE` × size in front.
+    let epsilon = IN_PLANE * light.size_m();
+    let signed = -xl.z; // the emitting normal is −z
+    let (height, front) = if signed.abs() < epsilon {
+        (epsilon, true)
+    } else {
+        (signed.abs(), signed > 0.0)
+    };
+    let side = if front { 1.0 } else { -1.0 };
+    let foot = DVec2::new(xl.x, xl.y);
+    let nxy = DVec2::new(normal.x, normal.y);
+    // Above x's horizon: (p − x)·n ≥ 0, p on the opening's plane.
+    let above = |q: DVec2| q.dot(nxy) + side * height * normal.z;
+    let opening = light.opening.polygon();
+    let mut polygon: SmallVec<[DVec2; 16]> = SmallVec::new();
+    for i in 0..opening.len() {
+        let a = opening[i].truncate() - foot;
+        let b = opening[(i + 1) % opening.len()].truncate() - foot;
+        let (da, db) = (above(a), above(b));
+        if da >= 0.0 {
+            polygon.push(a);
+        }
+        if (da >= 0.0) != (db >= 0.0) {
+            polygon.push(a + (b - a) * (da / (da - db)));
+        }
+    }
+    // Counter-clockwise in the (x, y) plane, so that the signed triangles
+    // of the edges sum to the area inside (the opening's own order is
+    // counter-clockwise seen from below, i.e. clockwise here).
+    let twice_area: f64 = (0..polygon.len())
+        .map(|i| polygon[i].perp_dot(polygon[(i + 1) % polygon.len()]))
+        .sum();
+    if twice_area < 0.0 {
+        polygon.reverse();
+    }
+    (polygon.len() >= 3).then_some(PolarSetup {
+        polygon,
+        height,
+        front,
+        normal,
+    })
+}
+
+/// The radial integrand's two integrals (sec − cos kernel, sin kernel)
+/// from θ = 0 to atan(`t`) along C-plane `c_deg`.
+fn radial(
+    grid: &ProfileGrid,
+    tables: &RadialTables,
+    c_deg: f64,
+    t: f64,
+    front: bool,
+    how: Partial,
+) -> (f64, f64) {
+    let gc = grid.gamma_count;
+    let half = (gc - 1) / 2;
+    let step = grid.gamma_step_deg.to_radians();
+    let theta = t.atan();
+    let j0 = ((theta / step) as usize).min(half - 1);
+    let theta0 = j0 as f64 * step;
+    let u = t.asinh();
+    let u0 = theta0.tan().asinh();
+    let (i_lo, i_hi) = (node_index(gc, front, j0), node_index(gc, front, j0 + 1));
+    let column = |c: usize| -> (f64, f64) {
+        let i0 = grid.candela[c * gc + i_lo] as f64;
+        let m = (grid.candela[c * gc + i_hi] as f64 - i0) / step;
+        let (ds, dk) = partial_cell(theta0, theta, u0, u, i0, m, how);
+        (
+            tables.sec[c * gc + i_lo] + ds,
+            tables.sin[c * gc + i_lo] + dk,
+        )
+    };
+    if grid.c_count == 1 {
+        return column(0);
+    }
+    let cf = (c_deg.rem_euclid(360.0) / grid.c_step_deg).clamp(0.0, (grid.c_count - 1) as f64);
+    let c0 = (cf as usize).min(grid.c_count - 2);
+    let tc = cf - c0 as f64;
+    let (s0, k0) = column(c0);
+    let (s1, k1) = column(c0 + 1);
+    (s0 + (s1 - s0) * tc, k0 + (k1 - k0) * tc)
+}
+
+impl PolarSetup {
+    /// Whether the foot point is inside the clipped opening (its edges
+    /// wind once around it).
+    fn foot_inside(&self) -> bool {
+        let m = self.polygon.len();
+        let winding: f64 = (0..m)
+            .map(|i| {
+                let (a, b) = (self.polygon[i], self.polygon[(i + 1) % m]);
+                a.perp_dot(b).atan2(a.dot(b))
+            })
+            .sum();
+        winding.abs() > std::f64::consts::PI
+    }
+
+    /// The directions of the vertices seen from the foot point, increasing:
+    /// between two consecutive ones every ray enters and leaves the opening
+    /// through the same edges. The whole circle (first + 2π last) when the
+    /// foot point is inside, else the span between the two tangent vertices.
+    fn sweep(&self, inside: bool) -> SmallVec<[f64; 18]> {
+        let pi = std::f64::consts::PI;
+        let mut angles: SmallVec<[f64; 18]> = SmallVec::new();
+        if inside {
+            angles.extend(
+                self.polygon
+                    .iter()
+                    .filter(|v| v.length_squared() > 0.0)
+                    .map(|v| v.y.atan2(v.x)),
+            );
+            angles.sort_by(f64::total_cmp);
+            if let Some(&first) = angles.first() {
+                angles.push(first + 2.0 * pi);
+            }
+        } else {
+            let centre = self.polygon.iter().copied().sum::<DVec2>() / self.polygon.len() as f64;
+            let reference = centre.y.atan2(centre.x);
+            let wrap = |x: f64| (x + pi).rem_euclid(2.0 * pi) - pi;
+            angles.extend(
+                self.polygon
+                    .iter()
+                    .map(|v| reference + wrap(v.y.atan2(v.x) - reference)),
+            );
+            angles.sort_by(f64::total_cmp);
+        }
+        angles
+    }
+
+    /// Where the ray from the foot point along `dir` is inside the opening:
+    /// (ρ in, ρ out), ρ in = 0 when the foot point is inside.
+    fn span(&self, dir: DVec2, inside: bool) -> Option<(f64, f64)> {
+        let m = self.polygon.len();
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for i in 0..m {
+            let a = self.polygon[i];
+            let edge = self.polygon[(i + 1) % m] - a;
+            let denominator = dir.perp_dot(edge);
+            if denominator == 0.0 {
+                continue;
+            }
+            // ρ dir = a + s (b − a).
+            let along = a.perp_dot(dir) / denominator;
+            if !(-1e-12..=1.0 + 1e-12).contains(&along) {
+                continue;
+            }
+            let rho = (a.perp_dot(edge) / denominator).max(0.0);
+            lo = lo.min(rho);
+            hi = hi.max(rho);
+        }
+        if hi < lo {
+            return None;
+        }
+        Some(if inside { (0.0, hi) } else { (lo, hi) })
+    }
+
+    /// J(φ): the radial integral over the part of the ray along φ inside
+    /// the opening, both ends read in the same C column (so that the part
+    /// between a foot point outside and the opening cancels exactly).
+    fn ray_integral(&self, grid: &ProfileGrid, phi: f64, inside: bool, how: Partial) -> f64 {
+        let (sin_phi, cos_phi) = phi.sin_cos();
+        let dir = DVec2::new(cos_phi, sin_phi);
+        let Some((rho_in, rho_out)) = self.span(dir, inside) else {
+            return 0.0;
+        };
+        let c_deg = phi.to_degrees() + 180.0;
+        let tables = &grid.radial;
+        let (mut sec, mut sin) =
+            radial(grid, tables, c_deg, rho_out / self.height, self.front, how);
+        if rho_in > 0.0 {
+            let (s0, k0) = radial(grid, tables, c_deg, rho_in / self.height, self.front, how);
+            sec -= s0;
+            sin -= k0;
+        }
+        let s_n = dir.x * self.normal.x + dir.y * self.normal.y;
+        s_n * sec + self.side() * self.normal.z * sin
+    }
+}
+
+/// ∫ cos dω over the clipped opening seen from the receiver (sr), Lambert's
+/// edge formula: what the specular term divides the illuminance by.
+fn cosine_solid_angle(s: &PolarSetup) -> f64 {
+    let z = if s.front { -s.height } else { s.height };
+    // Vertices relative to the receiver, in luminaire coordinates.
+    let v = |q: DVec2| DVec3::new(q.x, q.y, -z).normalize_or_zero();
+    let m = s.polygon.len();
+    let mut sum = 0.0;
+    for i in 0..m {
+        let (p, q) = (v(s.polygon[i]), v(s.polygon[(i + 1) % m]));
+        let c = p.cross(q);
+        let l = c.length();
+        if l > 1e-300 {
+            sum += l.atan2(p.dot(q)) * c.dot(s.normal) / l;
+        }
+    }
+    0.5 * sum.abs()
+}
+
+/// Illuminance by the polar rule: between consecutive vertex directions
+/// seen from the foot point, 4 Gauss–Legendre nodes in φ per `MAX_ARC_RAD`,
+/// each an exact radial integral over the ray's part inside the
+/// horizon-clipped opening (but for a midpoint in u below 74.6°). The
+/// preview room's default; the shader's twin.
+pub fn illuminance(light: &PlacedLight, x: DVec3, n: DVec3) -> CubatureResult {
+    if light.opening == Opening::Point {
+        return crate::cubature::point_illuminance(light, x, n);
+    }
+    let Some(s) = setup(light, x, n) else {
+        return CubatureResult::default();
+    };
+    let grid = &light.profile;
+    let inside = s.foot_inside();
+    let sweep = s.sweep(inside);
+    let mut sum = 0.0;
+    for w in sweep.windows(2) {
+        let span = w[1] - w[0];
+        if span <= 1e-12 {
+            continue;
+        }
+        let arcs = (span / MAX_ARC_RAD).ceil().max(1.0);
+        let width = span / arcs;
+        for k in 0..arcs as usize {
+            let lo = w[0] + k as f64 * width;
+            for (node, weight) in GAUSS4 {
+                sum +=
+                    weight * width * s.ray_integral(grid, lo + node * width, inside, Partial::Fast);
+            }
+        }
+    }
+    CubatureResult {
+        lux: (sum / light.opening.area_m2()).max(0.0),
+        cosine_solid_angle: cosine_solid_angle(&s),
+    }
+}
+
+/// Gauss–Kronrod 7–15 on [−1, 1]: Kronrod nodes (positive half, the last
+/// is 0), Kronrod weights, and the Gauss weights of every other node.
+const KRONROD_NODES: [f64; 8] = [
+    0.991_455_371_120_812_6,
+    0.949_107_912_342_758_5,
+    0.864_864_423_359_769_1,
+    0.741_531_185_599_394_4,
+    0.586_087_235_467_691_1,
+    0.405_845_151_377_397_2,
+    0.207_784_955_007_898_5,
+    0.0,
+];
+const KRONROD_WEIGHTS: [f64; 8] = [
+    0.022_935_322_010_529_2,
+    0.063_092_092_629_978_6,
+    0.104_790_010_322_250_2,
+    0.140_653_259_715_525_9,
+    0.169_004_726_639_267_9,
+    0.190_350_578_064_785_4,
+    0.204_432_940_075_298_9,
+    0.209_482_141_084_728,
+];
+/// Gauss weights of Kronrod nodes 1, 3, 5 and 7 (0-based).
+const GAUSS7_WEIGHTS: [f64; 4] = [
+    0.129_484_966_168_869_7,
+    0.279_705_391_489_276_7,
+    0.381_830_050_505_118_9,
+    0.417_959_183_673_469_4,
+];
+
+/// (Kronrod estimate, |Kronrod − Gauss|) of ∫ f over [a, b].
+pub fn gauss_kronrod(f: &mut impl FnMut(f64) -> f64, a: f64, b: f64) -> (f64, f64) {
+    let centre = 0.5 * (a + b);
+    let half = 0.5 * (b - a);
+    let mid = f(centre);
+    let mut kronrod = KRONROD_WEIGHTS[7] * mid;
+    let mut gauss = GAUSS7_WEIGHTS[3] * mid;
+    for i in 0..7 {
+        let pair = f(centre - half * KRONROD_NODES[i]) + f(centre + half * KRONROD_NODES[i]);
+        kronrod += KRONROD_WEIGHTS[i] * pair;
+        if i % 2 == 1 {
+            gauss += GAUSS7_WEIGHTS[i / 2] * pair;
+        }
+    }
+    (kronrod * half, ((kronrod - gauss) * half).abs())
+}
+
+/// Most bisections of one adaptive integral.
+const MAX_BISECTIONS: usize = 2000;
+
+/// Adaptive Gauss–Kronrod: bisects until each piece's error estimate is
+/// below its share (by length) of the absolute `tolerance` for [a, b], or
+/// at rounding, 40 levels deep or `MAX_BISECTIONS` done.
+pub fn adaptive(f: &mut impl FnMut(f64) -> f64, a: f64, b: f64, tolerance: f64) -> f64 {
+    let mut total = 0.0;
+    let mut stack = vec![(a, b, 0u32)];
+    let length = (b - a).abs().max(1e-300);
+    let mut bisections = 0;
+    while let Some((lo, hi, depth)) = stack.pop() {
+        let (value, error) = gauss_kronrod(f, lo, hi);
+        // Rounding bounds what bisection can win; a budget bounds its cost.
+        let settled = error <= tolerance * (hi - lo).abs() / length
+            || error <= 1e-13 * value.abs()
+            || depth >= 40
+            || bisections >= MAX_BISECTIONS;
+        if settled {
+            total += value;
+        } else {
+            bisections += 1;
+            let mid = 0.5 * (lo + hi);
+            stack.push((lo, mid, depth + 1));
+            stack.push((mid, hi, depth + 1));
+        }
+    }
+    total
+}
+
+/// The directions in (lo, hi) where the integrand has a kink: where the
+/// ray's C-plane crosses a grid column, and where the ray's end on an
+/// edge's line crosses a γ node (ρ = h tan θⱼ). Between them, and the
+/// sweep's vertex directions, it is analytic.
+fn kinks(grid: &ProfileGrid, s: &PolarSetup, lo: f64, hi: f64) -> Vec<f64> {
+    let pi = std::f64::consts::PI;
+    let mut out = Vec::new();
+    if grid.c_count > 1 {
+        // C = φ + π: columns at φ = k·step − π.
+        let step = grid.c_step_deg.to_radians();
+        for k in ((lo + pi) / step).floor() as i64..=((hi + pi) / step).ceil() as i64 {
+            out.push(k as f64 * step - pi);
+        }
+    }
+    let m = s.polygon.len();
+    let half = (grid.gamma_count - 1) / 2;
+    let step = grid.gamma_step_deg.to_radians();
+    for i in 0..m {
+        let a = s.polygon[i];
+        let edge = s.polygon[(i + 1) % m] - a;
+        let length2 = edge.length_squared();
+        if length2 == 0.0 {
+            continue;
+        }
+        let foot = a - edge * (a.dot(edge) / length2);
+        let d = foot.length();
+        let normal_angle = foot.y.atan2(foot.x);
+        for j in 1..half {
+            let rho = s.height * (j as f64 * step).tan();
+            if rho > d {
+                let spread = (d / rho).acos();
+                for phi in [normal_angle - spread, normal_angle + spread] {
+                    for turn in [-2.0 * pi, 0.0, 2.0 * pi] {
+                        out.push(phi + turn);
+                    }
+                }
+            }
+        }
+    }
+    out.retain(|&p| p > lo && p < hi);
+    out.sort_by(f64::total_cmp);
+    out
+}
+
+/// Exact illuminance (lx) of receiver x (normal n) for the profile grid's
+/// bilinear interpolant, to about `relative` (1e-9 is cheap): the sweep
+/// integrated in φ by Gauss–Kronrod between the integrand's kinks,
+/// bisected where its error estimate asks, with exact radial integrals.
+/// Receivers in the opening's plane take the front-side limit.
+pub fn exact_illuminance(light: &PlacedLight, x: DVec3, n: DVec3, relative: f64) -> f64 {
+    if light.opening == Opening::Point {
+        return crate::cubature::point_illuminance(light, x, n).lux;
+    }
+    let Some(s) = setup(light, x, n) else {
+        return 0.0;
+    };
+    let grid = &light.profile;
+    let inside = s.foot_inside();
+    let sweep = s.sweep(inside);
+    let (Some(&first), Some(&last)) = (sweep.first(), sweep.last()) else {
+        return 0.0;
+    };
+    let mut cuts: Vec<f64> = sweep.to_vec();
+    cuts.extend(kinks(grid, &s, first, last));
+    cuts.sort_by(f64::total_cmp);
+    cuts.dedup();
+    let mut f = |phi: f64| s.ray_integral(grid, phi, inside, Partial::Exact);
+    let first_pass: Vec<(f64, f64)> = cuts
+        .windows(2)
+        .map(|w| gauss_kronrod(&mut f, w[0], w[1]))
+        .collect();
+    let scale: f64 = first_pass.iter().map(|(v, _)| v.abs()).sum();
+    let tolerance = relative * scale / first_pass.len().max(1) as f64;
+    let mut sum = 0.0;
+    for (w, &(value, error)) in cuts.windows(2).zip(&first_pass) {
+        sum += if error <= tolerance {
+            value
+        } else {
+            adaptive(&mut f, w[0], w[1], tolerance)
+        };
+    }
+    (sum / light.opening.area_m2()).max(0.0)
+}
