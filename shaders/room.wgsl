@@ -6,8 +6,13 @@
 const PI: f32 = 3.14159265358979;
 const MAX_VERTICES: u32 = 12u;
 const MAX_CLIPPED: u32 = 16u;
-// Largest angle one group of 4 Gauss–Legendre nodes spans (π/4).
+// Largest angle one group of 4 Gauss–Legendre nodes spans (π/4); pieces
+// up to π/8 take 3 nodes, up to π/32 2 (polar::MAX_ARC_RAD and friends);
+// pieces are joined across vertices turning the boundary by under 35°.
 const MAX_ARC: f32 = 0.785398163397448;
+const MEDIUM_ARC: f32 = 0.392699081698724;
+const SMALL_ARC: f32 = 0.0981747704246810;
+const SOFT_VERTEX_COS: f32 = 0.819152044288992;
 // Grids of a profile: candela, then the radial tables (polar::RadialTables).
 const RADIAL_SEC: u32 = 1u;
 const RADIAL_SIN: u32 = 2u;
@@ -320,42 +325,73 @@ fn illuminance(l: Light, x_in: vec3<f32>, n_in: vec3<f32>, clipped: ptr<function
     }
     result.cosine_solid_angle = 0.5 * abs(cosine);
     let inside = abs(winding) > PI;
-    // The vertex directions, increasing: the whole circle from inside,
+    // The vertex directions, increasing, each with whether its vertex is
+    // soft (turns the boundary by under 35°): the whole circle from inside,
     // else the span between the tangent vertices.
     var angles: array<f32, 16>;
+    var soft: array<bool, 16>;
     var k = 0u;
     let reference = atan2(centre.y, centre.x);
     for (var i = 0u; i < m; i++) {
         let v = (*clipped)[i].xy;
+        let e0 = v - (*clipped)[(i + m - 1u) % m].xy;
+        let e1 = (*clipped)[(i + 1u) % m].xy - v;
+        let is_soft = dot(e0, e1) >= SOFT_VERTEX_COS * length(e0) * length(e1);
         if inside {
             if dot(v, v) > 0.0 {
                 angles[k] = atan2(v.y, v.x);
+                soft[k] = is_soft;
                 k++;
             }
         } else {
             var d = atan2(v.y, v.x) - reference;
             d -= 2.0 * PI * floor((d + PI) / (2.0 * PI));
             angles[k] = reference + d;
+            soft[k] = is_soft;
             k++;
         }
     }
     for (var i = 1u; i < k; i++) {
         let key = angles[i];
+        let key_soft = soft[i];
         var j = i;
         while j > 0u && angles[j - 1u] > key {
             angles[j] = angles[j - 1u];
+            soft[j] = soft[j - 1u];
             j--;
         }
         angles[j] = key;
+        soft[j] = key_soft;
     }
     if inside && k > 0u {
         angles[k] = angles[0] + 2.0 * PI;
+        soft[k] = soft[0];
         k++;
     }
+    // Pieces between vertex directions, joined across soft vertices while
+    // they span under MEDIUM_ARC (polar::illuminance).
     var sum = 0.0;
-    for (var w = 0u; w + 1u < k; w++) {
-        let span = angles[w + 1u] - angles[w];
+    var w = 0u;
+    while w + 1u < k {
+        let lo = angles[w];
+        var end = w + 1u;
+        while end + 1u < k && soft[end] && angles[end + 1u] - lo <= MEDIUM_ARC {
+            end++;
+        }
+        let span = angles[end] - lo;
+        w = end;
         if span <= 1e-7 {
+            continue;
+        }
+        if span <= SMALL_ARC {
+            sum += 0.5 * span * ray_integral(l, lo + 0.2113248654051871 * span, clipped, m, inside, height, front, nl);
+            sum += 0.5 * span * ray_integral(l, lo + 0.7886751345948129 * span, clipped, m, inside, height, front, nl);
+            continue;
+        }
+        if span <= MEDIUM_ARC {
+            sum += (5.0 / 18.0) * span * ray_integral(l, lo + 0.1127016653792583 * span, clipped, m, inside, height, front, nl);
+            sum += (8.0 / 18.0) * span * ray_integral(l, lo + 0.5 * span, clipped, m, inside, height, front, nl);
+            sum += (5.0 / 18.0) * span * ray_integral(l, lo + 0.8872983346207417 * span, clipped, m, inside, height, front, nl);
             continue;
         }
         let arcs = max(ceil(span / MAX_ARC), 1.0);
@@ -363,11 +399,11 @@ fn illuminance(l: Light, x_in: vec3<f32>, n_in: vec3<f32>, clipped: ptr<function
         let w_outer = 0.1739274225687269 * width;
         let w_inner = 0.3260725774312731 * width;
         for (var a = 0u; a < u32(arcs); a++) {
-            let lo = angles[w] + f32(a) * width;
-            sum += w_outer * ray_integral(l, lo + 0.0694318442029737 * width, clipped, m, inside, height, front, nl);
-            sum += w_inner * ray_integral(l, lo + 0.3300094782075719 * width, clipped, m, inside, height, front, nl);
-            sum += w_inner * ray_integral(l, lo + 0.6699905217924281 * width, clipped, m, inside, height, front, nl);
-            sum += w_outer * ray_integral(l, lo + 0.9305681557970263 * width, clipped, m, inside, height, front, nl);
+            let start = lo + f32(a) * width;
+            sum += w_outer * ray_integral(l, start + 0.0694318442029737 * width, clipped, m, inside, height, front, nl);
+            sum += w_inner * ray_integral(l, start + 0.3300094782075719 * width, clipped, m, inside, height, front, nl);
+            sum += w_inner * ray_integral(l, start + 0.6699905217924281 * width, clipped, m, inside, height, front, nl);
+            sum += w_outer * ray_integral(l, start + 0.9305681557970263 * width, clipped, m, inside, height, front, nl);
         }
     }
     result.lux = max(sum / area, 0.0);

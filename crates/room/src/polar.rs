@@ -41,6 +41,30 @@ pub const IN_PLANE: f64 = 1e-4;
 /// nodes of the renderer's rule spans; an edge subtending more is split.
 pub const MAX_ARC_RAD: f64 = std::f64::consts::FRAC_PI_4;
 
+/// Angles (seen from the foot point) up to which 2 Gauss–Legendre nodes
+/// take a piece of the sweep: the far field, where the opening is small.
+pub const SMALL_ARC_RAD: f64 = std::f64::consts::PI / 32.0;
+
+/// Angles up to which 3 nodes take a piece of the sweep.
+pub const MEDIUM_ARC_RAD: f64 = std::f64::consts::PI / 8.0;
+
+/// cos of the largest turn of the boundary at a vertex across which the
+/// rule's pieces are joined (35°).
+const SOFT_VERTEX_COS: f64 = 0.819_152_044_288_992;
+
+/// Gauss–Legendre nodes on [0, 1] and their weights, 3 points.
+const GAUSS3: [(f64, f64); 3] = [
+    (0.112_701_665_379_258_3, 5.0 / 18.0),
+    (0.5, 8.0 / 18.0),
+    (0.887_298_334_620_741_7, 5.0 / 18.0),
+];
+
+/// Gauss–Legendre nodes on [0, 1] and their weights, 2 points.
+const GAUSS2: [(f64, f64); 2] = [
+    (0.211_324_865_405_187_1, 0.5),
+    (0.788_675_134_594_812_9, 0.5),
+];
+
 /// Gauss–Legendre nodes on [0, 1] and their weights, 4 points.
 const GAUSS4: [(f64, f64); 4] = [
     (0.069_431_844_202_973_7, 0.173_927_422_568_726_9),
@@ -60,6 +84,17 @@ const GAUSS4: [(f64, f64); 4] = [
 pub struct RadialTables {
     pub sec: Vec<f64>,
     pub sin: Vec<f64>,
+    /// Per hemisphere angle node θⱼ (j below 90°): sin θⱼ, cos θⱼ,
+    /// u = asinh tan θⱼ and e^−u, so that a ray end costs no trigonometry
+    /// of its cell's bound.
+    pub node_sin: Vec<f64>,
+    pub node_cos: Vec<f64>,
+    pub node_u: Vec<f64>,
+    pub node_exp: Vec<f64>,
+    /// atan(e^−u) at the node and its derivative in u: the renderer's
+    /// angular moment over a short cell without an arctangent.
+    pub node_moment: Vec<f64>,
+    pub node_moment_slope: Vec<f64>,
 }
 
 /// The grid index of hemisphere angle node j.
@@ -180,7 +215,21 @@ impl RadialTables {
                 }
             }
         }
-        RadialTables { sec, sin }
+        let nodes = (0..half).map(|j| j as f64 * step);
+        let node_u: Vec<f64> = nodes.clone().map(|t| t.tan().asinh()).collect();
+        RadialTables {
+            sec,
+            sin,
+            node_sin: nodes.clone().map(f64::sin).collect(),
+            node_cos: nodes.map(f64::cos).collect(),
+            node_exp: node_u.iter().map(|u| (-u).exp()).collect(),
+            node_moment: node_u.iter().map(|u| (-u).exp().atan()).collect(),
+            node_moment_slope: node_u
+                .iter()
+                .map(|u| -(-u).exp() / (1.0 + (-2.0 * u).exp()))
+                .collect(),
+            node_u,
+        }
     }
 }
 
@@ -257,8 +306,64 @@ fn setup(light: &PlacedLight, x: DVec3, n: DVec3) -> Option<PolarSetup> {
     })
 }
 
+/// A ray's end at tan θ = t: its γ cell and the weights that make the
+/// cell's partial radial integrals linear in the cell's I₀ and slope m
+/// (see `partial_cell`), shared by the two C columns read.
+#[derive(Debug, Clone, Copy)]
+struct RayEnd {
+    j0: usize,
+    du: f64,
+    lever: f64,
+    moment: f64,
+    sin_i0: f64,
+    sin_m: f64,
+    cos_i0: f64,
+    cos_m: f64,
+}
+
+impl RayEnd {
+    fn new(tables: &RadialTables, step: f64, t: f64, how: Partial) -> RayEnd {
+        let half = tables.node_u.len();
+        let theta = t.atan();
+        let j0 = ((theta / step) as usize).min(half - 1);
+        let theta0 = j0 as f64 * step;
+        let q = (1.0 + t * t).sqrt();
+        let (s1, c1) = (t / q, 1.0 / q);
+        let (s0, c0) = (tables.node_sin[j0], tables.node_cos[j0]);
+        let u0 = tables.node_u[j0];
+        // asinh t = ln(t + √(1 + t²)), and e^−u = 1 / (t + √(1 + t²)).
+        let exp_u = t + q;
+        let u = exp_u.ln();
+        let moment = match how {
+            Partial::Exact => angular_moment(u0, u, true),
+            Partial::Fast if u0 >= SERIES_FROM_U => {
+                inverse_tangent_integral(tables.node_exp[j0])
+                    - inverse_tangent_integral(1.0 / exp_u)
+            }
+            // atan(e^−v) at the midpoint in u, to first order from the
+            // node (a cell spans at most 0.03 of u below 74.6°).
+            Partial::Fast => {
+                let du = u - u0;
+                (tables.node_moment[j0] + 0.5 * du * tables.node_moment_slope[j0]) * du
+            }
+        };
+        let dt = theta - theta0;
+        RayEnd {
+            j0,
+            du: u - u0,
+            lever: std::f64::consts::FRAC_PI_2 - theta0,
+            moment,
+            sin_i0: c0 - c1,
+            sin_m: s1 - s0 - dt * c1,
+            cos_i0: s1 - s0,
+            cos_m: dt * s1 + c1 - c0,
+        }
+    }
+}
+
 /// The radial integrand's two integrals (sec − cos kernel, sin kernel)
-/// from θ = 0 to atan(`t`) along C-plane `c_deg`.
+/// from θ = 0 to atan(`t`) along C-plane `c_deg`: the tables up to the
+/// cell, and the partial cell (`partial_cell` with the ray end's weights).
 fn radial(
     grid: &ProfileGrid,
     tables: &RadialTables,
@@ -268,21 +373,20 @@ fn radial(
     how: Partial,
 ) -> (f64, f64) {
     let gc = grid.gamma_count;
-    let half = (gc - 1) / 2;
     let step = grid.gamma_step_deg.to_radians();
-    let theta = t.atan();
-    let j0 = ((theta / step) as usize).min(half - 1);
-    let theta0 = j0 as f64 * step;
-    let u = t.asinh();
-    let u0 = theta0.tan().asinh();
-    let (i_lo, i_hi) = (node_index(gc, front, j0), node_index(gc, front, j0 + 1));
+    let end = RayEnd::new(tables, step, t, how);
+    let (i_lo, i_hi) = (
+        node_index(gc, front, end.j0),
+        node_index(gc, front, end.j0 + 1),
+    );
     let column = |c: usize| -> (f64, f64) {
         let i0 = grid.candela[c * gc + i_lo] as f64;
         let m = (grid.candela[c * gc + i_hi] as f64 - i0) / step;
-        let (ds, dk) = partial_cell(theta0, theta, u0, u, i0, m, how);
+        let cos_kernel = i0 * end.cos_i0 + m * end.cos_m;
+        let sec = (i0 + m * end.lever) * end.du - 2.0 * m * end.moment - cos_kernel;
         (
-            tables.sec[c * gc + i_lo] + ds,
-            tables.sin[c * gc + i_lo] + dk,
+            tables.sec[c * gc + i_lo] + sec,
+            tables.sin[c * gc + i_lo] + i0 * end.sin_i0 + m * end.sin_m,
         )
     };
     if grid.c_count == 1 {
@@ -297,47 +401,53 @@ fn radial(
 }
 
 impl PolarSetup {
-    /// Whether the foot point is inside the clipped opening (its edges
-    /// wind once around it).
+    /// Whether the foot point is inside the clipped opening (or on its
+    /// boundary).
     fn foot_inside(&self) -> bool {
+        // Convex: inside when the foot point is on one side of every edge.
         let m = self.polygon.len();
-        let winding: f64 = (0..m)
-            .map(|i| {
-                let (a, b) = (self.polygon[i], self.polygon[(i + 1) % m]);
-                a.perp_dot(b).atan2(a.dot(b))
-            })
-            .sum();
-        winding.abs() > std::f64::consts::PI
+        let (mut positive, mut negative) = (false, false);
+        for i in 0..m {
+            let c = self.polygon[i].perp_dot(self.polygon[(i + 1) % m]);
+            positive |= c > 0.0;
+            negative |= c < 0.0;
+        }
+        !(positive && negative)
     }
 
-    /// The directions of the vertices seen from the foot point, increasing:
-    /// between two consecutive ones every ray enters and leaves the opening
-    /// through the same edges. The whole circle (first + 2π last) when the
+    /// The directions of the vertices seen from the foot point, increasing,
+    /// each with whether its vertex is soft: between two consecutive ones
+    /// every ray enters and leaves the opening through the same edges. The whole circle (first + 2π last) when the
     /// foot point is inside, else the span between the two tangent vertices.
-    fn sweep(&self, inside: bool) -> SmallVec<[f64; 18]> {
+    fn sweep(&self, inside: bool) -> SmallVec<[(f64, bool); 18]> {
         let pi = std::f64::consts::PI;
-        let mut angles: SmallVec<[f64; 18]> = SmallVec::new();
+        let m = self.polygon.len();
+        // A soft vertex turns the boundary by under 35° (a disk's 12-gon):
+        // the integrand's kink there is slight.
+        let soft = |i: usize| {
+            let e0 = self.polygon[i] - self.polygon[(i + m - 1) % m];
+            let e1 = self.polygon[(i + 1) % m] - self.polygon[i];
+            e0.dot(e1) >= SOFT_VERTEX_COS * (e0.length() * e1.length())
+        };
+        let mut angles: SmallVec<[(f64, bool); 18]> = SmallVec::new();
         if inside {
-            angles.extend(
-                self.polygon
-                    .iter()
-                    .filter(|v| v.length_squared() > 0.0)
-                    .map(|v| v.y.atan2(v.x)),
-            );
-            angles.sort_by(f64::total_cmp);
-            if let Some(&first) = angles.first() {
-                angles.push(first + 2.0 * pi);
+            for (i, v) in self.polygon.iter().enumerate() {
+                if v.length_squared() > 0.0 {
+                    angles.push((v.y.atan2(v.x), soft(i)));
+                }
+            }
+            angles.sort_by(|a, b| a.0.total_cmp(&b.0));
+            if let Some(&(first, soft)) = angles.first() {
+                angles.push((first + 2.0 * pi, soft));
             }
         } else {
-            let centre = self.polygon.iter().copied().sum::<DVec2>() / self.polygon.len() as f64;
+            let centre = self.polygon.iter().copied().sum::<DVec2>() / m as f64;
             let reference = centre.y.atan2(centre.x);
             let wrap = |x: f64| (x + pi).rem_euclid(2.0 * pi) - pi;
-            angles.extend(
-                self.polygon
-                    .iter()
-                    .map(|v| reference + wrap(v.y.atan2(v.x) - reference)),
-            );
-            angles.sort_by(f64::total_cmp);
+            for (i, v) in self.polygon.iter().enumerate() {
+                angles.push((reference + wrap(v.y.atan2(v.x) - reference), soft(i)));
+            }
+            angles.sort_by(|a, b| a.0.total_cmp(&b.0));
         }
         angles
     }
@@ -412,7 +522,8 @@ fn cosine_solid_angle(s: &PolarSetup) -> f64 {
 }
 
 /// Illuminance by the polar rule: between consecutive vertex directions
-/// seen from the foot point, 4 Gauss–Legendre nodes in φ per `MAX_ARC_RAD`,
+/// seen from the foot point, 4 Gauss–Legendre nodes in φ per `MAX_ARC_RAD`
+/// (2 for pieces under `SMALL_ARC_RAD`),
 /// each an exact radial integral over the ray's part inside the
 /// horizon-clipped opening (but for a midpoint in u below 74.6°). The
 /// preview room's default; the shader's twin.
@@ -426,19 +537,40 @@ pub fn illuminance(light: &PlacedLight, x: DVec3, n: DVec3) -> CubatureResult {
     let grid = &light.profile;
     let inside = s.foot_inside();
     let sweep = s.sweep(inside);
-    let mut sum = 0.0;
+    // Pieces between vertex directions, joined across soft vertices while
+    // they span under `MEDIUM_ARC_RAD` (a disk's 12-gon seen from afar is
+    // one piece, not eleven): the integrand's kink there is slight, and a
+    // rectangle's corners still bound pieces.
+    let mut pieces: SmallVec<[(f64, f64); 18]> = SmallVec::new();
     for w in sweep.windows(2) {
-        let span = w[1] - w[0];
+        let ((start, start_soft), (end, _)) = (w[0], w[1]);
+        match pieces.last_mut() {
+            Some(last) if start_soft && end - last.0 <= MEDIUM_ARC_RAD => last.1 = end,
+            _ => pieces.push((start, end)),
+        }
+    }
+    let nodes = |lo: f64, width: f64, rule: &[(f64, f64)]| -> f64 {
+        rule.iter()
+            .map(|&(node, weight)| {
+                weight * width * s.ray_integral(grid, lo + node * width, inside, Partial::Fast)
+            })
+            .sum::<f64>()
+    };
+    let mut sum = 0.0;
+    for (lo, hi) in pieces {
+        let span = hi - lo;
         if span <= 1e-12 {
             continue;
         }
-        let arcs = (span / MAX_ARC_RAD).ceil().max(1.0);
-        let width = span / arcs;
-        for k in 0..arcs as usize {
-            let lo = w[0] + k as f64 * width;
-            for (node, weight) in GAUSS4 {
-                sum +=
-                    weight * width * s.ray_integral(grid, lo + node * width, inside, Partial::Fast);
+        if span <= SMALL_ARC_RAD {
+            sum += nodes(lo, span, &GAUSS2);
+        } else if span <= MEDIUM_ARC_RAD {
+            sum += nodes(lo, span, &GAUSS3);
+        } else {
+            let arcs = (span / MAX_ARC_RAD).ceil().max(1.0);
+            let width = span / arcs;
+            for k in 0..arcs as usize {
+                sum += nodes(lo + k as f64 * width, width, &GAUSS4);
             }
         }
     }
@@ -584,10 +716,10 @@ pub fn exact_illuminance(light: &PlacedLight, x: DVec3, n: DVec3, relative: f64)
     let grid = &light.profile;
     let inside = s.foot_inside();
     let sweep = s.sweep(inside);
-    let (Some(&first), Some(&last)) = (sweep.first(), sweep.last()) else {
+    let (Some(&(first, _)), Some(&(last, _))) = (sweep.first(), sweep.last()) else {
         return 0.0;
     };
-    let mut cuts: Vec<f64> = sweep.to_vec();
+    let mut cuts: Vec<f64> = sweep.iter().map(|&(a, _)| a).collect();
     cuts.extend(kinks(grid, &s, first, last));
     cuts.sort_by(f64::total_cmp);
     cuts.dedup();
