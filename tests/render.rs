@@ -263,11 +263,11 @@ fn render_writes_a_work_plane_plan() {
     assert!(w > 400, "{w}");
 }
 
-/// `lucerna near-field-eval PROFILE --pixels P --samples S --out DIR`.
+/// `lucerna near-field-eval PROFILE --pixels P --out DIR` (the exact
+/// reference).
 fn near_field_eval(
     profile: &std::path::Path,
     pixels: u32,
-    samples: u32,
     out: &std::path::Path,
 ) -> std::process::Output {
     lucerna(&[
@@ -275,8 +275,6 @@ fn near_field_eval(
         profile.to_str().unwrap(),
         "--pixels",
         &pixels.to_string(),
-        "--samples",
-        &samples.to_string(),
         "--out",
         out.to_str().unwrap(),
     ])
@@ -286,7 +284,7 @@ fn near_field_eval(
 fn near_field_eval_writes_its_table_and_pictures() {
     let dir = tempfile::tempdir().unwrap();
     let profile = assets().join("profiles/samples/rab_indoor3_2002_full360.ies");
-    let out = near_field_eval(&profile, 8, 64, dir.path());
+    let out = near_field_eval(&profile, 8, dir.path());
     assert!(out.status.success(), "{}", text(&out.stderr));
     let csv = std::fs::read_to_string(dir.path().join("near_field_nrms.csv")).unwrap();
     let rows: Vec<&str> = csv.lines().skip(1).collect();
@@ -297,8 +295,26 @@ fn near_field_eval_writes_its_table_and_pictures() {
         let values: Vec<f64> = cols[2..].iter().map(|c| c.parse().unwrap()).collect();
         assert!(values.iter().all(|v| v.is_finite() && *v >= 0.0), "{row}");
     }
-    let png = std::fs::read(dir.path().join("rab_indoor3_2002_full360_h0.1.png")).unwrap();
-    assert_eq!(&png[..4], b"\x89PNG");
+    for h in ["0.1", "1", "2.5"] {
+        for suffix in ["", "_error"] {
+            let file = format!("rab_indoor3_2002_full360_h{h}{suffix}.png");
+            let png = std::fs::read(dir.path().join(&file)).unwrap();
+            assert_eq!(&png[..4], b"\x89PNG", "{file}");
+        }
+        // Every point of the 8 × 8 grid and 5 tilts, with its error.
+        let points = std::fs::read(
+            dir.path()
+                .join(format!("rab_indoor3_2002_full360_h{h}_points.csv")),
+        )
+        .unwrap();
+        let mut reader = csv::Reader::from_reader(points.as_slice());
+        assert_eq!(reader.headers().unwrap().len(), 9);
+        let rows: Vec<csv::StringRecord> = reader.records().map(|r| r.unwrap()).collect();
+        assert_eq!(rows.len(), 8 * 8 * 5);
+        // The corners of the protocol's region are sampled.
+        assert_eq!(&rows[0][1], "-2.5000");
+        assert_eq!(&rows[7][1], "2.5000");
+    }
 }
 
 #[test]
@@ -310,15 +326,15 @@ fn near_field_csv_quotes_a_profile_name_with_a_comma() {
         &profile,
     )
     .unwrap();
-    let out = near_field_eval(&profile, 4, 16, dir.path());
+    let out = near_field_eval(&profile, 4, dir.path());
     assert!(out.status.success(), "{}", text(&out.stderr));
     let csv = std::fs::read(dir.path().join("near_field_nrms.csv")).unwrap();
     let mut reader = csv::Reader::from_reader(csv.as_slice());
-    assert_eq!(reader.headers().unwrap().len(), 6);
+    assert_eq!(reader.headers().unwrap().len(), 9);
     let rows: Vec<csv::StringRecord> = reader.records().map(|r| r.unwrap()).collect();
     assert_eq!(rows.len(), 3);
     for row in &rows {
-        assert_eq!(row.len(), 6, "{row:?}");
+        assert_eq!(row.len(), 9, "{row:?}");
         assert_eq!(&row[0], "rab, \"indoor\"");
     }
 }

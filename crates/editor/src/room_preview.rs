@@ -165,7 +165,7 @@ impl Renderer {
         self.room.description()
     }
 
-    /// Renders one request (on the calling thread), cubature-shaded, by
+    /// Renders one request (on the calling thread), shaded by the polar rule, by
     /// `lucerna render`'s pipeline; `None` if `give_up` said so between
     /// two bands of rows (a newer request that makes it stale waits).
     pub fn render(

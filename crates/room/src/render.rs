@@ -13,7 +13,8 @@ use crate::scene::RoomScene;
 /// How lights are shaded.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Shading {
-    /// The cubature of Luksch et al. 2020 with LTC specular.
+    /// Photometric polygonal lights (eq. 1–3 of Luksch et al. 2020) by
+    /// the default `CubatureRule` (the polar rule), with LTC specular.
     Cubature,
     /// One intensity lookup and inverse-square law from the opening's
     /// centre, no specular: the point-light baseline.

@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use lucerna_photometry::read_photometry;
 use lucerna_room::ProfileGrid;
-use lucerna_room::evaluation::{HEIGHTS, NearFieldSettings, nrms, stitched_images};
+use lucerna_room::evaluation::{HEIGHTS, NearFieldSettings, Reference, nrms, stitched_images};
 
 fn profiles() -> Vec<(String, Arc<ProfileGrid>)> {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../assets/profiles");
@@ -43,7 +43,7 @@ fn profiles() -> Vec<(String, Arc<ProfileGrid>)> {
 fn near_field_nrms_per_profile_and_height() {
     let settings = NearFieldSettings {
         pixels: 20,
-        reference_samples: 1024,
+        reference: Reference::MonteCarlo { samples: 1024 },
     };
     let bounds = [0.28, 0.085, 0.045];
     let spot_bound = 0.65;
