@@ -12,7 +12,7 @@ LUCERNA=${LUCERNA:-$REPO/target/debug/lucerna}
 SCENE=${1:-$REPO/assets/luminaires/parabolic_spot.toml}
 PHOTONS=${PHOTONS:-60000000}
 RESOLUTION=${RESOLUTION:-256}
-WORK=$(mktemp -d /tmp/lucerna-bench-split.XXXXXX)
+WORK=$(mktemp -d -t lucerna-bench-split.XXXXXX)
 trap 'rm -rf "$WORK"' EXIT
 COMMON=(--photons "$PHOTONS" --resolution "$RESOLUTION" --backend cpu --date 2026-01-31)
 now() { date +%s.%N; }

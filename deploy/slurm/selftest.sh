@@ -31,7 +31,7 @@ PHOTONS=${PHOTONS:-24000000}
 PARTS=4
 BAKE_ARGS="--resolution 64 --backend cpu --date 2026-01-31"
 
-WORK=$(mktemp -d /tmp/lucerna-slurm-selftest.XXXXXX)
+WORK=$(mktemp -d -t lucerna-slurm-selftest.XXXXXX)
 PIDS=()
 cleanup() {
     local rc=$?
