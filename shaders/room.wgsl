@@ -53,7 +53,8 @@ struct Light {
     position: vec4<f32>,
     // vertex count, profile offset (floats), C columns, γ rows
     info: vec4<u32>,
-    // C step (deg), γ step (deg), size (m), pieces
+    // C step (deg), γ step (deg), size (m), the sweep's cut step at kinked
+    // C-planes (rad, 0: none)
     steps: vec4<f32>,
     vertices: array<vec4<f32>, 12>,
 }
@@ -263,6 +264,38 @@ fn ray_integral(l: Light, phi: f32, poly: ptr<function, array<vec3<f32>, 16>>, m
     return (dir.x * nl.x + dir.y * nl.y) * r.x + side * nl.z * r.y;
 }
 
+// One piece of the sweep: 2 Gauss–Legendre nodes up to SMALL_ARC, 3 up
+// to MEDIUM_ARC, else 4 per MAX_ARC (polar::illuminance_with_nodes).
+fn piece_integral(l: Light, lo: f32, span: f32, clipped: ptr<function, array<vec3<f32>, 16>>, m: u32, inside: bool, height: f32, front: bool, nl: vec3<f32>) -> f32 {
+    var sum = 0.0;
+    if span <= 1e-7 {
+        return sum;
+    }
+    if span <= SMALL_ARC {
+        sum += 0.5 * span * ray_integral(l, lo + 0.2113248654051871 * span, clipped, m, inside, height, front, nl);
+        sum += 0.5 * span * ray_integral(l, lo + 0.7886751345948129 * span, clipped, m, inside, height, front, nl);
+        return sum;
+    }
+    if span <= MEDIUM_ARC {
+        sum += (5.0 / 18.0) * span * ray_integral(l, lo + 0.1127016653792583 * span, clipped, m, inside, height, front, nl);
+        sum += (8.0 / 18.0) * span * ray_integral(l, lo + 0.5 * span, clipped, m, inside, height, front, nl);
+        sum += (5.0 / 18.0) * span * ray_integral(l, lo + 0.8872983346207417 * span, clipped, m, inside, height, front, nl);
+        return sum;
+    }
+    let arcs = max(ceil(span / MAX_ARC), 1.0);
+    let width = span / arcs;
+    let w_outer = 0.1739274225687269 * width;
+    let w_inner = 0.3260725774312731 * width;
+    for (var a = 0u; a < u32(arcs); a++) {
+        let start = lo + f32(a) * width;
+        sum += w_outer * ray_integral(l, start + 0.0694318442029737 * width, clipped, m, inside, height, front, nl);
+        sum += w_inner * ray_integral(l, start + 0.3300094782075719 * width, clipped, m, inside, height, front, nl);
+        sum += w_inner * ray_integral(l, start + 0.6699905217924281 * width, clipped, m, inside, height, front, nl);
+        sum += w_outer * ray_integral(l, start + 0.9305681557970263 * width, clipped, m, inside, height, front, nl);
+    }
+    return sum;
+}
+
 // Illuminance at x (normal n) by the polar rule (CPU twin:
 // crates/room/src/polar.rs): the opening clipped by x's horizon in the
 // luminaire's frame, relative to x's foot point on the opening's plane;
@@ -369,7 +402,8 @@ fn illuminance(l: Light, x_in: vec3<f32>, n_in: vec3<f32>, clipped: ptr<function
         k++;
     }
     // Pieces between vertex directions, joined across soft vertices while
-    // they span under MEDIUM_ARC (polar::illuminance).
+    // they span under MEDIUM_ARC, and cut at kinked C-planes
+    // (polar::illuminance_with_nodes).
     var sum = 0.0;
     var w = 0u;
     while w + 1u < k {
@@ -383,27 +417,21 @@ fn illuminance(l: Light, x_in: vec3<f32>, n_in: vec3<f32>, clipped: ptr<function
         if span <= 1e-7 {
             continue;
         }
-        if span <= SMALL_ARC {
-            sum += 0.5 * span * ray_integral(l, lo + 0.2113248654051871 * span, clipped, m, inside, height, front, nl);
-            sum += 0.5 * span * ray_integral(l, lo + 0.7886751345948129 * span, clipped, m, inside, height, front, nl);
-            continue;
-        }
-        if span <= MEDIUM_ARC {
-            sum += (5.0 / 18.0) * span * ray_integral(l, lo + 0.1127016653792583 * span, clipped, m, inside, height, front, nl);
-            sum += (8.0 / 18.0) * span * ray_integral(l, lo + 0.5 * span, clipped, m, inside, height, front, nl);
-            sum += (5.0 / 18.0) * span * ray_integral(l, lo + 0.8872983346207417 * span, clipped, m, inside, height, front, nl);
-            continue;
-        }
-        let arcs = max(ceil(span / MAX_ARC), 1.0);
-        let width = span / arcs;
-        let w_outer = 0.1739274225687269 * width;
-        let w_inner = 0.3260725774312731 * width;
-        for (var a = 0u; a < u32(arcs); a++) {
-            let start = lo + f32(a) * width;
-            sum += w_outer * ray_integral(l, start + 0.0694318442029737 * width, clipped, m, inside, height, front, nl);
-            sum += w_inner * ray_integral(l, start + 0.3300094782075719 * width, clipped, m, inside, height, front, nl);
-            sum += w_inner * ray_integral(l, start + 0.6699905217924281 * width, clipped, m, inside, height, front, nl);
-            sum += w_outer * ray_integral(l, start + 0.9305681557970263 * width, clipped, m, inside, height, front, nl);
+        if l.steps.w > 0.0 {
+            // Cut where the ray's C-plane (φ + π) crosses a kinked C-plane,
+            // a multiple of steps.w (polar::RuleNodes::kink_step_rad).
+            let step = l.steps.w;
+            let hi = lo + span;
+            var start = lo;
+            var cut = (floor((lo + PI) / step) + 1.0) * step - PI;
+            while cut < hi {
+                sum += piece_integral(l, start, cut - start, clipped, m, inside, height, front, nl);
+                start = cut;
+                cut += step;
+            }
+            sum += piece_integral(l, start, hi - start, clipped, m, inside, height, front, nl);
+        } else {
+            sum += piece_integral(l, lo, span, clipped, m, inside, height, front, nl);
         }
     }
     result.lux = max(sum / area, 0.0);

@@ -498,7 +498,7 @@ fn gpu_light(light: &PlacedLight, profile_offset: u32) -> GpuLight {
             light.profile.c_step_deg as f32,
             light.profile.gamma_step_deg as f32,
             light.size_m() as f32,
-            0.0,
+            crate::polar::RuleNodes::for_profile(&light.profile).kink_step_rad as f32,
         ],
         vertices,
     }

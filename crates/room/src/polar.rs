@@ -18,7 +18,8 @@
 //! piecewise-linear interpolant: a narrow beam costs nothing extra. The
 //! angular integral is a sum, over the edges of the horizon-clipped
 //! opening, of signed triangles (F, a, b). The renderer's rule takes a few
-//! Gauss–Legendre nodes per edge ([`illuminance`]); the reference
+//! Gauss–Legendre nodes per piece of the sweep, pieces cut at vertices and
+//! at the profile's kinked C-planes ([`illuminance`]); the reference
 //! integrates the same triangles adaptively, with exact cell integrals
 //! ([`exact_illuminance`]).
 
@@ -521,18 +522,57 @@ fn cosine_solid_angle(s: &PolarSetup) -> f64 {
     0.5 * sum.abs()
 }
 
-/// Illuminance by the polar rule: between consecutive vertex directions
-/// seen from the foot point, 4 Gauss–Legendre nodes in φ per `MAX_ARC_RAD`
-/// (2 for pieces under `SMALL_ARC_RAD`),
-/// each an exact radial integral over the ray's part inside the
-/// horizon-clipped opening (but for a midpoint in u below 74.6°). The
-/// preview room's default; the shader's twin.
+/// The nodes of the renderer's rule: how finely the sweep is cut.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RuleNodes {
+    /// Pieces up to this angle take 2 Gauss–Legendre nodes.
+    pub small_arc_rad: f64,
+    /// Pieces up to this angle take 3.
+    pub medium_arc_rad: f64,
+    /// Longer pieces are cut into arcs of at most this, 4 nodes each.
+    pub max_arc_rad: f64,
+    /// Pieces are also cut where the ray's C-plane crosses a multiple of
+    /// this (the profile's kinked C-planes, `ProfileGrid::c_kink_step_deg`);
+    /// 0: not cut.
+    pub kink_step_rad: f64,
+}
+
+impl RuleNodes {
+    /// The preview room's rule for a profile.
+    pub fn for_profile(grid: &ProfileGrid) -> RuleNodes {
+        RuleNodes {
+            small_arc_rad: SMALL_ARC_RAD,
+            medium_arc_rad: MEDIUM_ARC_RAD,
+            max_arc_rad: MAX_ARC_RAD,
+            kink_step_rad: grid.c_kink_step_deg.to_radians(),
+        }
+    }
+}
+
+/// Illuminance by the polar rule: the sweep between consecutive vertex
+/// directions seen from the foot point, cut where the ray's C-plane
+/// crosses one of the profile's kinked C-planes (where the angular
+/// integrand's slope jumps), each piece taken by 2, 3 or 4 Gauss–Legendre
+/// nodes in φ by its size (`SMALL_ARC_RAD`, `MEDIUM_ARC_RAD`, 4 per
+/// `MAX_ARC_RAD`), each node an exact radial integral over the ray's part
+/// inside the horizon-clipped opening (but for a midpoint in u below
+/// 74.6°). The preview room's default; the shader's twin.
 pub fn illuminance(light: &PlacedLight, x: DVec3, n: DVec3) -> CubatureResult {
+    illuminance_with_nodes(light, x, n, RuleNodes::for_profile(&light.profile)).0
+}
+
+/// The polar rule with the given nodes, and how many ray integrals it took.
+pub fn illuminance_with_nodes(
+    light: &PlacedLight,
+    x: DVec3,
+    n: DVec3,
+    rule: RuleNodes,
+) -> (CubatureResult, usize) {
     if light.opening == Opening::Point {
-        return crate::cubature::point_illuminance(light, x, n);
+        return (crate::cubature::point_illuminance(light, x, n), 1);
     }
     let Some(s) = setup(light, x, n) else {
-        return CubatureResult::default();
+        return (CubatureResult::default(), 0);
     };
     let grid = &light.profile;
     let inside = s.foot_inside();
@@ -545,39 +585,59 @@ pub fn illuminance(light: &PlacedLight, x: DVec3, n: DVec3) -> CubatureResult {
     for w in sweep.windows(2) {
         let ((start, start_soft), (end, _)) = (w[0], w[1]);
         match pieces.last_mut() {
-            Some(last) if start_soft && end - last.0 <= MEDIUM_ARC_RAD => last.1 = end,
+            Some(last) if start_soft && end - last.0 <= rule.medium_arc_rad => last.1 = end,
             _ => pieces.push((start, end)),
         }
     }
-    let nodes = |lo: f64, width: f64, rule: &[(f64, f64)]| -> f64 {
-        rule.iter()
+    let mut count = 0;
+    let mut nodes = |lo: f64, width: f64, gauss: &[(f64, f64)]| -> f64 {
+        count += gauss.len();
+        gauss
+            .iter()
             .map(|&(node, weight)| {
                 weight * width * s.ray_integral(grid, lo + node * width, inside, Partial::Fast)
             })
             .sum::<f64>()
     };
+    let mut piece = |lo: f64, span: f64| -> f64 {
+        if span <= 1e-12 {
+            0.0
+        } else if span <= rule.small_arc_rad {
+            nodes(lo, span, &GAUSS2)
+        } else if span <= rule.medium_arc_rad {
+            nodes(lo, span, &GAUSS3)
+        } else {
+            let arcs = (span / rule.max_arc_rad).ceil().max(1.0);
+            let width = span / arcs;
+            (0..arcs as usize)
+                .map(|k| nodes(lo + k as f64 * width, width, &GAUSS4))
+                .sum()
+        }
+    };
+    let pi = std::f64::consts::PI;
     let mut sum = 0.0;
     for (lo, hi) in pieces {
-        let span = hi - lo;
-        if span <= 1e-12 {
-            continue;
-        }
-        if span <= SMALL_ARC_RAD {
-            sum += nodes(lo, span, &GAUSS2);
-        } else if span <= MEDIUM_ARC_RAD {
-            sum += nodes(lo, span, &GAUSS3);
-        } else {
-            let arcs = (span / MAX_ARC_RAD).ceil().max(1.0);
-            let width = span / arcs;
-            for k in 0..arcs as usize {
-                sum += nodes(lo + k as f64 * width, width, &GAUSS4);
+        if rule.kink_step_rad > 0.0 {
+            // C = φ + π: kinked C-planes at φ = k·step − π.
+            let step = rule.kink_step_rad;
+            let mut start = lo;
+            let mut k = ((lo + pi) / step).floor() + 1.0;
+            while k * step - pi < hi {
+                let cut = k * step - pi;
+                sum += piece(start, cut - start);
+                start = cut;
+                k += 1.0;
             }
+            sum += piece(start, hi - start);
+        } else {
+            sum += piece(lo, hi - lo);
         }
     }
-    CubatureResult {
+    let result = CubatureResult {
         lux: (sum / light.opening.area_m2()).max(0.0),
         cosine_solid_angle: cosine_solid_angle(&s),
-    }
+    };
+    (result, count)
 }
 
 /// Gauss–Kronrod 7–15 on [−1, 1]: Kronrod nodes (positive half, the last

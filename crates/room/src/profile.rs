@@ -13,6 +13,13 @@ pub const GAMMA_STEP_DEG: f64 = 0.5;
 /// C step of the grid (degrees) for tables that vary with C.
 pub const C_STEP_DEG: f64 = 2.5;
 
+/// A C column bends the interpolant sharply when its second difference in
+/// C reaches this fraction of the peak intensity (over one `C_STEP_DEG`).
+pub const C_KINK_THRESHOLD: f64 = 1e-3;
+/// Kinked C-planes closer than this are not cut at (the sweep would take
+/// too many pieces; the rule's nodes resolve such fine C structure).
+pub const MIN_C_KINK_STEP_DEG: f64 = 10.0;
+
 /// Prefiltered levels beyond the raw grid: level k averages the profile
 /// over spherical caps of radius `BLUR_BASE_DEG · 2^(k−1)`.
 pub const BLUR_LEVELS: usize = 7;
@@ -45,6 +52,10 @@ pub struct ProfileGrid {
     /// Cumulative radial integrals per C column and hemisphere: what the
     /// polar near-field rule and its exact reference read.
     pub radial: crate::polar::RadialTables,
+    /// Spacing of the C-planes where the interpolant bends sharply (the
+    /// source table's planes, when it varies strongly in C): the polar
+    /// rule cuts its sweep there. 0: smooth enough in C not to.
+    pub c_kink_step_deg: f64,
 }
 
 impl ProfileGrid {
@@ -79,9 +90,54 @@ impl ProfileGrid {
             candela_levels: Vec::new(),
             cosine_levels: Vec::new(),
             radial: Default::default(),
+            c_kink_step_deg: 0.0,
         }
         .with_prefiltered_levels()
         .with_radial_tables()
+        .with_c_kinks()
+    }
+
+    /// Finds the C-planes where the interpolant bends sharply (a source
+    /// table's planes, linearly interpolated between): `c_kink_step_deg` is
+    /// the largest spacing all of them lie on multiples of.
+    fn with_c_kinks(mut self) -> ProfileGrid {
+        self.c_kink_step_deg = 0.0;
+        if self.c_count < 3 {
+            return self;
+        }
+        let gc = self.gamma_count;
+        let columns = self.c_count - 1; // the last repeats C = 0°
+        let peak = self.candela.iter().copied().fold(0.0f32, f32::max) as f64;
+        if peak <= 0.0 {
+            return self;
+        }
+        let at = |c: usize, j: usize| self.candela[(c % columns) * gc + j] as f64;
+        let mut step = 0usize;
+        for c in 0..columns {
+            let bend = (0..gc)
+                .map(|j| (at(c + columns - 1, j) - 2.0 * at(c, j) + at(c + 1, j)).abs())
+                .fold(0.0, f64::max);
+            if bend > C_KINK_THRESHOLD * peak {
+                step = gcd(step, c);
+            }
+        }
+        // Column 0 kinked alone (or none): the spacing is the whole turn.
+        let step = if step == 0 {
+            columns
+        } else {
+            gcd(step, columns)
+        };
+        let step_deg = step as f64 * self.c_step_deg;
+        let any = (0..columns).step_by(step).any(|c| {
+            (0..gc).any(|j| {
+                (at(c + columns - 1, j) - 2.0 * at(c, j) + at(c + 1, j)).abs()
+                    > C_KINK_THRESHOLD * peak
+            })
+        });
+        if any && step_deg >= MIN_C_KINK_STEP_DEG {
+            self.c_kink_step_deg = step_deg;
+        }
+        self
     }
 
     /// Values per level.
@@ -255,6 +311,10 @@ impl ProfileGrid {
             .map(|c| 0.5 * (column(c) + column(c + 1)) * c_step)
             .sum()
     }
+}
+
+fn gcd(a: usize, b: usize) -> usize {
+    if b == 0 { a } else { gcd(b, a % b) }
 }
 
 /// A direction's place in the C-γ grid.

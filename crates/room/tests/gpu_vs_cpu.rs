@@ -29,8 +29,19 @@ fn scene() -> RoomScene {
     point.position = [1.5, 8.0, 2.0];
     point.opening = Some(OpeningSpec::Point);
     point.flux_factor = 1.0;
+    // A rectangle with strong C-structure on 15° planes: the sweep's cuts
+    // at kinked C-planes.
+    let mut washer = point.clone();
+    washer.profile = Some("../profiles/samples/erco_33499000_isym2.ldt".into());
+    washer.position = [1.2, 3.0, 1.5];
+    washer.rotation_deg = [70.0, 0.0, 15.0];
+    washer.opening = Some(OpeningSpec::Rectangle {
+        length_m: 0.4,
+        width_m: 0.25,
+    });
     room.luminaires.push(disk);
     room.luminaires.push(point);
+    room.luminaires.push(washer);
     let base = root.join("rooms");
     let phot = common::photometry_of(&room, &base);
     RoomScene::new(&room, &phot)
@@ -95,7 +106,7 @@ fn wgsl_illuminance_matches_the_cpu_at_random_points() {
                 grazing_errors.len()
             );
             assert!(
-                median < 1e-4 && worst < 1e-2,
+                median < 1e-4 && worst < 4e-3,
                 "in-plane: median {median}, max {worst}"
             );
         }
@@ -111,8 +122,10 @@ fn wgsl_illuminance_matches_the_cpu_at_random_points() {
         // f32 against f64: grazing receivers lose digits in the edge
         // integrals' cancellation, and lookups at cell or level boundaries
         // may round to the neighbour.
+        // (The shader without the sweep's cuts at kinked C-planes: 99th
+        // percentile 4.4e-3, in-plane max 8.1e-3.)
         assert!(errors.len() > 2500);
-        assert!(at(0.5) < 1e-3 && at(0.99) < 1e-2 && at(1.0) < 0.05);
+        assert!(at(0.5) < 1e-3 && at(0.99) < 2e-3 && at(1.0) < 0.05);
     }
 }
 
