@@ -13,6 +13,10 @@ const MAX_ARC: f32 = 0.785398163397448;
 const MEDIUM_ARC: f32 = 0.392699081698724;
 const SMALL_ARC: f32 = 0.0981747704246810;
 const SOFT_VERTEX_COS: f32 = 0.819152044288992;
+// The draft rule's (mode 2) 2-node pieces up to π/8, 3-node up to π/4,
+// 4 nodes per π/2 (polar::RuleNodes::draft).
+const DRAFT_SMALL_ARC: f32 = 0.392699081698724;
+const DRAFT_MAX_ARC: f32 = 1.57079632679490;
 // Grids of a profile: candela, then the radial tables (polar::RadialTables).
 const RADIAL_SEC: u32 = 1u;
 const RADIAL_SIN: u32 = 2u;
@@ -30,7 +34,7 @@ struct Params {
     width: u32,
     height: u32,
     light_count: u32,
-    // 0: cubature + LTC, 1: point-light baseline
+    // 0: cubature + LTC, 1: point-light baseline, 2: the draft rule + LTC
     mode: u32,
     tan_half_fov: f32,
     aspect: f32,
@@ -271,18 +275,26 @@ fn piece_integral(l: Light, lo: f32, span: f32, clipped: ptr<function, array<vec
     if span <= 1e-7 {
         return sum;
     }
-    if span <= SMALL_ARC {
+    var small_arc = SMALL_ARC;
+    var medium_arc = MEDIUM_ARC;
+    var max_arc = MAX_ARC;
+    if params.mode == 2u {
+        small_arc = DRAFT_SMALL_ARC;
+        medium_arc = 2.0 * DRAFT_SMALL_ARC;
+        max_arc = DRAFT_MAX_ARC;
+    }
+    if span <= small_arc {
         sum += 0.5 * span * ray_integral(l, lo + 0.2113248654051871 * span, clipped, m, inside, height, front, nl);
         sum += 0.5 * span * ray_integral(l, lo + 0.7886751345948129 * span, clipped, m, inside, height, front, nl);
         return sum;
     }
-    if span <= MEDIUM_ARC {
+    if span <= medium_arc {
         sum += (5.0 / 18.0) * span * ray_integral(l, lo + 0.1127016653792583 * span, clipped, m, inside, height, front, nl);
         sum += (8.0 / 18.0) * span * ray_integral(l, lo + 0.5 * span, clipped, m, inside, height, front, nl);
         sum += (5.0 / 18.0) * span * ray_integral(l, lo + 0.8872983346207417 * span, clipped, m, inside, height, front, nl);
         return sum;
     }
-    let arcs = max(ceil(span / MAX_ARC), 1.0);
+    let arcs = max(ceil(span / max_arc), 1.0);
     let width = span / arcs;
     let w_outer = 0.1739274225687269 * width;
     let w_inner = 0.3260725774312731 * width;
@@ -406,10 +418,11 @@ fn illuminance(l: Light, x_in: vec3<f32>, n_in: vec3<f32>, clipped: ptr<function
     // (polar::illuminance_with_nodes).
     var sum = 0.0;
     var w = 0u;
+    let join_arc = select(MEDIUM_ARC, 2.0 * DRAFT_SMALL_ARC, params.mode == 2u);
     while w + 1u < k {
         let lo = angles[w];
         var end = w + 1u;
-        while end + 1u < k && soft[end] && angles[end + 1u] - lo <= MEDIUM_ARC {
+        while end + 1u < k && soft[end] && angles[end + 1u] - lo <= join_arc {
             end++;
         }
         let span = angles[end] - lo;
@@ -630,7 +643,7 @@ fn shade_ray(origin: vec3<f32>, dir: vec3<f32>) -> vec2<f32> {
         }
         lux += r.lux;
         luminance += material.x / PI * r.lux;
-        if params.mode == 0u && material.y > 0.0 && r.lux > 0.0 && r.cosine_solid_angle > 1e-12 {
+        if params.mode != 1u && material.y > 0.0 && r.lux > 0.0 && r.cosine_solid_angle > 1e-12 {
             luminance += specular_radiance(l, x, normal, -dir, material.z, material.y, r.lux / r.cosine_solid_angle);
         }
     }

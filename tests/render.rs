@@ -372,7 +372,7 @@ fn an_image_too_large_for_the_adapter_is_refused_clearly() {
 fn the_editor_preview_gives_lucerna_renders_figures_for_the_same_room_and_table() {
     use std::sync::Arc;
 
-    use lucerna_editor::{RenderRequest, Renderer, RoomLight};
+    use lucerna_editor::{PictureQuality, RenderRequest, Renderer, RoomLight};
     use lucerna_room::RoomSetup;
     use lucerna_room::scene::opening_from_dimensions;
     use lucerna_simulation::BackendRequest;
@@ -409,7 +409,9 @@ fn the_editor_preview_gives_lucerna_renders_figures_for_the_same_room_and_table(
         light,
         room: Arc::new(RoomSetup::load(&room).unwrap()),
         room_revision: 0,
-        size: [64, 40],
+        // The full rule, as `lucerna render` shades (the work plane does
+        // not depend on the picture's size).
+        quality: PictureQuality::Draft,
     };
     let picture = Renderer::open(BackendRequest::Cpu)
         .render(&request, 1, &|| false)

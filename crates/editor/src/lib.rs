@@ -47,8 +47,8 @@ pub use config::{EditorPaths, MAX_RECENT, ThemeChoice};
 pub use files::{ImportMeshError, PendingAction, starter_scene};
 pub use recovery::RecoveryOffer;
 pub use room_preview::{
-    DRAFT_SIZE, FINE_SIZE, RenderRequest, Renderer, RoomLight, RoomPicture, RoomPreview,
-    default_rooms_dir,
+    DRAFT_SIZE, FINE_SIZE, PictureQuality, RenderRequest, Renderer, RoomLight, RoomPicture,
+    RoomPreview, default_rooms_dir,
 };
 pub use state::{Command, EditorState, NewPart, SceneEdit, Selection, View};
 pub use viewport::{Bounds, CubeShown, GpuTarget, OrbitCamera, StandardView, Viewport, pick};

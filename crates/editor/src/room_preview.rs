@@ -27,6 +27,36 @@ pub const DRAFT_SIZE: [u32; 2] = [320, 200];
 /// Picture size once the distribution has been still for a second.
 pub const FINE_SIZE: [u32; 2] = [640, 400];
 
+/// Which picture: while a drag runs, while the distribution changes
+/// otherwise, or once it is still.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PictureQuality {
+    /// At `DRAFT_SIZE` by the polar rule's draft nodes
+    /// (`Shading::Draft`, about 0.7 of the ray integrals), and never given
+    /// up for a newer request: the room follows the hand.
+    Drag,
+    /// At `DRAFT_SIZE` by the full rule.
+    Draft,
+    /// At `FINE_SIZE` by the full rule.
+    Fine,
+}
+
+impl PictureQuality {
+    pub fn size(self) -> [u32; 2] {
+        match self {
+            PictureQuality::Drag | PictureQuality::Draft => DRAFT_SIZE,
+            PictureQuality::Fine => FINE_SIZE,
+        }
+    }
+
+    pub fn shading(self) -> Shading {
+        match self {
+            PictureQuality::Drag => Shading::Draft,
+            PictureQuality::Draft | PictureQuality::Fine => Shading::Cubature,
+        }
+    }
+}
+
 /// The room files shipped in `assets/rooms`: beside the working directory
 /// when run from the repository or an unpacked release, else where this
 /// crate was built from.
@@ -105,7 +135,7 @@ pub struct RenderRequest {
     pub room: Arc<RoomSetup>,
     /// Counts the room's edits, so a picture names the room it shows.
     pub room_revision: u64,
-    pub size: [u32; 2],
+    pub quality: PictureQuality,
 }
 
 /// A rendered preview: the view, its illuminance, the work plane and its
@@ -118,6 +148,7 @@ pub struct RoomPicture {
     pub generation: u64,
     pub photons: u64,
     pub room_revision: u64,
+    pub quality: PictureQuality,
     pub size: [u32; 2],
     /// Tone-mapped sRGB, row-major.
     pub rgb: Vec<u8>,
@@ -165,7 +196,8 @@ impl Renderer {
         self.room.description()
     }
 
-    /// Renders one request (on the calling thread), shaded by the polar rule, by
+    /// Renders one request (on the calling thread), shaded by the polar
+    /// rule (its draft nodes for a drag's picture), by
     /// `lucerna render`'s pipeline; `None` if `give_up` said so between
     /// two bands of rows (a newer request that makes it stale waits).
     pub fn render(
@@ -178,16 +210,18 @@ impl Renderer {
         let light = &request.light;
         let cache = self.profiles.for_table(&light.table);
         let scene = request.room.scene_lit_by(|f| cache.grid(f), light.opening);
+        let size = request.quality.size();
         let lit = self
             .room
-            .light(&scene, request.size, Shading::Cubature, give_up)?;
+            .light(&scene, size, request.quality.shading(), give_up)?;
         let finished_at = Instant::now();
         Some(RoomPicture {
             serial,
             generation: light.generation,
             photons: light.photons,
             room_revision: request.room_revision,
-            size: request.size,
+            quality: request.quality,
+            size,
             rgb: tone_map(&lit.frame),
             illuminance_lx: lit.frame.illuminance,
             grid: lit.grid,
@@ -436,8 +470,10 @@ fn worker_loop(
                 // Given up for any newer request when fine (a draft of it
                 // comes next), and a draft for one of a newer run (an
                 // edit): never a draft for the next snapshot of the same
-                // run, or a converging run would show nothing.
-                let fine = request.size != DRAFT_SIZE;
+                // run, or a converging run would show nothing; never a
+                // drag's picture (a drag makes a run every frame: given up
+                // for each, the room would wait for the hand to stop).
+                let quality = request.quality;
                 let generation = request.light.generation;
                 let newer_waits = || {
                     let mailbox = shared.mailbox();
@@ -445,7 +481,11 @@ fn worker_loop(
                         || mailbox
                             .render
                             .as_ref()
-                            .is_some_and(|(next, _)| fine || next.light.generation != generation)
+                            .is_some_and(|(next, _)| match quality {
+                                PictureQuality::Fine => true,
+                                PictureQuality::Draft => next.light.generation != generation,
+                                PictureQuality::Drag => false,
+                            })
                 };
                 // A picture given up for a newer request is not sent: that
                 // one is next.

@@ -14,7 +14,7 @@ use lucerna_room::{RoomSetup, TASK_TARGETS, TaskTarget};
 use lucerna_simulation::Snapshot;
 
 use crate::room_preview::{
-    DRAFT_SIZE, FINE_SIZE, RenderRequest, RoomLight, RoomPicture, RoomPreview, default_rooms_dir,
+    PictureQuality, RenderRequest, RoomLight, RoomPicture, RoomPreview, default_rooms_dir,
 };
 
 /// How long the table and the room must stay unchanged before the fine
@@ -198,8 +198,15 @@ impl RoomLive {
 
     /// Once a frame, after the commands: starts the worker on first use,
     /// takes what it finished, and asks for the picture that is due while
-    /// the Room tab is shown.
-    pub fn tick(&mut self, snapshot: Option<&Arc<Snapshot>>, ctx: &egui::Context, now: Instant) {
+    /// the Room tab is shown; `dragging`: a pointer gesture is editing (a
+    /// new run's picture is then a drag's).
+    pub fn tick(
+        &mut self,
+        snapshot: Option<&Arc<Snapshot>>,
+        ctx: &egui::Context,
+        now: Instant,
+        dragging: bool,
+    ) {
         let watched = std::mem::take(&mut self.watched);
         if !watched && self.preview.is_none() {
             return;
@@ -272,12 +279,12 @@ impl RoomLive {
         }
         // Ask for a picture of the newest table and room when one is due.
         if let (Some(snapshot), Some(room)) = (snapshot, &self.room) {
-            if let Some(size) = self.refinement.due(snapshot, self.revision, now) {
+            if let Some(quality) = self.refinement.due(snapshot, self.revision, now, dragging) {
                 preview.request(RenderRequest {
                     light: RoomLight::of(snapshot),
                     room: room.clone(),
                     room_revision: self.revision,
-                    size,
+                    quality,
                 });
             }
             if let Some(wait) = self.refinement.fine_due_in(now) {
@@ -293,9 +300,10 @@ impl RoomLive {
 pub const CONVERGING_REFRESH: Duration = Duration::from_secs(5);
 
 /// When to render what: a draft at once on an edit (a new run) or a room
-/// change, the fine picture once neither has changed for [`SETTLE`], and
-/// while one run converges a new picture (at the size last asked) at most
-/// every [`CONVERGING_REFRESH`].
+/// change (a drag's draft while a pointer gesture edits), the fine picture
+/// once neither has changed for [`SETTLE`], and while one run converges a
+/// new picture (of the quality last asked) at most every
+/// [`CONVERGING_REFRESH`].
 #[derive(Debug, Default)]
 pub struct Refinement {
     /// The snapshot and room revision last asked for.
@@ -303,29 +311,32 @@ pub struct Refinement {
     changed_at: Option<Instant>,
     requested_at: Option<Instant>,
     fine_requested: bool,
+    /// The draft's quality last asked (a drag's or not).
+    draft: Option<PictureQuality>,
 }
 
 impl Refinement {
-    /// The size to render now for `snapshot` and room `revision`, if a
-    /// picture is due.
+    /// The picture to render now for `snapshot` and room `revision`, if
+    /// one is due; `dragging`: a pointer gesture is editing.
     pub fn due(
         &mut self,
         snapshot: &Arc<Snapshot>,
         revision: u64,
         now: Instant,
-    ) -> Option<[u32; 2]> {
+        dragging: bool,
+    ) -> Option<PictureQuality> {
         let Some((shown, shown_revision)) = &self.shown else {
-            return Some(self.changed(snapshot, revision, now));
+            return Some(self.changed(snapshot, revision, now, dragging));
         };
         if *shown_revision != revision || shown.generation != snapshot.generation {
-            return Some(self.changed(snapshot, revision, now));
+            return Some(self.changed(snapshot, revision, now, dragging));
         }
         let still = self.changed_at.is_some_and(|t| now - t >= SETTLE);
         if still && !self.fine_requested {
             self.fine_requested = true;
             self.shown = Some((snapshot.clone(), revision));
             self.requested_at = Some(now);
-            return Some(FINE_SIZE);
+            return Some(PictureQuality::Fine);
         }
         let newer = !Arc::ptr_eq(shown, snapshot);
         let refresh = self
@@ -335,20 +346,32 @@ impl Refinement {
             self.shown = Some((snapshot.clone(), revision));
             self.requested_at = Some(now);
             return Some(if self.fine_requested {
-                FINE_SIZE
+                PictureQuality::Fine
             } else {
-                DRAFT_SIZE
+                self.draft.unwrap_or(PictureQuality::Draft)
             });
         }
         None
     }
 
-    fn changed(&mut self, snapshot: &Arc<Snapshot>, revision: u64, now: Instant) -> [u32; 2] {
+    fn changed(
+        &mut self,
+        snapshot: &Arc<Snapshot>,
+        revision: u64,
+        now: Instant,
+        dragging: bool,
+    ) -> PictureQuality {
         self.shown = Some((snapshot.clone(), revision));
         self.changed_at = Some(now);
         self.requested_at = Some(now);
         self.fine_requested = false;
-        DRAFT_SIZE
+        let quality = if dragging {
+            PictureQuality::Drag
+        } else {
+            PictureQuality::Draft
+        };
+        self.draft = Some(quality);
+        quality
     }
 
     /// How long until the next picture may be due (for a repaint then).

@@ -243,6 +243,12 @@ fn status_ui(ui: &mut Ui, room: &RoomLive, no_snapshot: bool, now: Instant) {
                 "Shown: generation {}, {} photons, room revision {}",
                 p.generation, p.photons, p.room_revision
             ));
+            if p.quality == crate::room_preview::PictureQuality::Drag {
+                ui.label(
+                    "Draft while dragging: the polar rule with fewer nodes (about 0.7×); \
+                     the full rule follows when the hand stops",
+                );
+            }
             ui.label(format!(
                 "{}×{} in {:.0} ms on {}, {:.1} s old",
                 p.size[0],

@@ -219,8 +219,12 @@ impl EditorState {
             self.run.end_coarse_preview();
         }
         self.apply_commands();
-        self.room
-            .tick(self.run.snapshot.as_ref(), ctx, std::time::Instant::now());
+        self.room.tick(
+            self.run.snapshot.as_ref(),
+            ctx,
+            std::time::Instant::now(),
+            dragging,
+        );
         self.autosave(ctx);
         let title = self.title();
         if title != self.title {

@@ -194,6 +194,59 @@ fn doubling_the_emitters_flux_doubles_the_rooms_eavg() {
     );
 }
 
+/// Dragging a value (a new run every frame) the room follows the hand
+/// with pictures by the draft rule, labelled as such; released, the full
+/// rule's draft and fine pictures follow.
+#[test]
+fn a_drag_shows_labelled_draft_pictures_of_its_runs_and_the_full_rule_after() {
+    const DRAG_LABEL: &str = "Draft while dragging";
+    let mut h = editor(settings(PHOTONS, 32));
+    open_room_tab(&mut h);
+    wait_for_room(&mut h, 0, 1);
+    assert!(label_text(&h, DRAG_LABEL).is_none());
+    h.get_by_label("Emitter LED").click();
+    steps(&mut h, 2);
+    let at = h
+        .get_by_role_and_label(Role::SpinButton, "Flux")
+        .rect()
+        .center();
+    h.drag_at(at);
+    h.step();
+    // The pointer moves every frame: each a new run, none left standing
+    // long. The room must still show one of the drag's runs.
+    let start = Instant::now();
+    let mut x = at.x;
+    let mut dragged_picture = None;
+    while start.elapsed() < Duration::from_secs(90) {
+        x += 1.0;
+        h.hover_at(egui::pos2(x, at.y));
+        h.step();
+        if let Some((g, _, _)) = shown(&h)
+            && g > 0
+            && label_text(&h, DRAG_LABEL).is_some()
+        {
+            dragged_picture = Some(g);
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(30));
+    }
+    let generation = h.state().state.snapshot().map_or(0, |s| s.generation);
+    let Some(shown_generation) = dragged_picture else {
+        panic!("no picture of the drag's runs in 90 s (the newest run is {generation})");
+    };
+    eprintln!(
+        "a drag's picture (run {shown_generation} of {generation}) after {:.1} s",
+        start.elapsed().as_secs_f64()
+    );
+    h.drop_at(egui::pos2(x, at.y));
+    steps(&mut h, 2);
+    // Released: the full rule again, the fine picture once still.
+    let [w, h_px] = lucerna_editor::FINE_SIZE;
+    wait_until(&mut h, "the fine picture after the drag", |h| {
+        label_text(h, &format!("{w}×{h_px} in ")).is_some() && label_text(h, DRAG_LABEL).is_none()
+    });
+}
+
 #[test]
 fn brighter_walls_raise_eavg_and_the_verdict_follows_the_target() {
     let mut h = editor(settings(PHOTONS, 32));
@@ -257,9 +310,7 @@ fn median_and_p95(mut times: Vec<Duration>) -> (f64, f64, f64) {
 fn benchmark_room_renders_frame_time_and_edit_latency() {
     use std::sync::Arc;
 
-    use lucerna_editor::{
-        DRAFT_SIZE, FINE_SIZE, RenderRequest, Renderer, RoomLight, default_rooms_dir,
-    };
+    use lucerna_editor::{PictureQuality, RenderRequest, Renderer, RoomLight, default_rooms_dir};
     use lucerna_room::RoomSetup;
     use lucerna_simulation::{BackendRequest, Luminaire};
 
@@ -271,12 +322,17 @@ fn benchmark_room_renders_frame_time_and_edit_latency() {
         for room in ["office", "corridor", "meeting_room"] {
             let setup = RoomSetup::load(&default_rooms_dir().join(format!("{room}.toml"))).unwrap();
             let setup = Arc::new(setup);
-            for size in [DRAFT_SIZE, FINE_SIZE] {
+            for quality in [
+                PictureQuality::Drag,
+                PictureQuality::Draft,
+                PictureQuality::Fine,
+            ] {
+                let size = quality.size();
                 let request = RenderRequest {
                     light: RoomLight::of(&snapshot),
                     room: setup.clone(),
                     room_revision: 0,
-                    size,
+                    quality,
                 };
                 let mut times: Vec<Duration> = (0..4)
                     .map(|k| renderer.render(&request, k, &|| false).unwrap().render_time)
@@ -285,7 +341,7 @@ fn benchmark_room_renders_frame_time_and_edit_latency() {
                 let cold = times.remove(0);
                 let (median, _, max) = median_and_p95(times);
                 println!(
-                    "  {room:>12} {}×{}: first {:.0} ms (new table), then median {median:.0} ms of 3 (max {max:.0} ms)",
+                    "  {room:>12} {quality:?} {}×{}: first {:.0} ms (new table), then median {median:.0} ms of 3 (max {max:.0} ms)",
                     size[0],
                     size[1],
                     cold.as_secs_f64() * 1e3

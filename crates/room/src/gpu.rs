@@ -473,6 +473,7 @@ fn mode(shading: Shading) -> u32 {
     match shading {
         Shading::Cubature => 0,
         Shading::PointLight => 1,
+        Shading::Draft => 2,
     }
 }
 

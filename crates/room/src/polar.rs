@@ -547,7 +547,26 @@ impl RuleNodes {
             kink_step_rad: grid.c_kink_step_deg.to_radians(),
         }
     }
+
+    /// The draft rule (the editor's room while a drag runs): each piece
+    /// takes 2 nodes up to `DRAFT_SMALL_ARC_RAD`, 3 up to twice that, 4 per
+    /// `DRAFT_MAX_ARC_RAD`, with the same cuts. About 0.7 of the nodes;
+    /// on the section 6 protocol mean-normalised errors up to 0.045 (a
+    /// louvre at h = 0.1), against 0.005 for the full rule.
+    pub fn draft(grid: &ProfileGrid) -> RuleNodes {
+        RuleNodes {
+            small_arc_rad: DRAFT_SMALL_ARC_RAD,
+            medium_arc_rad: 2.0 * DRAFT_SMALL_ARC_RAD,
+            max_arc_rad: DRAFT_MAX_ARC_RAD,
+            ..RuleNodes::for_profile(grid)
+        }
+    }
 }
+
+/// The draft rule's largest 2-node piece (π/8).
+pub const DRAFT_SMALL_ARC_RAD: f64 = std::f64::consts::PI / 8.0;
+/// The draft rule's longest 4-node arc (π/2).
+pub const DRAFT_MAX_ARC_RAD: f64 = std::f64::consts::FRAC_PI_2;
 
 /// Illuminance by the polar rule: the sweep between consecutive vertex
 /// directions seen from the foot point, cut where the ray's C-plane

@@ -39,16 +39,10 @@ pub struct ProfileGrid {
     pub gamma_step_deg: f64,
     /// Row-major by C column: `candela[c * gamma_count + g]`.
     pub candela: Vec<f32>,
-    /// The candela grid, then `BLUR_LEVELS` prefiltered grids (same
-    /// layout): level k averages the profile over caps of radius
-    /// `BLUR_BASE_DEG · 2^(k−1)`.
-    pub candela_levels: Vec<f32>,
-    /// |cos γ| averaged over the same caps: I / |cos γ| is the opening's
-    /// luminance times its area, the quantity a cubature triangle
-    /// averages; the ratio of the two prefiltered grids estimates it
-    /// without dividing by zero in the opening's plane, and exactly for a
-    /// Lambertian opening.
-    pub cosine_levels: Vec<f32>,
+    /// The prefiltered levels the fan cubature reads, built on first use
+    /// (the polar rule never reads them, and they are the largest cost of
+    /// a grid: the editor builds one for every snapshot it previews).
+    levels: std::sync::OnceLock<PrefilteredLevels>,
     /// Cumulative radial integrals per C column and hemisphere: what the
     /// polar near-field rule and its exact reference read.
     pub radial: crate::polar::RadialTables,
@@ -87,12 +81,10 @@ impl ProfileGrid {
             c_step_deg: C_STEP_DEG,
             gamma_step_deg: GAMMA_STEP_DEG,
             candela,
-            candela_levels: Vec::new(),
-            cosine_levels: Vec::new(),
+            levels: std::sync::OnceLock::new(),
             radial: Default::default(),
             c_kink_step_deg: 0.0,
         }
-        .with_prefiltered_levels()
         .with_radial_tables()
         .with_c_kinks()
     }
@@ -152,32 +144,35 @@ impl ProfileGrid {
         DVec3::new(g.sin() * c.cos(), g.sin() * c.sin(), -g.cos())
     }
 
-    /// Appends the prefiltered levels: each averages the level below over
-    /// caps twice as wide (a mip chain on the sphere), so that a lookup
+    /// The prefiltered levels: each averages the level below over caps
+    /// twice as wide (a mip chain on the sphere), so that a lookup
     /// standing for a large solid angle returns that region's mean
     /// intensity rather than one narrow peak (the paper's future work,
     /// section 8).
-    fn with_prefiltered_levels(mut self) -> ProfileGrid {
+    pub fn levels(&self) -> &PrefilteredLevels {
+        self.levels.get_or_init(|| self.prefiltered_levels())
+    }
+
+    fn prefiltered_levels(&self) -> PrefilteredLevels {
         let n = self.level_len();
-        self.candela_levels = self.candela.clone();
-        self.cosine_levels = Vec::with_capacity(n * (BLUR_LEVELS + 1));
+        let mut candela = self.candela.clone();
+        let mut cosine = Vec::with_capacity(n * (BLUR_LEVELS + 1));
         for _ci in 0..self.c_count {
             for gi in 0..self.gamma_count {
                 let cos = (gi as f64 * self.gamma_step_deg).to_radians().cos().abs();
-                self.cosine_levels.push(cos as f32);
+                cosine.push(cos as f32);
             }
         }
         let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
         for level in 1..=BLUR_LEVELS {
             let radius = (BLUR_BASE_DEG * 2f64.powi(level as i32 - 1)).to_radians();
-            // Nodes in parallel (a level only reads the one below): the
-            // editor rebuilds the grid for every snapshot it previews.
-            let this = &self;
+            // Nodes in parallel (a level only reads the one below).
+            let (below_candela, below_cosine) = (&candela, &cosine);
             let nodes: Vec<(f32, f32)> = (0..n)
                 .into_par_iter()
                 .map(|node| {
-                    let (ci, gi) = (node / this.gamma_count, node % this.gamma_count);
-                    let axis = this.node_direction(ci, gi);
+                    let (ci, gi) = (node / self.gamma_count, node % self.gamma_count);
+                    let axis = self.node_direction(ci, gi);
                     let u = axis.any_orthonormal_vector();
                     let v = axis.cross(u);
                     let (mut sum_i, mut sum_c) = (0.0, 0.0);
@@ -193,8 +188,9 @@ impl ProfileGrid {
                         if d.z * axis.z < 0.0 {
                             d.z = -d.z;
                         }
-                        sum_i += this.sample(&this.candela_levels, d, level - 1);
-                        sum_c += this.sample(&this.cosine_levels, d, level - 1);
+                        let cell = self.cell(d);
+                        sum_i += self.sample_at(below_candela, cell, level - 1);
+                        sum_c += self.sample_at(below_cosine, cell, level - 1);
                     }
                     (
                         (sum_i / CAP_POINTS as f64) as f32,
@@ -203,10 +199,10 @@ impl ProfileGrid {
                 })
                 .collect();
             let (next_candela, next_cosine): (Vec<f32>, Vec<f32>) = nodes.into_iter().unzip();
-            self.candela_levels.extend(next_candela);
-            self.cosine_levels.extend(next_cosine);
+            candela.extend(next_candela);
+            cosine.extend(next_cosine);
         }
-        self
+        PrefilteredLevels { candela, cosine }
     }
 
     fn with_radial_tables(mut self) -> ProfileGrid {
@@ -228,13 +224,14 @@ impl ProfileGrid {
         let l0 = (level.floor() as usize).min(BLUR_LEVELS);
         let t = level - l0 as f64;
         let cell = self.cell(d);
+        let levels = self.levels();
         let (mut i, mut c) = (
-            self.sample_at(&self.candela_levels, cell, l0),
-            self.sample_at(&self.cosine_levels, cell, l0),
+            self.sample_at(&levels.candela, cell, l0),
+            self.sample_at(&levels.cosine, cell, l0),
         );
         if t > 0.0 && l0 < BLUR_LEVELS {
-            i = i * (1.0 - t) + self.sample_at(&self.candela_levels, cell, l0 + 1) * t;
-            c = c * (1.0 - t) + self.sample_at(&self.cosine_levels, cell, l0 + 1) * t;
+            i = i * (1.0 - t) + self.sample_at(&levels.candela, cell, l0 + 1) * t;
+            c = c * (1.0 - t) + self.sample_at(&levels.cosine, cell, l0 + 1) * t;
         }
         // A flat opening seen exactly edge-on has I/cos = 0/0.
         if c > 1e-9 { i / c } else { 0.0 }
@@ -315,6 +312,19 @@ impl ProfileGrid {
 
 fn gcd(a: usize, b: usize) -> usize {
     if b == 0 { a } else { gcd(b, a % b) }
+}
+
+/// The candela grid, then `BLUR_LEVELS` prefiltered grids (the grid's
+/// layout): level k averages the profile over caps of radius
+/// `BLUR_BASE_DEG · 2^(k−1)`; and |cos γ| averaged over the same caps:
+/// I / |cos γ| is the opening's luminance times its area, the quantity a
+/// fan triangle averages; the ratio of the two estimates it without
+/// dividing by zero in the opening's plane, and exactly for a Lambertian
+/// opening.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PrefilteredLevels {
+    pub candela: Vec<f32>,
+    pub cosine: Vec<f32>,
 }
 
 /// A direction's place in the C-γ grid.

@@ -19,6 +19,16 @@ pub enum Shading {
     /// One intensity lookup and inverse-square law from the opening's
     /// centre, no specular: the point-light baseline.
     PointLight,
+    /// The polar rule with fewer nodes (`polar::RuleNodes::draft`), LTC
+    /// specular: the editor's room while a drag runs.
+    Draft,
+}
+
+impl Shading {
+    /// Whether surfaces get their LTC specular term.
+    pub fn has_specular(self) -> bool {
+        self != Shading::PointLight
+    }
 }
 
 /// A rendered view: luminance for the picture, surface illuminance for the
@@ -97,6 +107,15 @@ fn light_illuminance_of(
             cubature::illuminance_of(light, polygon, x, n, CubatureRule::default())
         }
         Shading::PointLight => cubature::point_illuminance(light, x, n),
+        Shading::Draft => {
+            crate::polar::illuminance_with_nodes(
+                light,
+                x,
+                n,
+                crate::polar::RuleNodes::draft(&light.profile),
+            )
+            .0
+        }
     }
 }
 
@@ -168,7 +187,7 @@ pub fn shade_ray(
         let r = light_illuminance_of(light, polygon, x, n, shading);
         lux += r.lux;
         luminance += surface.reflectance / std::f64::consts::PI * r.lux;
-        if shading == Shading::Cubature && surface.specular > 0.0 && r.lux > 0.0 {
+        if shading.has_specular() && surface.specular > 0.0 && r.lux > 0.0 {
             luminance += ltc::specular_radiance(
                 polygon,
                 x,

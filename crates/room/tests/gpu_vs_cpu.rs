@@ -72,7 +72,7 @@ fn wgsl_illuminance_matches_the_cpu_at_random_points() {
             points.push((l.position + offset, rng.unit_vector()));
         }
     }
-    for shading in [Shading::Cubature, Shading::PointLight] {
+    for shading in [Shading::Cubature, Shading::Draft, Shading::PointLight] {
         let gpu = renderer.shade_points(&uploaded, &points, shading).unwrap();
         let mut errors: Vec<f64> = Vec::new();
         let mut grazing_errors: Vec<f64> = Vec::new();
@@ -98,7 +98,7 @@ fn wgsl_illuminance_matches_the_cpu_at_random_points() {
             }
         }
         grazing_errors.sort_by(f64::total_cmp);
-        if shading == Shading::Cubature {
+        if shading != Shading::PointLight {
             let worst = grazing_errors.last().copied().unwrap_or(0.0);
             let median = grazing_errors[grazing_errors.len() / 2];
             eprintln!(
@@ -109,6 +109,32 @@ fn wgsl_illuminance_matches_the_cpu_at_random_points() {
                 median < 1e-4 && worst < 4e-3,
                 "in-plane: median {median}, max {worst}"
             );
+        }
+        if shading == Shading::Draft {
+            // The shader took the draft's nodes, not the full rule's: it is
+            // further from the CPU's full rule than from its draft.
+            let mut from_full: Vec<f64> = points
+                .iter()
+                .zip(&gpu)
+                .map(|((x, n), (g, _))| {
+                    let cpu: f64 = scene
+                        .lights
+                        .iter()
+                        .map(|l| light_illuminance(l, *x, *n, Shading::Cubature).lux)
+                        .sum();
+                    (g - cpu).abs() / cpu.max(0.1)
+                })
+                .collect();
+            from_full.sort_by(f64::total_cmp);
+            let mut own = errors.clone();
+            own.sort_by(f64::total_cmp);
+            let q = |v: &[f64]| v[((v.len() - 1) as f64 * 0.99) as usize];
+            eprintln!(
+                "Draft on the GPU: 99th percentile {:.1e} from the CPU's draft, {:.1e} from its full rule",
+                q(&own),
+                q(&from_full)
+            );
+            assert!(q(&from_full) > 3.0 * q(&own));
         }
         errors.sort_by(f64::total_cmp);
         let at = |q: f64| errors[((errors.len() - 1) as f64 * q) as usize];
@@ -138,7 +164,7 @@ fn wgsl_frame_matches_the_cpu_frame() {
     let scene = scene();
     let uploaded = renderer.upload(&scene).unwrap();
     let (w, h) = (96, 64);
-    for shading in [Shading::Cubature, Shading::PointLight] {
+    for shading in [Shading::Cubature, Shading::Draft, Shading::PointLight] {
         let cpu = render_cpu(&scene, w, h, shading);
         let (gpu, _) = renderer.render(&scene, &uploaded, w, h, shading).unwrap();
         let mut bad = 0;

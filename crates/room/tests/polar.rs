@@ -430,3 +430,46 @@ fn kinked_c_planes_are_found_and_cut_at() {
     );
     assert!(worst_cut < 0.01, "cut {worst_cut}");
 }
+
+/// The editor's draft rule (while a drag runs) takes fewer ray integrals
+/// than the full rule and stays within a few per cent of the reference on
+/// the section 6 protocol's near field.
+#[test]
+fn draft_rule_takes_fewer_nodes_and_stays_close() {
+    use lucerna_room::polar::{RuleNodes, illuminance_with_nodes};
+    for name in [
+        "samples/erco_33499000_isym2.ldt",
+        "samples/rab_indoor3_2002_full360.ies",
+        "examples/parabolic_spot.ies",
+    ] {
+        let grid = sample(name);
+        let (full, draft) = (RuleNodes::for_profile(&grid), RuleNodes::draft(&grid));
+        let (mut nodes_full, mut nodes_draft) = (0, 0);
+        let mut worst: f64 = 0.0;
+        for h in [0.1, 1.0] {
+            for orientation in [0.5, 0.75, 1.0] {
+                let l = evaluation_light(grid.clone(), h, orientation);
+                let mut cases = Vec::new();
+                for i in 0..7 {
+                    for j in 0..7 {
+                        let x = DVec3::new(-0.9 + 0.3 * i as f64, -0.9 + 0.3 * j as f64, 0.0);
+                        cases.push((x, exact_illuminance(&l, x, DVec3::Z, 1e-8)));
+                    }
+                }
+                let peak = cases.iter().map(|c| c.1).fold(0.0, f64::max);
+                for (x, exact) in cases {
+                    let (d, n_draft) = illuminance_with_nodes(&l, x, DVec3::Z, draft);
+                    nodes_draft += n_draft;
+                    nodes_full += illuminance_with_nodes(&l, x, DVec3::Z, full).1;
+                    if peak > 0.0 {
+                        worst = worst.max((d.lux - exact).abs() / exact.max(0.01 * peak));
+                    }
+                }
+            }
+        }
+        let ratio = nodes_draft as f64 / nodes_full as f64;
+        eprintln!("{name}: draft worst {worst:.4}, {ratio:.2} of the full rule's nodes");
+        assert!(ratio < 0.8, "{name}: {ratio}");
+        assert!(worst < 0.05, "{name}: {worst}");
+    }
+}

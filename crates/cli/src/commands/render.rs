@@ -263,8 +263,9 @@ pub struct RenderBenchArgs {
     pub gpu_only: bool,
 }
 
-/// Milliseconds per frame for 1, 4 and 16 luminaires, cubature and the
-/// point-light baseline, on each backend.
+/// Milliseconds per frame for 1, 4 and 16 luminaires, the polar rule, its
+/// draft (the editor's room while a drag runs) and the point-light
+/// baseline, on each backend.
 pub fn render_bench(args: &RenderBenchArgs) -> Result<()> {
     let (_, base) = load_room_scene(&args.room, 2_000_000)?;
     let Some(first) = base.lights.first().cloned() else {
@@ -275,7 +276,9 @@ pub fn render_bench(args: &RenderBenchArgs) -> Result<()> {
         .ok()
         .and_then(|ctx| GpuRoomRenderer::new(ctx).ok());
     println!("frame times at {w}x{h} (ms per frame, best of 3; GPU: kernel submit to completion)");
-    println!("backend                                  lights  cubature  point  ratio");
+    println!(
+        "backend                                  lights  cubature   draft   point  ratio  draft ratio"
+    );
     for count in [1usize, 4, 16] {
         let mut scene = base.clone();
         scene.lights = (0..count)
@@ -289,8 +292,8 @@ pub fn render_bench(args: &RenderBenchArgs) -> Result<()> {
             .collect();
         if let Some(r) = &gpu {
             let uploaded = r.upload(&scene)?;
-            let mut best = [f64::INFINITY; 2];
-            for (k, shading) in [Shading::Cubature, Shading::PointLight]
+            let mut best = [f64::INFINITY; 3];
+            for (k, shading) in [Shading::Cubature, Shading::Draft, Shading::PointLight]
                 .into_iter()
                 .enumerate()
             {
@@ -300,16 +303,18 @@ pub fn render_bench(args: &RenderBenchArgs) -> Result<()> {
                 }
             }
             println!(
-                "{:40} {count:6}  {:8.2}  {:6.2}  {:5.2}",
+                "{:40} {count:6}  {:8.2}  {:6.2}  {:6.2}  {:5.2}  {:11.2}",
                 r.context().describe(),
                 best[0],
                 best[1],
-                best[0] / best[1]
+                best[2],
+                best[0] / best[2],
+                best[1] / best[2]
             );
         }
         if !args.gpu_only {
-            let mut t = [0.0; 2];
-            for (k, shading) in [Shading::Cubature, Shading::PointLight]
+            let mut t = [0.0; 3];
+            for (k, shading) in [Shading::Cubature, Shading::Draft, Shading::PointLight]
                 .into_iter()
                 .enumerate()
             {
@@ -322,11 +327,13 @@ pub fn render_bench(args: &RenderBenchArgs) -> Result<()> {
                 }
             }
             println!(
-                "{:40} {count:6}  {:8.2}  {:6.2}  {:5.2}",
+                "{:40} {count:6}  {:8.2}  {:6.2}  {:6.2}  {:5.2}  {:11.2}",
                 format!("CPU ({} threads)", rayon::current_num_threads()),
                 t[0],
                 t[1],
-                t[0] / t[1]
+                t[2],
+                t[0] / t[2],
+                t[1] / t[2]
             );
         }
     }
