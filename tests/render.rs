@@ -226,16 +226,21 @@ fn render_bench_reports_every_light_count_and_backend() {
             let cols: Vec<f64> = row
                 .split_whitespace()
                 .rev()
-                .take(4)
+                .take(6)
                 .map(|c| c.parse().unwrap())
                 .collect();
-            // ratio, point, cubature, lights (read from the right)
-            assert_eq!(cols[3] as usize, lights, "{row}");
-            // The ratio is cubature / point, within the printed rounding.
-            let (ratio, point, cubature) = (cols[0], cols[1], cols[2]);
-            assert!(point > 0.0 && cubature > 0.0, "{row}");
+            // draft ratio, ratio, point, draft, cubature, lights (read
+            // from the right)
+            assert_eq!(cols[5] as usize, lights, "{row}");
+            // The ratios are cubature / point and draft / point, within
+            // the printed rounding.
+            let (draft_ratio, ratio, point, draft, cubature) =
+                (cols[0], cols[1], cols[2], cols[3], cols[4]);
+            assert!(point > 0.0 && cubature > 0.0 && draft > 0.0, "{row}");
             let slack = ratio * (0.005 / cubature + 0.005 / point) + 0.01;
             assert!((ratio - cubature / point).abs() <= slack, "{row}");
+            let slack = draft_ratio * (0.005 / draft + 0.005 / point) + 0.01;
+            assert!((draft_ratio - draft / point).abs() <= slack, "{row}");
         }
     }
 }
