@@ -24,6 +24,10 @@ use lucerna_simulation::Snapshot;
 /// Picture size while the distribution changes (a converging run, an
 /// edit): small enough to follow a run's snapshots on two CPU cores.
 pub const DRAFT_SIZE: [u32; 2] = [320, 200];
+/// Picture size while a drag runs: a quarter of the draft's pixels, so
+/// that on the CPU, sharing its cores with the tracer, the room keeps
+/// within about a second of the hand.
+pub const DRAG_SIZE: [u32; 2] = [160, 100];
 /// Picture size once the distribution has been still for a second.
 pub const FINE_SIZE: [u32; 2] = [640, 400];
 
@@ -31,7 +35,7 @@ pub const FINE_SIZE: [u32; 2] = [640, 400];
 /// otherwise, or once it is still.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PictureQuality {
-    /// At `DRAFT_SIZE` by the polar rule's draft nodes
+    /// At `DRAG_SIZE` by the polar rule's draft nodes
     /// (`Shading::Draft`, about 0.7 of the ray integrals), and never given
     /// up for a newer request: the room follows the hand.
     Drag,
@@ -44,7 +48,8 @@ pub enum PictureQuality {
 impl PictureQuality {
     pub fn size(self) -> [u32; 2] {
         match self {
-            PictureQuality::Drag | PictureQuality::Draft => DRAFT_SIZE,
+            PictureQuality::Drag => DRAG_SIZE,
+            PictureQuality::Draft => DRAFT_SIZE,
             PictureQuality::Fine => FINE_SIZE,
         }
     }

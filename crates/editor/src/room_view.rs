@@ -245,7 +245,7 @@ fn status_ui(ui: &mut Ui, room: &RoomLive, no_snapshot: bool, now: Instant) {
             ));
             if p.quality == crate::room_preview::PictureQuality::Drag {
                 ui.label(
-                    "Draft while dragging: the polar rule with fewer nodes (about 0.7×); \
+                    "Draft while dragging: 160×100, the polar rule with fewer nodes (about 0.7×); \
                      the full rule follows when the hand stops",
                 );
             }

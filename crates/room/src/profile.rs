@@ -104,29 +104,19 @@ impl ProfileGrid {
             return self;
         }
         let at = |c: usize, j: usize| self.candela[(c % columns) * gc + j] as f64;
-        let mut step = 0usize;
-        for c in 0..columns {
-            let bend = (0..gc)
-                .map(|j| (at(c + columns - 1, j) - 2.0 * at(c, j) + at(c + 1, j)).abs())
-                .fold(0.0, f64::max);
-            if bend > C_KINK_THRESHOLD * peak {
-                step = gcd(step, c);
-            }
-        }
-        // Column 0 kinked alone (or none): the spacing is the whole turn.
-        let step = if step == 0 {
-            columns
-        } else {
-            gcd(step, columns)
-        };
-        let step_deg = step as f64 * self.c_step_deg;
-        let any = (0..columns).step_by(step).any(|c| {
-            (0..gc).any(|j| {
-                (at(c + columns - 1, j) - 2.0 * at(c, j) + at(c + 1, j)).abs()
-                    > C_KINK_THRESHOLD * peak
+        let kinked: Vec<usize> = (0..columns)
+            .filter(|&c| {
+                (0..gc).any(|j| {
+                    (at(c + columns - 1, j) - 2.0 * at(c, j) + at(c + 1, j)).abs()
+                        > C_KINK_THRESHOLD * peak
+                })
             })
-        });
-        if any && step_deg >= MIN_C_KINK_STEP_DEG {
+            .collect();
+        // The largest spacing every kinked column lies on a multiple of
+        // (column 0 alone: the whole turn).
+        let step = kinked.iter().fold(columns, |g, &c| gcd(g, c));
+        let step_deg = step as f64 * self.c_step_deg;
+        if !kinked.is_empty() && step_deg >= MIN_C_KINK_STEP_DEG {
             self.c_kink_step_deg = step_deg;
         }
         self
