@@ -250,6 +250,19 @@ impl Datasheet {
                 ));
             }
         }
+        if p.meta.lamps.len() > 1 && lamp_flux.is_some() {
+            notes.push(format!(
+                "The file lists {} lamp sets: alternative equipments of one luminaire. Every figure and the UGR correction are of set 1; the others are listed as variants.",
+                p.meta.lamps.len()
+            ));
+        }
+        notes.extend(p.consistency_warnings().into_iter().map(|w| {
+            let mut w = w;
+            if let Some(first) = w.get_mut(0..1) {
+                first.make_ascii_uppercase();
+            }
+            w + "."
+        }));
         if lamp_flux.is_none() {
             notes.push(
                 "Absolute photometry: cd/klm and the UGR tables refer to the luminaire's own flux (LOR taken as 100 %).".to_owned(),

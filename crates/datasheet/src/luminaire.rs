@@ -28,6 +28,12 @@ pub struct LuminaireData {
     pub power_w: Option<f64>,
     /// Luminaire flux per watt (lm/W), where the power is known.
     pub efficacy_lm_per_w: Option<f64>,
+    /// The file's alternative lamp sets (EULUMDAT's second and later
+    /// sets), each with the luminaire flux and efficacy it gives; every
+    /// other figure is of the first set.
+    pub variants: Vec<lucerna_photometry::LampVariant>,
+    /// The light output ratio the file declares (%), where it does.
+    pub declared_lor_percent: Option<f64>,
     /// Correlated colour temperature and colour rendering, from the lamp
     /// data or the file's keywords.
     pub cct: String,
@@ -67,10 +73,7 @@ fn label(s: &str) -> String {
 pub fn luminaire_data(p: &Photometry) -> LuminaireData {
     let lamp_flux_lm = p.lamp_flux_lm();
     let luminaire_flux_lm = p.table.flux_lm();
-    let lamp_watts: f64 = p.meta.lamps.iter().map(|l| l.watts).sum();
-    let power_w = [p.meta.input_watts, lamp_watts]
-        .into_iter()
-        .find(|w| w.is_finite() && *w > 0.0);
+    let power_w = p.power_w();
     let first_lamp = |f: fn(&lucerna_photometry::LampSet) -> &String| {
         p.meta
             .lamps
@@ -98,9 +101,8 @@ pub fn luminaire_data(p: &Photometry) -> LuminaireData {
         luminaire_dimensions: p.meta.luminaire_dimensions,
         luminous_opening: p.meta.luminous_area,
         lamps: p
-            .meta
-            .lamps
-            .iter()
+            .lamp_set()
+            .into_iter()
             .map(|l| LampLine {
                 count: l.count,
                 kind: l.kind.trim().to_owned(),
@@ -113,6 +115,8 @@ pub fn luminaire_data(p: &Photometry) -> LuminaireData {
         light_output_ratio_percent: lamp_flux_lm.map(|l| 100.0 * luminaire_flux_lm / l),
         power_w,
         efficacy_lm_per_w: power_w.map(|w| luminaire_flux_lm / w),
+        variants: p.variants(),
+        declared_lor_percent: p.meta.declared_lor_percent,
         cct: first_lamp(|l| &l.colour_temperature)
             .or_else(|| {
                 keyword(

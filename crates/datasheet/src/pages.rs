@@ -246,6 +246,25 @@ fn page1(sheet: &Datasheet, pages: usize) -> String {
         l.efficacy_lm_per_w
             .map_or("—".to_owned(), |e| format!("{e:.1} lm/W")),
     ));
+    for v in &l.variants {
+        rows.push((
+            "Variant",
+            format!(
+                "set {}: {} × {}, {} lm lamps → {} lm{}",
+                v.set,
+                v.lamps.count.abs(),
+                if v.lamps.kind.trim().is_empty() {
+                    "lamp"
+                } else {
+                    v.lamps.kind.trim()
+                },
+                num(v.lamps.flux_lm, 0),
+                num(v.luminaire_flux_lm, 0),
+                v.efficacy_lm_per_w
+                    .map_or(String::new(), |e| format!(", {e:.1} lm/W"))
+            ),
+        ));
+    }
     rows.push(("CCT", or_dash(&l.cct)));
     rows.push(("Colour rendering", or_dash(&l.cri)));
     rows.push(("Test report", or_dash(&l.test_report)));

@@ -184,3 +184,34 @@ fn tabular_method_agrees_with_a_direct_evaluation() {
     }
     assert!(worst <= 0.7, "worst cell {worst}");
 }
+
+/// EULUMDAT's lamp sets are alternatives: the table, the LOR and the UGR
+/// correction 8·log10(Φ/1000) are of the first set (Tulux, 1 983 lm:
+/// 2.38), not of the sum (4 626 lm: 5.32); the second set is listed as a
+/// variant with its own luminaire flux and efficacy.
+#[test]
+fn a_two_set_file_is_corrected_for_its_first_set_and_lists_the_other() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../assets/profiles/lamp_sets/tulux_28zhe35_two_lamp_sets.ldt");
+    let p = read(&path);
+    let s = sheet(&p, vec![0.25]);
+    let ugr = s.ugr.shown().expect("a UGR table");
+    let expected = 8.0 * (1983.0f64 / 1000.0).log10();
+    assert!(
+        (ugr.correction - expected).abs() < 1e-9,
+        "{}",
+        ugr.correction
+    );
+    assert_eq!(s.luminaire.lamp_flux_lm, Some(1983.0));
+    let lor = s.luminaire.light_output_ratio_percent.unwrap();
+    assert!((lor - 100.0).abs() < 0.5, "LOR {lor}");
+    assert_eq!(s.luminaire.power_w, Some(17.6));
+    assert_eq!(s.luminaire.lamps.len(), 1);
+    assert_eq!(s.luminaire.variants.len(), 1);
+    assert_eq!(s.luminaire.variants[0].lamps.flux_lm, 2643.0);
+    assert!(
+        s.notes.iter().any(|n| n.contains("2 lamp sets")),
+        "{:?}",
+        s.notes
+    );
+}

@@ -1,16 +1,15 @@
 //! IES LM-63 (1986 to 2019) reading, and LM-63-2002 / LM-63-2019 writing,
 //! photometric type C.
 
+use crate::limits::{self, WritePhotometryError, check_printed_angles, check_written};
 use crate::photometry::{
     Dimensions, Format, LampSet, Metadata, ParsePhotometryError, Photometry, WriteOptions,
-    WritePhotometryError, check_printed_angles, check_written, expand_planes, format_number,
-    normalise_line_ends, plausible, plausible_magnitude,
+    expand_planes, plausible_magnitude,
 };
 use crate::table::{CPlaneSymmetry, CandelaTable};
+use crate::text::{format_number, normalise_line_ends};
 
 const FORMAT: &str = "IES";
-/// Largest angle count accepted; real files have a few hundred at most.
-const MAX_ANGLES: usize = 10_000;
 const FEET_TO_M: f64 = 0.3048;
 
 fn error(line: usize, message: impl Into<String>) -> ParsePhotometryError {
@@ -89,7 +88,7 @@ impl<'a> Tokens<'a> {
 }
 
 fn check_ascending(v: &[f64], what: &str, line: usize) -> Result<(), ParsePhotometryError> {
-    let apart = |w: &&[f64]| w[1] - w[0] >= plausible::MIN_ANGLE_STEP_DEG;
+    let apart = |w: &&[f64]| limits::apart(w[0], w[1]);
     if let Some(w) = v.windows(2).find(|w| !apart(w)) {
         return Err(error(
             line,
@@ -185,7 +184,7 @@ pub fn parse_ies(text: &str) -> Result<Photometry, ParsePhotometryError> {
         "NONE" => {}
         "INCLUDE" => {
             tokens.number("lamp-to-luminaire geometry")?;
-            let pairs = tokens.count("number of tilt angles", MAX_ANGLES)?;
+            let pairs = tokens.count("number of tilt angles", limits::IES_MAX_ANGLES)?;
             let angles = tokens.numbers(pairs, "tilt angle")?;
             let factors = tokens.numbers(pairs, "tilt multiplying factor")?;
             meta.tilt = Some((angles, factors));
@@ -200,7 +199,7 @@ pub fn parse_ies(text: &str) -> Result<Photometry, ParsePhotometryError> {
         tokens.line(),
         "number of lamps",
         lamp_count,
-        plausible::MAX_LAMPS,
+        limits::MAX_LAMPS,
     )?;
     let lumens_per_lamp = tokens.number("lumens per lamp")?;
     plausible_magnitude(
@@ -208,7 +207,7 @@ pub fn parse_ies(text: &str) -> Result<Photometry, ParsePhotometryError> {
         tokens.line(),
         "lumens per lamp",
         lumens_per_lamp,
-        plausible::MAX_FLUX_LM,
+        limits::MAX_FLUX_LM,
     )?;
     let multiplier = tokens.number("candela multiplier")?;
     if multiplier <= 0.0 {
@@ -217,8 +216,8 @@ pub fn parse_ies(text: &str) -> Result<Photometry, ParsePhotometryError> {
             format!("candela multiplier must be > 0, got {multiplier}"),
         ));
     }
-    let n_vertical = tokens.count("number of vertical angles", MAX_ANGLES)?;
-    let n_horizontal = tokens.count("number of horizontal angles", MAX_ANGLES)?;
+    let n_vertical = tokens.count("number of vertical angles", limits::IES_MAX_ANGLES)?;
+    let n_horizontal = tokens.count("number of horizontal angles", limits::IES_MAX_ANGLES)?;
     let photometric_type = tokens.number("photometric type")?;
     let type_line = tokens.line();
     match photometric_type as i64 {
@@ -258,7 +257,7 @@ pub fn parse_ies(text: &str) -> Result<Photometry, ParsePhotometryError> {
             tokens.line(),
             what,
             v * to_m,
-            plausible::MAX_DIMENSION_M,
+            limits::MAX_DIMENSION_M,
         )?;
         Ok(v)
     };
@@ -293,7 +292,7 @@ pub fn parse_ies(text: &str) -> Result<Photometry, ParsePhotometryError> {
         tokens.line(),
         "input watts",
         meta.input_watts,
-        plausible::MAX_WATTS,
+        limits::MAX_WATTS,
     )?;
     let vertical_line = tokens.line();
     let gammas = tokens.numbers(n_vertical, "vertical angle")?;
@@ -386,6 +385,42 @@ fn horizontal_symmetry(h: &[f64]) -> Option<CPlaneSymmetry> {
 
 /// User keyword stating relative or absolute photometry in the header.
 pub const PHOTOMETRY_KEYWORD: &str = "_PHOTOMETRY";
+
+/// The user keyword in which an IES written from a file of several lamp
+/// sets (EULUMDAT's alternative equipments) states which set it
+/// describes: the first, with the others named.
+pub const LAMP_SET_KEYWORD: &str = "_LAMPSET";
+
+/// "Lamp set 1 of 2 (1 x LED110, 9408 lm, 72 W); not described here: set
+/// 2 (1 x LED120, 10080 lm, 79 W)".
+fn lamp_set_statement(p: &Photometry) -> String {
+    let describe = |l: &crate::photometry::LampSet| {
+        let kind = if l.kind.trim().is_empty() {
+            "lamp"
+        } else {
+            l.kind.trim()
+        };
+        format!(
+            "{} x {kind}, {} lm, {} W",
+            l.count.unsigned_abs(),
+            format_number(l.flux_lm, 7),
+            format_number(l.watts, 6)
+        )
+    };
+    let lamps = &p.meta.lamps;
+    let others: Vec<String> = lamps
+        .iter()
+        .enumerate()
+        .skip(1)
+        .map(|(i, l)| format!("set {} ({})", i + 1, describe(l)))
+        .collect();
+    format!(
+        "lamp set 1 of {} ({}); the others are alternatives not described here: {}",
+        lamps.len(),
+        describe(&lamps[0]),
+        others.join(", ")
+    )
+}
 
 /// Which LM-63 edition to write.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -562,10 +597,17 @@ pub fn write_ies_with(
             .collect::<String>()
             .to_ascii_uppercase();
         let key = if k.is_empty() { "OTHER" } else { k.as_str() };
-        if key == "FILEGENINFO" || key == PHOTOMETRY_KEYWORD || key.starts_with("TILT") {
+        if key == "FILEGENINFO"
+            || key == PHOTOMETRY_KEYWORD
+            || key.starts_with("TILT")
+            || (key == LAMP_SET_KEYWORD && m.lamps.len() > 1)
+        {
             continue;
         }
         keyword_lines(key, v, &mut out);
+    }
+    if m.lamps.len() > 1 {
+        keyword_lines(LAMP_SET_KEYWORD, &lamp_set_statement(p), &mut out);
     }
     keyword_lines(
         PHOTOMETRY_KEYWORD,
@@ -588,28 +630,26 @@ pub fn write_ies_with(
         ("vertical angles", gammas.len()),
         ("horizontal angles", horizontal.len()),
     ] {
-        if got > MAX_ANGLES {
+        if got > limits::IES_MAX_ANGLES {
             return Err(WritePhotometryError::TooMany {
                 format: FORMAT,
                 what,
-                max: MAX_ANGLES,
+                max: limits::IES_MAX_ANGLES,
                 got,
             });
         }
     }
-    check_printed_angles("vertical angles", gammas, 10)?;
-    check_printed_angles("horizontal angles", &horizontal, 10)?;
-    // Lamp counts come from files: add them without overflow.
-    let lamp_count = m
-        .lamps
-        .iter()
-        .fold(0u32, |sum, l| sum.saturating_add(l.count.unsigned_abs()))
-        .max(1);
+    check_printed_angles("vertical angles", gammas)?;
+    check_printed_angles("horizontal angles", &horizontal)?;
+    // LM-63 describes one lamp set: an EULUMDAT's first (its later sets
+    // are alternatives, named in the `_LAMPSET` keyword). Its "lumens per
+    // lamp" × lamps is the set's total, which EULUMDAT states directly.
+    let lamp_count = p.lamp_set().map_or(1, |l| l.count.unsigned_abs()).max(1);
     check_written(
         FORMAT,
         "number of lamps",
         f64::from(lamp_count),
-        plausible::MAX_LAMPS,
+        limits::MAX_LAMPS,
     )?;
     let lumens_per_lamp = match p.lamp_flux_lm() {
         Some(total) => total / f64::from(lamp_count),
@@ -619,16 +659,16 @@ pub fn write_ies_with(
         FORMAT,
         "lumens per lamp",
         lumens_per_lamp,
-        plausible::MAX_FLUX_LM,
+        limits::MAX_FLUX_LM,
     )?;
-    check_written(FORMAT, "input watts", m.input_watts, plausible::MAX_WATTS)?;
+    check_written(FORMAT, "input watts", m.input_watts, limits::MAX_WATTS)?;
     let a = &m.luminous_area;
     for (what, v) in [
         ("luminous opening length", a.length_m),
         ("luminous opening width", a.width_m),
         ("luminous opening height", a.height_m),
     ] {
-        check_written(FORMAT, what, v, plausible::MAX_DIMENSION_M)?;
+        check_written(FORMAT, what, v, limits::MAX_DIMENSION_M)?;
     }
     let (width, length) = if a.circular {
         (-a.length_m, -a.length_m)

@@ -1,16 +1,15 @@
 //! EULUMDAT (.ldt) reading and writing: one field a line, intensities in
 //! cd/klm of lamp set 1, symmetry indicators 0–4.
 
+use crate::limits::{self, WritePhotometryError, check_printed_angles, check_written};
 use crate::photometry::{
     Dimensions, Format, LampSet, Metadata, ParsePhotometryError, Photometry, WriteOptions,
-    WritePhotometryError, check_printed_angles, check_written, expand_planes, format_number,
-    normalise_line_ends, plausible, plausible_magnitude,
+    expand_planes, plausible_magnitude,
 };
 use crate::table::{CPlaneSymmetry, CandelaTable};
+use crate::text::{format_number, normalise_line_ends};
 
 const FORMAT: &str = "EULUMDAT";
-const MAX_PLANES: usize = 3600;
-const MAX_LAMP_SETS: usize = 20;
 
 /// The widths (characters) of EULUMDAT's free-text fields, by the
 /// format's description (Stockmar, "EULUMDAT — ein Leuchtendaten-Format",
@@ -129,18 +128,28 @@ pub fn states_symmetry(symmetry: CPlaneSymmetry, table: &CandelaTable) -> bool {
 /// Whether the planes a reader takes as stored for `isym` (by index),
 /// mirrored by its symmetry, give back exactly the listed planes.
 fn stored_half_expands_to(isym: i64, c_list: &[f64]) -> bool {
+    // As the reader sees them: the angles as printed, expanded as it
+    // expands them.
+    let c_list: Vec<f64> = c_list
+        .iter()
+        .map(|&c| limits::printed(c, limits::ANGLE_DIGITS))
+        .collect();
     let mc = c_list.len();
     let (mc1, mc2) = stored_range(isym, mc);
     let stored: Vec<f64> = (mc1..=mc2)
-        .map(|k| c_list[(k - 1) % mc].rem_euclid(360.0))
+        .map(|k| {
+            let c = c_list[(k - 1) % mc];
+            if k > mc { c + 360.0 } else { c }.rem_euclid(360.0)
+        })
         .collect();
     let rows = vec![Vec::new(); stored.len()];
     let (expanded, _) = expand_planes(symmetry_of(isym), &stored, &rows);
     expanded.len() == mc
+        && expanded.windows(2).all(|w| limits::apart(w[0], w[1]))
         && expanded
             .iter()
-            .zip(c_list)
-            .all(|(a, b)| (a - b).abs() < 1e-9)
+            .zip(&c_list)
+            .all(|(a, b)| (a - b).abs() < limits::MIN_ANGLE_STEP_DEG / 2.0)
 }
 
 /// 1-based first and last stored C-plane index (Mc1, Mc2) per EULUMDAT.
@@ -197,10 +206,10 @@ pub fn parse_ldt(text: &str) -> Result<Photometry, ParsePhotometryError> {
     let ityp = l.integer("type indicator Ityp", 0, 3)?;
     meta.ldt_type = Some(ityp as u8);
     let isym = l.integer("symmetry indicator Isym", 0, 4)?;
-    let mc = l.integer("number of C-planes Mc", 1, MAX_PLANES as i64)? as usize;
+    let mc = l.integer("number of C-planes Mc", 1, limits::LDT_MAX_ANGLES as i64)? as usize;
     let mc_line = l.line();
     let dc = l.number("C-plane spacing Dc")?;
-    let ng = l.integer("number of γ angles Ng", 2, MAX_PLANES as i64)? as usize;
+    let ng = l.integer("number of γ angles Ng", 2, limits::LDT_MAX_ANGLES as i64)? as usize;
     let dg = l.number("γ spacing Dg")?;
     if (isym == 2 || isym == 3) && !mc.is_multiple_of(2) || isym == 4 && !mc.is_multiple_of(4) {
         return Err(error(
@@ -218,13 +227,7 @@ pub fn parse_ldt(text: &str) -> Result<Photometry, ParsePhotometryError> {
     meta.issue_date = l.text("date/user")?.to_owned();
     let mut size = |what: &str| -> Result<f64, ParsePhotometryError> {
         let v = l.number_or_zero(what)?;
-        plausible_magnitude(
-            FORMAT,
-            l.line(),
-            what,
-            v * 0.001,
-            plausible::MAX_DIMENSION_M,
-        )?;
+        plausible_magnitude(FORMAT, l.line(), what, v * 0.001, limits::MAX_DIMENSION_M)?;
         Ok(v)
     };
     let body_length = size("luminaire length/diameter")?;
@@ -238,14 +241,17 @@ pub fn parse_ldt(text: &str) -> Result<Photometry, ParsePhotometryError> {
         *h = size(&format!("luminous area height C{}", 90 * i))?;
     }
     meta.luminous_area = from_ldt_axes(area_length, area_width, heights[0]);
-    l.number_or_zero("downward flux fraction DFF")?;
-    l.number_or_zero("light output ratio LORL")?;
+    let dff = l.number_or_zero("downward flux fraction DFF")?;
+    let lorl = l.number_or_zero("light output ratio LORL")?;
+    // Stated for comparison only: 0 (or a blank line) means "not given".
+    meta.declared_downward_percent = (dff > 0.0 && dff <= 100.0).then_some(dff);
+    meta.declared_lor_percent = (lorl > 0.0 && lorl <= 1000.0).then_some(lorl);
     let mut cfli = l.number_or_zero("intensity conversion factor CFLI")?;
     if cfli <= 0.0 {
         cfli = 1.0;
     }
     l.number_or_zero("tilt during measurement")?;
-    let sets = l.integer("number of lamp sets", 1, MAX_LAMP_SETS as i64)? as usize;
+    let sets = l.integer("number of lamp sets", 1, limits::LDT_MAX_LAMP_SETS as i64)? as usize;
     let mut flux_line = 0;
     for set in 0..sets {
         let count = l.number("number of lamps")?;
@@ -254,7 +260,7 @@ pub fn parse_ldt(text: &str) -> Result<Photometry, ParsePhotometryError> {
             l.line(),
             "number of lamps",
             count,
-            plausible::MAX_LAMPS,
+            limits::MAX_LAMPS,
         )?;
         let kind = l.text("lamp type")?.to_owned();
         let flux_lm = l.number("lamp set luminous flux")?;
@@ -263,7 +269,7 @@ pub fn parse_ldt(text: &str) -> Result<Photometry, ParsePhotometryError> {
             l.line(),
             "lamp set luminous flux",
             flux_lm,
-            plausible::MAX_FLUX_LM,
+            limits::MAX_FLUX_LM,
         )?;
         if set == 0 {
             flux_line = l.line();
@@ -276,7 +282,7 @@ pub fn parse_ldt(text: &str) -> Result<Photometry, ParsePhotometryError> {
             l.line(),
             "lamp set wattage",
             watts,
-            plausible::MAX_WATTS,
+            limits::MAX_WATTS,
         )?;
         meta.lamps.push(LampSet {
             count: count as i32,
@@ -287,7 +293,9 @@ pub fn parse_ldt(text: &str) -> Result<Photometry, ParsePhotometryError> {
             watts,
         });
     }
-    meta.input_watts = meta.lamps.iter().map(|s| s.watts).sum();
+    // The sets are alternatives (EN 13032-1's "standard sets of lamps"):
+    // the luminaire's power is the first set's.
+    meta.input_watts = meta.lamps[0].watts;
     meta.absolute = meta.lamps[0].count < 0;
     for k in 0..10 {
         l.number_or_zero(&format!("direct ratio {}", k + 1))?;
@@ -300,7 +308,7 @@ pub fn parse_ldt(text: &str) -> Result<Photometry, ParsePhotometryError> {
     let gammas: Vec<f64> = (0..ng)
         .map(|_| l.number("γ angle"))
         .collect::<Result<_, _>>()?;
-    let apart = |w: &[f64]| w[1] - w[0] >= plausible::MIN_ANGLE_STEP_DEG;
+    let apart = |w: &[f64]| limits::apart(w[0], w[1]);
     if c_angles.iter().any(|c| !(0.0..=360.0).contains(c)) || !c_angles.windows(2).all(apart) {
         return Err(error(
             c_line,
@@ -407,17 +415,17 @@ pub fn write_ldt_with(
         .all(|(i, &c)| (c - i as f64 * step).abs() < 1e-6);
     let g = &table.gammas_deg;
     for (what, got) in [("C-planes", mc), ("γ angles", g.len())] {
-        if got > MAX_PLANES {
+        if got > limits::LDT_MAX_ANGLES {
             return Err(WritePhotometryError::TooMany {
                 format: FORMAT,
                 what,
-                max: MAX_PLANES,
+                max: limits::LDT_MAX_ANGLES,
                 got,
             });
         }
     }
-    check_printed_angles("C-plane angles", &c_list, 10)?;
-    check_printed_angles("γ angles", g, 10)?;
+    check_printed_angles("C-plane angles", &c_list)?;
+    check_printed_angles("γ angles", g)?;
     // EULUMDAT's Dg means angles 0, Dg, 2·Dg, …: equal steps from 0.
     let g_step = table.uniform_gamma_step().filter(|_| g[0] == 0.0);
     let mut lamps = m.lamps.clone();
@@ -447,18 +455,8 @@ pub fn write_ldt_with(
         });
     }
     for s in &lamps {
-        check_written(
-            FORMAT,
-            "a lamp set's flux",
-            s.flux_lm,
-            plausible::MAX_FLUX_LM,
-        )?;
-        check_written(
-            FORMAT,
-            "a lamp set's wattage",
-            s.watts,
-            plausible::MAX_WATTS,
-        )?;
+        check_written(FORMAT, "a lamp set's flux", s.flux_lm, limits::MAX_FLUX_LM)?;
+        check_written(FORMAT, "a lamp set's wattage", s.watts, limits::MAX_WATTS)?;
     }
     for (what, v) in [
         ("the luminaire's length", m.luminaire_dimensions.length_m),
@@ -468,10 +466,14 @@ pub fn write_ldt_with(
         ("the luminous area's width", m.luminous_area.width_m),
         ("the luminous area's height", m.luminous_area.height_m),
     ] {
-        check_written(FORMAT, what, v, plausible::MAX_DIMENSION_M)?;
+        check_written(FORMAT, what, v, limits::MAX_DIMENSION_M)?;
     }
     let per_klm = 1000.0 / lamps[0].flux_lm;
-    let lor_percent = figures.flux_lm / lamps.iter().map(|l| l.flux_lm).sum::<f64>() * 100.0;
+    // cd/klm → cd as the reader converts: by the set flux as printed.
+    let to_cd = limits::printed(lamps[0].flux_lm, limits::FLUX_DIGITS) / 1000.0;
+    // LORL is of lamp set 1, which the cd/klm are per; later sets are
+    // alternatives, not lamps added.
+    let lor_percent = figures.flux_lm / lamps[0].flux_lm * 100.0;
     let mm = |m: f64| format_number(m * 1000.0, 6);
     let area = &m.luminous_area;
     let body = &m.luminaire_dimensions;
@@ -518,7 +520,7 @@ pub fn write_ldt_with(
     for s in &lamps {
         lines.push(s.count.to_string());
         lines.push(text(&s.kind, w::LAMP_TYPE));
-        lines.push(format_number(s.flux_lm, 7));
+        lines.push(format_number(s.flux_lm, limits::FLUX_DIGITS));
         lines.push(text(&s.colour_temperature, w::COLOUR_APPEARANCE));
         lines.push(text(&s.colour_rendering, w::COLOUR_RENDERING));
         lines.push(format_number(s.watts, 6));
@@ -526,8 +528,12 @@ pub fn write_ldt_with(
     // Direct ratios for room indices 0.6–5 are a utilisation-factor
     // computation not done here; 0 marks them as not given.
     lines.extend(std::iter::repeat_n("0".to_owned(), 10));
-    lines.extend(c_list.iter().map(|&c| format_number(c, 10)));
-    lines.extend(g.iter().map(|&x| format_number(x, 10)));
+    lines.extend(
+        c_list
+            .iter()
+            .map(|&c| format_number(c, limits::ANGLE_DIGITS)),
+    );
+    lines.extend(g.iter().map(|&x| format_number(x, limits::ANGLE_DIGITS)));
     let (mc1, mc2) = stored_range(isym, mc);
     for k in mc1..=mc2 {
         let c = c_list[(k - 1) % mc];
@@ -540,17 +546,20 @@ pub fn write_ldt_with(
                     value: v,
                 });
             }
-            // What the reader will make of the printed value must be a
-            // table it accepts (at most MAX_CANDELA cd).
-            let printed = format_number(v, 6);
-            let read_back = printed.parse::<f64>().unwrap_or(f64::INFINITY) / per_klm;
-            if !(read_back <= crate::table::MAX_CANDELA) {
-                return Err(WritePhotometryError::Value {
-                    format: FORMAT,
-                    what: format!("the intensity at C{c}° γ{gamma}° (cd)"),
-                    value: read_back,
-                });
-            }
+            // What the reader will make of the printed value (times the
+            // printed set flux / 1000) must be a table it accepts: where
+            // rounding would cross the limit, it rounds down.
+            let printed = limits::printed_within(
+                v,
+                limits::INTENSITY_DIGITS,
+                |cd_per_klm| cd_per_klm * to_cd,
+                limits::intensity_ok,
+            )
+            .ok_or_else(|| WritePhotometryError::Value {
+                format: FORMAT,
+                what: format!("the intensity at C{c}° γ{gamma}° (cd)"),
+                value: v / per_klm,
+            })?;
             lines.push(printed);
         }
     }

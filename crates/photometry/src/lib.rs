@@ -8,23 +8,28 @@
 pub mod cubemap;
 pub mod fidelity;
 pub mod figures;
+pub mod gamma_grid;
 pub mod ies;
 pub mod intensity_map;
 pub mod ldt;
+pub mod limits;
 pub mod photometry;
 pub mod resample;
 pub mod symmetry;
 pub mod table;
+pub mod text;
 
 pub use cubemap::{CubeFace, CubeMapLayout};
 pub use figures::{Figures, figures};
 pub use ies::{IesVersion, parse_ies, write_ies, write_ies_with};
 pub use intensity_map::IntensityMap;
 pub use ldt::{parse_ldt, to_latin1, write_ldt, write_ldt_with};
+pub use limits::WritePhotometryError;
 pub use photometry::{
-    Dimensions, Format, LampSet, Metadata, ParsePhotometryError, Photometry, WriteOptions,
-    WritePhotometryError, plausible, read_photometry, sniff,
+    Dimensions, Format, LampSet, LampVariant, Metadata, ParsePhotometryError, Photometry,
+    WriteOptions, read_photometry, sniff,
 };
 pub use resample::{CellBinning, table_from_cube_map};
 pub use symmetry::{AxialIsometry, AxialSymmetry, TexelSymmetry};
 pub use table::{CPlaneSymmetry, CandelaTable};
+pub use text::format_number;

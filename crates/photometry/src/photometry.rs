@@ -4,6 +4,7 @@
 use serde::Serialize;
 
 use crate::table::{CPlaneSymmetry, CandelaTable};
+use crate::text::{decode_text, normalise_line_ends};
 
 /// The file format a data set came from (or goes to).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -51,24 +52,8 @@ pub struct Dimensions {
     pub circular: bool,
 }
 
-/// What a photometric file may hold before it is taken for corrupt (the
-/// readers refuse beyond, naming the field; the writers never get there).
-pub mod plausible {
-    /// Lengths of luminaires and openings (m).
-    pub const MAX_DIMENSION_M: f64 = 1000.0;
-    /// Lamps in a luminaire or a lamp set.
-    pub const MAX_LAMPS: f64 = 1e6;
-    /// Flux of a lamp set or a lamp (lm).
-    pub const MAX_FLUX_LM: f64 = 1e10;
-    /// Input power (W).
-    pub const MAX_WATTS: f64 = 1e9;
-    /// Closest γ or C angles (degrees): printed with 8 significant digits,
-    /// angles this far apart stay apart, and in radians they differ.
-    pub const MIN_ANGLE_STEP_DEG: f64 = 1e-4;
-}
-
 /// A value read from a file, refused unless its magnitude is at most
-/// `max`: `what` names the field.
+/// `max` (one of [`crate::limits`]): `what` names the field.
 pub(crate) fn plausible_magnitude(
     format: &'static str,
     line: usize,
@@ -76,7 +61,7 @@ pub(crate) fn plausible_magnitude(
     value: f64,
     max: f64,
 ) -> Result<f64, ParsePhotometryError> {
-    if value.is_finite() && value.abs() <= max {
+    if crate::limits::within(value, max) {
         Ok(value)
     } else {
         Err(ParsePhotometryError::new(
@@ -84,82 +69,6 @@ pub(crate) fn plausible_magnitude(
             Some(line),
             format!("{what} {value} is beyond any real luminaire (at most {max:e})"),
         ))
-    }
-}
-
-/// Line ends as `\n`: files from old Macs end lines with a lone CR, which
-/// `str::lines` would not split.
-pub(crate) fn normalise_line_ends(text: &str) -> std::borrow::Cow<'_, str> {
-    if text.contains('\r') {
-        std::borrow::Cow::Owned(text.replace("\r\n", "\n").replace('\r', "\n"))
-    } else {
-        std::borrow::Cow::Borrowed(text)
-    }
-}
-
-/// Why a file was not written: it would hold what its own reader refuses.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[non_exhaustive]
-pub enum WritePhotometryError {
-    #[error("{format} holds at most {max} {what}; this table has {got}")]
-    TooMany {
-        format: &'static str,
-        what: &'static str,
-        max: usize,
-        got: usize,
-    },
-    #[error("{what} is {value}, which {format} files cannot hold")]
-    Value {
-        format: &'static str,
-        what: String,
-        value: f64,
-    },
-    #[error(
-        "{what} {a}° and {b}° are too close to be told apart in a file (at least 0.0001° apart)"
-    )]
-    Angles { what: &'static str, a: f64, b: f64 },
-}
-
-/// Checks the angles a writer is about to print with `significant`
-/// digits: they must read back distinct and ascending, at least
-/// [`plausible::MIN_ANGLE_STEP_DEG`] apart.
-pub(crate) fn check_printed_angles(
-    what: &'static str,
-    angles: &[f64],
-    significant: usize,
-) -> Result<(), WritePhotometryError> {
-    let printed: Vec<f64> = angles
-        .iter()
-        .map(|&a| format_number(a, significant).parse().unwrap_or(f64::NAN))
-        .collect();
-    for (i, w) in printed.windows(2).enumerate() {
-        let apart = w[1] - w[0] >= plausible::MIN_ANGLE_STEP_DEG;
-        if !apart {
-            return Err(WritePhotometryError::Angles {
-                what,
-                a: angles[i],
-                b: angles[i + 1],
-            });
-        }
-    }
-    Ok(())
-}
-
-/// Refuses a non-finite or implausibly large value a writer would print.
-pub(crate) fn check_written(
-    format: &'static str,
-    what: &str,
-    value: f64,
-    max: f64,
-) -> Result<(), WritePhotometryError> {
-    if value.is_finite() && value.abs() <= max {
-        Ok(())
-    } else {
-        Err(WritePhotometryError::Value {
-            format,
-            what: what.to_owned(),
-            value,
-        })
     }
 }
 
@@ -256,6 +165,13 @@ pub struct Metadata {
     pub luminaire_dimensions: Dimensions,
     /// EULUMDAT type indicator (1 point source rotational, 2 linear, 3 other).
     pub ldt_type: Option<u8>,
+    /// EULUMDAT's declared light output ratio LORL (%), as the file states
+    /// it (the figures integrate their own from the table; a file whose
+    /// two disagree has misread lamp data, see
+    /// [`Photometry::consistency_warnings`]).
+    pub declared_lor_percent: Option<f64>,
+    /// EULUMDAT's declared downward flux fraction DFF (%).
+    pub declared_downward_percent: Option<f64>,
     /// IES TILT=INCLUDE data (angles, factors), kept for information: the
     /// table is at the luminaire's nominal tilt.
     pub tilt: Option<(Vec<f64>, Vec<f64>)>,
@@ -274,14 +190,99 @@ pub struct Photometry {
     pub meta: Metadata,
 }
 
+/// Declared and integrated light output ratios further apart than this
+/// (percentage points) are reported: a misread lamp field shows so.
+pub const LOR_MISMATCH_POINTS: f64 = 2.0;
+
+/// An alternative lamp set of a luminaire (EULUMDAT's second and later
+/// "standard sets of lamps"): the same relative table serves it, scaled
+/// to its flux.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LampVariant {
+    /// 1-based number of the set in the file.
+    pub set: usize,
+    pub lamps: LampSet,
+    /// The luminaire's flux with this set (lm): the table's flux scaled
+    /// by the set's rated flux over the first set's.
+    pub luminaire_flux_lm: f64,
+    /// Luminaire flux per watt with this set (lm/W), where it gives watts.
+    pub efficacy_lm_per_w: Option<f64>,
+}
+
 impl Photometry {
-    /// Total rated lamp flux (lm) for relative photometry.
+    /// The lamp set the table describes: the first. EULUMDAT's further
+    /// sets are alternative equipments of the same luminaire, not lamps
+    /// added to it ([`Photometry::variants`]); LM-63 has one set.
+    pub fn lamp_set(&self) -> Option<&LampSet> {
+        self.meta.lamps.first()
+    }
+
+    /// Rated lamp flux (lm) of the first lamp set, for relative
+    /// photometry: what the candela table is per, what the LOR and a
+    /// datasheet's UGR correction divide by.
     pub fn lamp_flux_lm(&self) -> Option<f64> {
         if self.meta.absolute {
             return None;
         }
-        let total: f64 = self.meta.lamps.iter().map(|l| l.flux_lm).sum();
-        (total > 0.0).then_some(total)
+        self.lamp_set()
+            .map(|l| l.flux_lm)
+            .filter(|f| f.is_finite() && *f > 0.0)
+    }
+
+    /// The luminaire's input power (W): the first lamp set's where it
+    /// gives one (EULUMDAT's watts are per set, with ballast), else the
+    /// file's input watts (LM-63).
+    pub fn power_w(&self) -> Option<f64> {
+        let set = self.lamp_set().map(|l| l.watts);
+        [set, Some(self.meta.input_watts)]
+            .into_iter()
+            .flatten()
+            .find(|w| w.is_finite() && *w > 0.0)
+    }
+
+    /// The lamp sets after the first, each with the luminaire flux and
+    /// efficacy it gives (the relative table scaled to its flux).
+    pub fn variants(&self) -> Vec<LampVariant> {
+        let Some(first) = self.lamp_flux_lm() else {
+            return Vec::new();
+        };
+        let flux = self.table.flux_lm();
+        self.meta
+            .lamps
+            .iter()
+            .enumerate()
+            .skip(1)
+            .map(|(i, l)| {
+                let luminaire_flux_lm = flux * l.flux_lm / first;
+                LampVariant {
+                    set: i + 1,
+                    lamps: l.clone(),
+                    luminaire_flux_lm,
+                    efficacy_lm_per_w: (l.watts.is_finite() && l.watts > 0.0)
+                        .then(|| luminaire_flux_lm / l.watts),
+                }
+            })
+            .collect()
+    }
+
+    /// What the file states that its own table contradicts, in words with
+    /// both numbers: a declared LOR more than [`LOR_MISMATCH_POINTS`] from
+    /// the one integrated from the table over the first lamp set's flux.
+    pub fn consistency_warnings(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        if let (Some(declared), Some(lamp)) = (self.meta.declared_lor_percent, self.lamp_flux_lm())
+        {
+            let computed = 100.0 * self.table.flux_lm() / lamp;
+            if declared > 0.0
+                && computed.is_finite()
+                && (declared - computed).abs() > LOR_MISMATCH_POINTS
+            {
+                out.push(format!(
+                    "the file declares LOR {declared:.1} % but its table gives {computed:.1} % of lamp set 1's {lamp:.0} lm: its lamp data may be misread or inconsistent"
+                ));
+            }
+        }
+        out
     }
 
     /// The derived datasheet figures.
@@ -303,11 +304,14 @@ pub fn expand_planes(
     }
     // Every image of every stored plane, sorted, the first of equal angles
     // kept (a stored plane before a mirrored one): n log n for files of
-    // thousands of planes.
+    // thousands of planes. Images closer than half the closest spacing a
+    // file may have are one plane: printed with 10 digits, 180° − C of a
+    // stored plane lands 10⁻⁸° from the plane stored for it.
+    let same = crate::limits::MIN_ANGLE_STEP_DEG / 2.0;
     let mut planes: Vec<(f64, usize)> = Vec::new();
     for (i, &c) in stored_c_deg.iter().enumerate() {
         for image in symmetry.images(c) {
-            let image = if (image - 360.0).abs() < 1e-9 {
+            let image = if (image - 360.0).abs() < same {
                 0.0
             } else {
                 image
@@ -316,7 +320,7 @@ pub fn expand_planes(
         }
     }
     planes.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    planes.dedup_by(|later, kept| (later.0 - kept.0).abs() < 1e-9);
+    planes.dedup_by(|later, kept| (later.0 - kept.0).abs() < same);
     (
         planes.iter().map(|p| p.0).collect(),
         planes.iter().map(|p| rows[p.1].clone()).collect(),
@@ -344,15 +348,6 @@ impl ParsePhotometryError {
             line,
             message: message.into(),
         }
-    }
-}
-
-/// Decodes file bytes: UTF-8 where valid, else Latin-1 (old EULUMDAT and
-/// IES files from European tools), which maps every byte to a character.
-pub fn decode_text(bytes: &[u8]) -> String {
-    match std::str::from_utf8(bytes) {
-        Ok(s) => s.trim_start_matches('\u{feff}').to_owned(),
-        Err(_) => bytes.iter().map(|&b| char::from(b)).collect(),
     }
 }
 
@@ -422,34 +417,4 @@ pub fn read_photometry(bytes: &[u8]) -> Result<Photometry, ParsePhotometryError>
             "neither IES LM-63 (no TILT= line) nor EULUMDAT (lines 2-7 are not numbers)",
         )),
     }
-}
-
-/// Formats a number with at most `significant` significant digits and no
-/// trailing zeros (files stay short and are read back exactly as printed).
-pub fn format_number(v: f64, significant: usize) -> String {
-    if v == 0.0 || !v.is_finite() {
-        // Writers refuse non-finite values before they get here.
-        return "0".to_owned();
-    }
-    let magnitude = v.abs().log10().floor() as i32;
-    if !(-6..12).contains(&magnitude) {
-        // Far from 1, positional notation would print zero or hundreds of
-        // digits: scientific notation, which every reader's strtod takes.
-        let s = format!("{v:.*e}", significant.saturating_sub(1));
-        let (mantissa, exponent) = s.split_once('e').unwrap_or((&s, "0"));
-        let mantissa = if mantissa.contains('.') {
-            mantissa.trim_end_matches('0').trim_end_matches('.')
-        } else {
-            mantissa
-        };
-        return format!("{mantissa}e{exponent}");
-    }
-    let decimals = (significant as i32 - 1 - magnitude).clamp(0, 12) as usize;
-    let s = format!("{v:.decimals$}");
-    let s = if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_owned()
-    } else {
-        s
-    };
-    if s == "-0" { "0".to_owned() } else { s }
 }

@@ -35,7 +35,9 @@ use std::sync::{Arc, Mutex, PoisonError};
 use rayon::prelude::*;
 
 use crate::cubemap::{CubeFace, CubeMapLayout, rectangle_solid_angle};
-use crate::fidelity::{BeamFigures, FidelityTargets, TableFidelity};
+use crate::fidelity::{AngleNoise, BeamFigures, FidelityTargets, TableFidelity};
+pub use crate::gamma_grid::MAX_AUTOMATIC_GAMMAS;
+use crate::gamma_grid::PhotonNoise;
 use crate::table::{CandelaTable, angles, direction};
 
 /// Texels whose centre is nearer a pole than this many texel widths are
@@ -563,6 +565,43 @@ pub struct CellFlux {
 }
 
 impl CellFlux {
+    /// The flux (lm) and solid angle (sr) of every cell of the fine grid,
+    /// plane after plane, band after band.
+    pub(crate) fn band_values(&self) -> (&[f64], &[f64]) {
+        (&self.flux_lm, &self.solid_angle_sr)
+    }
+
+    pub(crate) fn c_planes_deg(&self) -> &[f64] {
+        &self.c_planes_deg
+    }
+
+    /// The cells of `c_planes_deg` × the bands between `band_edges_deg`
+    /// of a map, in one streaming pass without stored shares (maps too
+    /// fine for a [`CellBinning`]).
+    fn streamed(
+        layout: CubeMapLayout,
+        candela_per_texel: &[f64],
+        c_planes_deg: &[f64],
+        band_edges_deg: &[f64],
+    ) -> CellFlux {
+        let grid = Cells::new(c_planes_deg, band_edges_deg, true);
+        let reconstructed = histopolated(layout, candela_per_texel);
+        let mut flux = vec![0.0; c_planes_deg.len() * grid.bands()];
+        let mut solid_angle = vec![0.0; flux.len()];
+        for_each_share(layout, &grid, 0..layout.texel_count(), |texel, cell, sr| {
+            flux[cell] += reconstructed[texel] * sr;
+            solid_angle[cell] += sr;
+        });
+        CellFlux {
+            layout,
+            c_planes_deg: c_planes_deg.to_vec(),
+            band_edges_deg: band_edges_deg.to_vec(),
+            flux_lm: flux,
+            solid_angle_sr: solid_angle,
+            reconstructed,
+        }
+    }
+
     /// The table on `gammas_deg`, whose cell edges (midpoints between
     /// angles, and the first and last angle) must be band edges. Cells at
     /// γ = 0° and 180° are polar caps shared by every C-plane; a cell that
@@ -640,23 +679,7 @@ pub fn table_from_cube_map(
     gammas_deg: &[f64],
 ) -> CandelaTable {
     let edges = gamma_cell_edges(gammas_deg);
-    let grid = Cells::new(c_planes_deg, &edges, true);
-    let reconstructed = histopolated(layout, candela_per_texel);
-    let mut flux = vec![0.0; c_planes_deg.len() * grid.bands()];
-    let mut solid_angle = vec![0.0; flux.len()];
-    for_each_share(layout, &grid, 0..layout.texel_count(), |texel, cell, sr| {
-        flux[cell] += reconstructed[texel] * sr;
-        solid_angle[cell] += sr;
-    });
-    CellFlux {
-        layout,
-        c_planes_deg: c_planes_deg.to_vec(),
-        band_edges_deg: edges,
-        flux_lm: flux,
-        solid_angle_sr: solid_angle,
-        reconstructed,
-    }
-    .table(gammas_deg)
+    CellFlux::streamed(layout, candela_per_texel, c_planes_deg, &edges).table(gammas_deg)
 }
 
 /// The texel values whose bilinear reconstruction keeps each texel's mean
@@ -769,14 +792,12 @@ pub fn cone_flux_lm<const N: usize>(
 pub enum GammaGrid {
     /// Equal steps (degrees) from 0° to 180°, checked against the targets.
     Step(f64, FidelityTargets),
-    /// The coarsest of 2.5°, 1.25°, … 2.5°/32 whose table holds the map's
-    /// figures within the targets: narrow beams need fine grids, broad
-    /// ones would only grow the file.
+    /// Listed angles, fine where the distribution bends and coarse where
+    /// it does not, at most [`MAX_AUTOMATIC_GAMMAS`] of them: the coarsest
+    /// such grid that holds the map's figures within the targets
+    /// ([`crate::gamma_grid`]).
     Automatic(FidelityTargets),
 }
-
-/// The automatic grid's steps, coarsest first.
-pub const AUTOMATIC_GAMMA_STEPS_DEG: [f64; 6] = [2.5, 1.25, 0.625, 0.3125, 0.15625, 0.078125];
 
 /// A table and how faithfully it carries its map.
 #[derive(Debug, Clone, PartialEq)]
@@ -799,35 +820,27 @@ impl TableResampler {
     }
 
     /// The table of `candela_per_texel` on `c_planes_deg` and `gammas`,
-    /// with its figures beside the map's.
+    /// with its figures beside the map's. `noise` (the photons behind the
+    /// map, where known) keeps the automatic grid from resolving photon
+    /// noise and lets the peak be held within its map texel's noise.
     pub fn table(
         &mut self,
         layout: CubeMapLayout,
         candela_per_texel: &[f64],
         c_planes_deg: &[f64],
         gammas: GammaGrid,
+        noise: Option<PhotonNoise>,
     ) -> ResampledTable {
-        let (edges, steps, targets, automatic): (Vec<f64>, Vec<f64>, _, _) = match gammas {
+        let (edges, targets) = match gammas {
             GammaGrid::Step(step, targets) => (
                 gamma_cell_edges(&crate::table::uniform_gammas(step, 180.0)),
-                vec![step],
                 targets,
-                false,
             ),
-            GammaGrid::Automatic(targets) => {
-                let finest = AUTOMATIC_GAMMA_STEPS_DEG[AUTOMATIC_GAMMA_STEPS_DEG.len() - 1];
-                let bands = (360.0 / finest).round() as usize;
-                (
-                    (0..=bands)
-                        .map(|k| k as f64 * 180.0 / bands as f64)
-                        .collect(),
-                    AUTOMATIC_GAMMA_STEPS_DEG.to_vec(),
-                    targets,
-                    true,
-                )
-            }
+            GammaGrid::Automatic(targets) => (crate::gamma_grid::band_edges_deg(), targets),
         };
         let map = BeamFigures::of_map(layout, candela_per_texel);
+        let peak_noise = noise.map_or(0.0, |n| n.peak_texel(layout, candela_per_texel));
+        let angle_noise = AngleNoise::of_map(layout, candela_per_texel, noise);
         let stale = self.binning.as_ref().is_none_or(|b| {
             b.layout() != layout || b.c_planes_deg() != c_planes_deg || b.band_edges_deg() != edges
         });
@@ -835,41 +848,22 @@ impl TableResampler {
             self.binning = CellBinning::shared(layout, c_planes_deg, &edges).ok();
         }
         let cells = match &self.binning {
-            Some(b) if layout.resolution <= MAX_STORED_RESOLUTION => {
-                Some(b.integrate(candela_per_texel))
-            }
-            _ => None,
+            Some(b) if layout.resolution <= MAX_STORED_RESOLUTION => b.integrate(candela_per_texel),
+            _ => CellFlux::streamed(layout, candela_per_texel, c_planes_deg, &edges),
         };
-        // Steps finer than an eighth of a texel resolve nothing more of the
-        // map's reconstruction (linear between texel centres): a coarse
-        // live preview stops there.
-        let texel_deg = 90.0 / f64::from(layout.resolution);
-        let usable = steps
-            .iter()
-            .enumerate()
-            .filter(|&(k, &step)| k == 0 || step >= texel_deg / 8.0)
-            .count();
-        let mut best = None;
-        for (k, &step) in steps[..usable].iter().enumerate() {
-            let gammas_deg = crate::table::uniform_gammas(step, 180.0);
-            let table = match &cells {
-                Some(cells) => cells.table(&gammas_deg),
-                None => table_from_cube_map(layout, candela_per_texel, c_planes_deg, &gammas_deg),
-            };
-            // A step that misses the flux is refined at once, without the
-            // rest of its figures.
-            let last = k + 1 == usable;
-            if !last && !((table.flux_lm() - map.flux_lm).abs() <= targets.flux * map.flux_lm) {
-                continue;
+        let (table, fidelity) = match gammas {
+            GammaGrid::Step(step, _) => {
+                let table = cells.table(&crate::table::uniform_gammas(step, 180.0));
+                let fidelity =
+                    TableFidelity::new(false, map, &table, targets, peak_noise, angle_noise);
+                (table, fidelity)
             }
-            let fidelity = TableFidelity::new(step, automatic, map, &table, targets);
-            let done = fidelity.holds();
-            best = Some(ResampledTable { table, fidelity });
-            if done {
-                break;
+            GammaGrid::Automatic(_) => {
+                let noise_of_map = (peak_noise, angle_noise);
+                crate::gamma_grid::automatic(&cells, layout, map, targets, noise, noise_of_map)
             }
-        }
-        best.unwrap_or_else(|| unreachable!("at least one γ step"))
+        };
+        ResampledTable { table, fidelity }
     }
 }
 

@@ -73,9 +73,7 @@ pub fn angles(d: Dir) -> (f64, f64) {
     (c, gamma)
 }
 
-/// Largest plausible intensity (cd): the brightest searchlights reach
-/// about 10⁹ cd; anything far beyond is a corrupt file.
-pub const MAX_CANDELA: f64 = 1e12;
+pub use crate::limits::MAX_CANDELA;
 
 /// Absolute luminous intensities (cd) on a C-γ grid covering the whole
 /// sphere of C angles. Files with symmetry are expanded on reading, so
@@ -124,8 +122,7 @@ fn shown(values: &[f64]) -> String {
 fn strictly_ascending_within(v: &[f64], lo: f64, hi: f64, hi_inclusive: bool) -> bool {
     v.iter()
         .all(|x| x.is_finite() && *x >= lo && (*x < hi || (hi_inclusive && *x <= hi)))
-        && v.windows(2)
-            .all(|w| w[1] - w[0] >= crate::photometry::plausible::MIN_ANGLE_STEP_DEG)
+        && v.windows(2).all(|w| crate::limits::apart(w[0], w[1]))
 }
 
 impl CandelaTable {
@@ -161,7 +158,7 @@ impl CandelaTable {
         }
         if let Some(i) = candela
             .iter()
-            .position(|v| !v.is_finite() || *v < 0.0 || *v > MAX_CANDELA)
+            .position(|&v| !crate::limits::intensity_ok(v))
         {
             return Err(TableError::Value {
                 value: candela[i],

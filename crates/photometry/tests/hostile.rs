@@ -1,7 +1,7 @@
 //! Findings of the hostile-input campaign, each a regression test: what a
 //! reader refuses it says so, what a writer writes its reader reads back.
 
-use lucerna_photometry::photometry::format_number;
+use lucerna_photometry::format_number;
 use lucerna_photometry::{
     CPlaneSymmetry, CandelaTable, IesVersion, Photometry, WritePhotometryError, read_photometry,
     to_latin1, write_ies, write_ldt,

@@ -161,15 +161,23 @@ fn the_automatic_grid_refines_until_the_beam_holds() {
     assert!((coarse.flux_lm() / flux - 1.0).abs() > 0.005);
     let mut resampler = TableResampler::new();
     let grid = GammaGrid::Automatic(FidelityTargets::default());
-    let table = resampler.table(layout, &candela, &c_planes, grid);
+    let table = resampler.table(layout, &candela, &c_planes, grid, None);
     eprintln!("{}", table.fidelity.summary());
     // A beam 3.5 texels wide: its tent reconstruction near the pole keeps
     // the flux to 0.2 % (the targets hold from about 6 texels up).
     assert!((table.table.flux_lm() / flux - 1.0).abs() <= 0.003);
-    let step = table.table.uniform_gamma_step().expect("uniform γ");
-    assert!(step < 2.5, "{step}");
-    assert_eq!(step, table.fidelity.gamma_step_deg);
+    // Listed angles: fine in the beam, the coarsest step where it is dark.
+    let g = &table.table.gammas_deg;
+    let shape = table.fidelity.gamma_grid;
+    assert_eq!(shape.angles, g.len());
+    assert!(shape.finest_step_deg < 2.5, "{shape:?}");
+    assert_eq!(shape.coarsest_step_deg, 5.0);
+    assert!(g.len() <= lucerna_photometry::resample::MAX_AUTOMATIC_GAMMAS);
+    assert!(
+        g.windows(2).all(|w| w[0] >= 4.0 || w[1] - w[0] <= 1.25),
+        "{g:?}"
+    );
     // A second map of the same layout reuses the binning: same answer.
-    let again = resampler.table(layout, &candela, &c_planes, grid);
+    let again = resampler.table(layout, &candela, &c_planes, grid, None);
     assert_eq!(again, table);
 }

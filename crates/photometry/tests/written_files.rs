@@ -120,19 +120,52 @@ fn a_mirror_the_ldt_cannot_index_is_written_whole_with_its_flux() {
 #[test]
 fn the_ies_writer_refuses_more_lamps_than_its_reader_takes() {
     let mut p = photometry(downlight(), CPlaneSymmetry::Rotational);
+    p.meta.lamps[0].count = 2_000_000;
+    let e = write_ies(&p, IesVersion::Lm63_2019).unwrap_err();
+    assert!(e.to_string().contains("number of lamps"), "{e}");
+}
+
+/// EULUMDAT's lamp sets are alternatives (two sets of 600 000 lamps were
+/// once added up to 1.2 M and refused): an IES describes the first, its
+/// lumens per lamp × lamps being that set's flux, and names the others.
+#[test]
+fn an_ies_of_several_lamp_sets_describes_the_first_and_names_the_others() {
+    let mut p = photometry(downlight(), CPlaneSymmetry::Rotational);
     let set = p.meta.lamps[0].clone();
     p.meta.lamps = vec![
         LampSet {
             count: 600_000,
+            flux_lm: 6.0e6,
             ..set.clone()
         },
         LampSet {
             count: 600_000,
+            kind: "LED120".to_owned(),
+            flux_lm: 7.2e6,
             ..set
         },
     ];
-    let e = write_ies(&p, IesVersion::Lm63_2019).unwrap_err();
-    assert!(e.to_string().contains("number of lamps"), "{e}");
+    let ies = write_ies(&p, IesVersion::Lm63_2019).unwrap();
+    let back = read_photometry(ies.as_bytes()).unwrap();
+    let (_, statement) = back
+        .meta
+        .keywords
+        .iter()
+        .find(|(k, _)| k == "_LAMPSET")
+        .expect("a [_LAMPSET] keyword");
+    assert!(
+        statement.starts_with("lamp set 1 of 2 (600000 x LED, 6000000 lm, 10 W)"),
+        "{statement}"
+    );
+    assert!(
+        statement.ends_with("set 2 (600000 x LED120, 7200000 lm, 10 W)"),
+        "{statement}"
+    );
+    assert_eq!(back.meta.lamps.len(), 1);
+    assert_eq!(back.meta.lamps[0].count, 600_000);
+    assert!((back.lamp_flux_lm().unwrap() / 6.0e6 - 1.0).abs() < 1e-7);
     // The LDT states each set's count, which its reader takes.
-    assert!(read_photometry(&to_latin1(&write_ldt(&p).unwrap())).is_ok());
+    let ldt = read_photometry(&to_latin1(&write_ldt(&p).unwrap())).unwrap();
+    assert_eq!(ldt.meta.lamps.len(), 2);
+    assert_eq!(ldt.lamp_flux_lm(), Some(6.0e6));
 }

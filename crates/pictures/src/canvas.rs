@@ -249,7 +249,7 @@ impl Canvas {
 
 /// A number for a label: no trailing zeros, thousands as is.
 pub fn label(v: f64) -> String {
-    lucerna_photometry::photometry::format_number(v, 4)
+    lucerna_photometry::format_number(v, 4)
 }
 
 #[cfg(test)]

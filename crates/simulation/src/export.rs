@@ -231,6 +231,8 @@ fn photometry_of(snapshot: &Snapshot, table: &CandelaTable, options: &ExportOpti
             luminous_area: luminous_opening(scene, tessellated),
             luminaire_dimensions: luminaire_dimensions(tessellated),
             ldt_type: None,
+            declared_lor_percent: None,
+            declared_downward_percent: None,
             tilt: None,
             warnings: Vec::new(),
         },
@@ -396,10 +398,10 @@ impl ExportRequest {
             ..*run
         }
         .validate()?;
+        let symmetry = TexelSymmetry::new(snapshot.map.layout, snapshot.symmetry);
         let candela = if same_filter {
             snapshot.candela.clone()
         } else {
-            let symmetry = TexelSymmetry::new(snapshot.map.layout, snapshot.symmetry);
             let (candela, _) = exported_candela(
                 &mut LiveFilter::new(),
                 &snapshot.map,
@@ -413,6 +415,7 @@ impl ExportRequest {
             &mut TableResampler::new(),
             &snapshot.map,
             &candela,
+            symmetry.order(),
             self.grid,
         );
         Ok((candela, Arc::new(resampled.table), resampled.fidelity))

@@ -7,6 +7,7 @@ use std::time::{Duration, Instant};
 use lucerna_gpu::{BackendRequest, GpuContext};
 use lucerna_photometry::fidelity::FidelityTargets;
 use lucerna_photometry::figures::ZONES_DEG;
+use lucerna_photometry::gamma_grid::PhotonNoise;
 use lucerna_photometry::resample::{GammaGrid, ResampledTable, TableResampler};
 use lucerna_photometry::table::uniform_c_planes;
 use lucerna_photometry::{AxialSymmetry, CubeMapLayout, IntensityMap, TexelSymmetry, figures};
@@ -237,13 +238,19 @@ impl Run {
         let ResampledTable {
             table,
             fidelity: table_fidelity,
-        } = tabulate(&mut self.resampler, &map, &candela, grid);
+        } = tabulate(
+            &mut self.resampler,
+            &map,
+            &candela,
+            self.symmetry.order(),
+            grid,
+        );
         let table = Arc::new(table);
         // The unfiltered table beside the exported one, so views can show
         // both.
         let raw_table = if filter.is_some() {
             let raw = map.symmetrised(&self.symmetry).candela();
-            Arc::new(tabulate(&mut self.resampler, &map, &raw, grid).table)
+            Arc::new(tabulate(&mut self.resampler, &map, &raw, self.symmetry.order(), grid).table)
         } else {
             table.clone()
         };
@@ -346,6 +353,7 @@ pub(crate) fn tabulate(
     resampler: &mut TableResampler,
     map: &IntensityMap,
     candela: &[f64],
+    pooled_images: usize,
     grid: TableGrid,
 ) -> ResampledTable {
     let targets = FidelityTargets::default();
@@ -353,11 +361,18 @@ pub(crate) fn tabulate(
         Some(step) => GammaGrid::Step(step, targets),
         None => GammaGrid::Automatic(targets),
     };
+    // The photons behind the map, so the automatic grid tells the
+    // distribution's shape from their noise.
+    let noise = (map.photons_emitted > 0).then(|| PhotonNoise {
+        lm_per_photon: map.flux_per_photon_lm(),
+        pooled_images: pooled_images as f64,
+    });
     resampler.table(
         map.layout,
         candela,
         &uniform_c_planes(grid.c_step_deg),
         gammas,
+        noise,
     )
 }
 
@@ -371,7 +386,13 @@ pub fn prepare_snapshots(settings: &SimulationSettings) {
     map.counts.fill(1);
     map.photons_emitted = layout.texel_count() as u64;
     let candela = map.candela();
-    let _ = tabulate(&mut TableResampler::new(), &map, &candela, settings.table);
+    let _ = tabulate(
+        &mut TableResampler::new(),
+        &map,
+        &candela,
+        1,
+        settings.table,
+    );
 }
 
 fn trace_settings(settings: &SimulationSettings) -> TraceSettings {

@@ -45,6 +45,17 @@ pub fn convert(
 ) -> Result<String> {
     let mut p = info::read(input)?;
     let format = out_format(output, to)?;
+    for w in p.consistency_warnings() {
+        eprintln!("warning: {}: {w}", input.display());
+    }
+    if p.meta.lamps.len() > 1 && matches!(format, OutFormat::Ies2002 | OutFormat::Ies2019) {
+        eprintln!(
+            "note: {} lists {} lamp sets (alternatives); the IES describes set 1 and names the others in its [{}] keyword",
+            input.display(),
+            p.meta.lamps.len(),
+            lucerna_photometry::ies::LAMP_SET_KEYWORD
+        );
+    }
     if let Some(step) = resample_c_deg {
         if !((0.1..=90.0).contains(&step) && ((360.0 / step) - (360.0 / step).round()).abs() < 1e-9)
         {

@@ -28,7 +28,13 @@ pub struct InfoReport {
     test_report: String,
     issue_date: String,
     luminous_area: lucerna_photometry::Dimensions,
+    /// The lamp set the table and figures describe (the file's first).
     lamps: Vec<lucerna_photometry::LampSet>,
+    /// Alternative lamp sets (EULUMDAT's later sets) with the luminaire
+    /// flux and efficacy each gives.
+    variants: Vec<lucerna_photometry::LampVariant>,
+    declared_lor_percent: Option<f64>,
+    power_w: Option<f64>,
     tilt_included: bool,
     warnings: Vec<String>,
 }
@@ -71,9 +77,18 @@ pub fn report(path: &Path) -> Result<InfoReport> {
         test_report: p.meta.test_report.clone(),
         issue_date: p.meta.issue_date.clone(),
         luminous_area: p.meta.luminous_area,
-        lamps: p.meta.lamps.clone(),
+        lamps: p.lamp_set().into_iter().cloned().collect(),
+        variants: p.variants(),
+        declared_lor_percent: p.meta.declared_lor_percent,
+        power_w: p.power_w(),
         tilt_included: p.meta.tilt.is_some(),
-        warnings: p.meta.warnings.clone(),
+        warnings: p
+            .meta
+            .warnings
+            .iter()
+            .cloned()
+            .chain(p.consistency_warnings())
+            .collect(),
     })
 }
 
@@ -137,7 +152,18 @@ impl fmt::Display for InfoReport {
             fig.upward_flux_lm
         );
         if let Some(lor) = fig.light_output_ratio {
-            let _ = writeln!(s, "LOR            {:.1} %", lor * 100.0);
+            let declared = self
+                .declared_lor_percent
+                .map_or(String::new(), |d| format!(" (the file declares {d:.1} %)"));
+            let _ = writeln!(s, "LOR            {:.1} %{declared}", lor * 100.0);
+        }
+        if let Some(w) = self.power_w {
+            let efficacy = if w > 0.0 {
+                format!(", {:.1} lm/W", fig.flux_lm / w)
+            } else {
+                String::new()
+            };
+            let _ = writeln!(s, "power          {w:.1} W{efficacy}");
         }
         let _ = writeln!(
             s,
@@ -173,15 +199,34 @@ impl fmt::Display for InfoReport {
                 a.height_m * 1e3
             );
         }
-        for (i, l) in self.lamps.iter().enumerate() {
+        for l in &self.lamps {
             let _ = writeln!(
                 s,
-                "lamps {}        {} × {} {:.1} lm {} W",
-                i + 1,
+                "lamps          {} × {} {:.1} lm {} W{}",
                 l.count,
                 if l.kind.is_empty() { "lamp" } else { &l.kind },
                 l.flux_lm,
-                l.watts
+                l.watts,
+                if self.variants.is_empty() {
+                    ""
+                } else {
+                    " (set 1: the figures above)"
+                }
+            );
+        }
+        for v in &self.variants {
+            let l = &v.lamps;
+            let _ = writeln!(
+                s,
+                "variant        set {}: {} × {} {:.1} lm {} W -> luminaire {:.1} lm{}",
+                v.set,
+                l.count,
+                if l.kind.is_empty() { "lamp" } else { &l.kind },
+                l.flux_lm,
+                l.watts,
+                v.luminaire_flux_lm,
+                v.efficacy_lm_per_w
+                    .map_or(String::new(), |e| format!(", {e:.1} lm/W"))
             );
         }
         if self.tilt_included {

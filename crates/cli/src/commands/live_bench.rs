@@ -11,6 +11,7 @@ use std::time::Instant;
 use anyhow::Result;
 use lucerna_filter::Threshold;
 use lucerna_photometry::fidelity::FidelityTargets;
+use lucerna_photometry::gamma_grid::PhotonNoise;
 use lucerna_photometry::resample::{GammaGrid, TableResampler};
 use lucerna_photometry::table::uniform_c_planes;
 use lucerna_photometry::{AxialSymmetry, TexelSymmetry, figures};
@@ -103,6 +104,10 @@ pub fn live_bench(args: &LiveBenchArgs) -> Result<()> {
                     &candela,
                     &c_planes,
                     GammaGrid::Automatic(FidelityTargets::default()),
+                    Some(PhotonNoise {
+                        lm_per_photon: map.flux_per_photon_lm(),
+                        pooled_images: symmetry.order() as f64,
+                    }),
                 )
                 .table;
             let fig = figures(&table, Some(map.emitter_flux_lm));

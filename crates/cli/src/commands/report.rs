@@ -137,6 +137,9 @@ pub fn report(args: &ReportArgs) -> Result<ReportSummary> {
         });
     }
     let photometry = super::info::read(&args.input)?;
+    for w in photometry.consistency_warnings() {
+        eprintln!("warning: {}: {w}", args.input.display());
+    }
     let source = args
         .input
         .file_name()
