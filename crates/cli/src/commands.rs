@@ -8,6 +8,7 @@ use clap::{Parser, Subcommand};
 mod bake;
 mod bench;
 mod convert;
+mod design;
 mod edit;
 mod filter_bench;
 mod info;
@@ -59,6 +60,10 @@ enum Command {
     /// cone diagram, luminance table, BUG, the CIE 190 UGR table) and
     /// every figure as JSON.
     Report(report::ReportArgs),
+    /// Shape a luminaire toward the light wanted (an IES/LDT file or a
+    /// spec), with the photon tracer in the loop: writes the designed
+    /// scene, its IES and LDT, design.csv and design.png.
+    Design(design::DesignArgs),
     /// Trace a luminaire and write IES (LM-63-2019), LDT, the raw map as
     /// EXR, a false-colour cube map PNG and a polar diagram PNG.
     ///
@@ -180,6 +185,7 @@ pub fn run(cli: Cli) -> Result<()> {
             }
             Ok(())
         }
+        Command::Design(args) => design::design(&args),
         Command::Bench(args) => bench::bench(&args),
         Command::SplitBench(args) => split_bench::split_bench(&args),
         Command::LiveBench(args) => live_bench::live_bench(&args),

@@ -34,6 +34,8 @@ pub const MAX_AUTOMATIC_GAMMAS: usize = 361;
 const TOLERANCES: [f64; 10] = [
     0.05, 0.02, 0.01, 0.005, 0.002, 0.001, 5e-4, 2e-4, 1e-4, 5e-5,
 ];
+/// Rounds of halving the intervals that decide a missed figure, at most.
+const TARGETED_ROUNDS: usize = 6;
 /// Standard deviations of a cell's photon noise a deviation must exceed
 /// before it is taken for the distribution's shape.
 const NOISE_Z: f64 = 3.0;
@@ -122,6 +124,61 @@ impl BandPrefix {
         }
     }
 
+    /// The table on the lattice angles `grid` (lattice steps), as
+    /// [`CellFlux::table`] makes it (polar caps shared by every plane, a
+    /// cell without solid angle taking its texel's value), in O(cells).
+    fn table(&self, cells: &CellFlux, grid: &[u32]) -> CandelaTable {
+        let n = grid.len();
+        let c_planes = cells.c_planes_deg();
+        let gammas = degrees(grid);
+        let edges = |j: usize| -> (usize, usize) {
+            let lo = if j == 0 {
+                2 * grid[0]
+            } else {
+                grid[j - 1] + grid[j]
+            };
+            let hi = if j + 1 == n {
+                2 * grid[n - 1]
+            } else {
+                grid[j] + grid[j + 1]
+            };
+            (lo as usize, hi as usize)
+        };
+        let cap = |j: usize| -> (f64, f64) {
+            let (b0, b1) = edges(j);
+            (0..self.planes).fold((0.0, 0.0), |(f, o), p| {
+                let (df, dom) = self.cell(p, b0, b1);
+                (f + df, o + dom)
+            })
+        };
+        let pole = |j: usize| grid[j] == 0 || grid[j] == LATTICE_STEPS;
+        let caps = [cap(0), cap(n - 1)];
+        let mut candela = Vec::with_capacity(self.planes * n);
+        for (i, &c) in c_planes.iter().enumerate() {
+            for j in 0..n {
+                let (flux, omega) = if pole(j) {
+                    caps[usize::from(j != 0)]
+                } else {
+                    let (b0, b1) = edges(j);
+                    self.cell(i, b0, b1)
+                };
+                candela.push(
+                    if omega > 0.0 {
+                        flux / omega
+                    } else {
+                        cells.point(c, gammas[j])
+                    }
+                    .max(0.0),
+                );
+            }
+        }
+        CandelaTable {
+            c_planes_deg: c_planes.to_vec(),
+            gammas_deg: gammas,
+            candela,
+        }
+    }
+
     /// Flux (lm) and solid angle (sr) of `plane` between band edges `b0`
     /// and `b1`.
     fn cell(&self, plane: usize, b0: usize, b1: usize) -> (f64, f64) {
@@ -153,51 +210,75 @@ pub(crate) fn automatic(
         finest_steps /= 2;
     }
     let mean_cd = map.flux_lm.max(0.0) / (4.0 * std::f64::consts::PI);
-    let mut grid: Vec<u32> = (0..=LATTICE_STEPS)
+    let grid: Vec<u32> = (0..=LATTICE_STEPS)
         .step_by(COARSEST_STEPS as usize)
         .collect();
     // What the finest grid itself misses of the map is no coarser grid's
     // fault (its C-planes average across C, a line through the map does
     // not): the angle and peak targets are held on top of it.
     let finest: Vec<u32> = (0..=LATTICE_STEPS).step_by(finest_steps as usize).collect();
-    let finest_table = cells.table(&degrees(&finest));
-    let finest = BeamFigures::of_table(&finest_table);
+    // Built only when a grid misses a figure.
+    let finest_table = std::cell::OnceCell::new();
+    let finest_of = || finest_table.get_or_init(|| prefix.table(cells, &finest));
+    let finest_figures = std::cell::OnceCell::new();
     let judge = |grid: &[u32]| {
-        let table = cells.table(&degrees(grid));
-        let fidelity = TableFidelity::new(true, map, &table, targets, peak_noise, angle_noise)
-            .with_finest(finest);
+        let table = prefix.table(cells, grid);
+        let mut fidelity = TableFidelity::new(true, map, &table, targets, peak_noise, angle_noise);
+        if !fidelity.holds() {
+            let f = *finest_figures.get_or_init(|| BeamFigures::of_table(finest_of()));
+            fidelity = fidelity.with_finest(f);
+        }
         (table, fidelity)
     };
-    let mut full;
-    let mut tolerances = TOLERANCES.iter();
-    let (mut table, mut fidelity) = loop {
-        let tolerance = *tolerances
-            .next()
-            .unwrap_or(&TOLERANCES[TOLERANCES.len() - 1]);
-        full = refine(
-            &mut grid,
+    // The coarsest tolerance whose grid holds the figures, by bisection
+    // over the tolerances (a finer tolerance refines a superset of
+    // intervals); each grid is refined from the 5° start.
+    let grid_at = |k: usize| {
+        let mut g = grid.clone();
+        let full = refine(
+            &mut g,
             cells,
             &prefix,
-            tolerance,
+            TOLERANCES[k],
             mean_cd,
             finest_steps,
             noise,
         );
-        let (table, fidelity) = judge(&grid);
-        if fidelity.holds() || full || tolerances.len() == 0 {
-            break (table, fidelity);
-        }
+        (g, full)
     };
+    let last = TOLERANCES.len() - 1;
+    let (g, full_last) = grid_at(last);
+    let (t, f) = judge(&g);
+    let mut best = (g, full_last, t, f);
+    if best.3.holds() || best.1 {
+        // Search coarser: the first (coarsest) tolerance that still holds
+        // and is within the budget.
+        let (mut lo, mut hi) = (0usize, last);
+        while lo < hi {
+            let mid = (lo + hi) / 2;
+            let (g, full) = grid_at(mid);
+            let (t, f) = judge(&g);
+            if f.holds() || (full && !best.3.holds()) {
+                best = (g, full, t, f);
+                hi = mid;
+            } else {
+                lo = mid + 1;
+            }
+        }
+    }
+    let (mut grid, mut full, mut table, mut fidelity) = best;
     // What the local test let through (a cone's flux sums many cells,
     // each within its noise; a beam angle moves with the peak): the
     // intervals where a missed figure is decided, halved until it holds.
-    while !full {
+    for _ in 0..TARGETED_ROUNDS {
+        if full {
+            break;
+        }
         let misses = fidelity.misses();
         if misses.is_empty() {
             break;
         }
-        let chosen =
-            intervals_deciding(&grid, &table, &finest_table, &prefix, &misses, finest_steps);
+        let chosen = intervals_deciding(&grid, &table, finest_of(), &prefix, &misses, finest_steps);
 
         if chosen.is_empty() {
             break;
@@ -244,6 +325,7 @@ fn intervals_deciding(
                 // misses by the most lumens.
                 let ng = n;
                 let mut errors: Vec<(f64, usize)> = (0..n - 1)
+                    .filter(|&j| grid[j + 1] - grid[j] >= 2 * finest_steps)
                     .map(|j| {
                         let m = (grid[j] + grid[j + 1]) / 2;
                         let lumens: f64 = (0..prefix.planes)
@@ -263,7 +345,7 @@ fn intervals_deciding(
                     })
                     .collect();
                 errors.sort_by(|a, b| b.0.total_cmp(&a.0));
-                for &(_, j) in errors.iter().take(n.div_ceil(4)) {
+                for &(_, j) in errors.iter().take(errors.len().div_ceil(4)) {
                     mark(j);
                 }
             }
@@ -343,7 +425,7 @@ fn refine(
     noise: Option<PhotonNoise>,
 ) -> bool {
     loop {
-        let table = cells.table(&degrees(grid));
+        let table = prefix.table(cells, grid);
         let ng = grid.len();
         let value = |plane: usize, j: usize| table.candela[plane * ng + j];
         // (excess over the tolerance, interval index) of every interval

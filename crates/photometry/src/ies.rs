@@ -4,7 +4,7 @@
 use crate::limits::{self, WritePhotometryError, check_printed_angles, check_written};
 use crate::photometry::{
     Dimensions, Format, LampSet, Metadata, ParsePhotometryError, Photometry, WriteOptions,
-    expand_planes, plausible_magnitude,
+    consistent_with, expand_planes, plausible_magnitude,
 };
 use crate::table::{CPlaneSymmetry, CandelaTable};
 use crate::text::{format_number, normalise_line_ends};
@@ -342,6 +342,7 @@ pub fn parse_ies(text: &str) -> Result<Photometry, ParsePhotometryError> {
     let (c_planes, rows) = expand_planes(symmetry, &horizontal, &rows);
     let table = CandelaTable::new(c_planes, gammas.clone(), rows.concat())
         .map_err(|e| error(vertical_line, e.to_string()))?;
+    let table = consistent_with(symmetry, table, &mut meta.warnings);
     let absolute = lumens_per_lamp < 0.0;
     meta.absolute = absolute;
     meta.lamps = vec![LampSet {

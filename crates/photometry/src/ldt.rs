@@ -4,7 +4,7 @@
 use crate::limits::{self, WritePhotometryError, check_printed_angles, check_written};
 use crate::photometry::{
     Dimensions, Format, LampSet, Metadata, ParsePhotometryError, Photometry, WriteOptions,
-    expand_planes, plausible_magnitude,
+    consistent_with, expand_planes, plausible_magnitude,
 };
 use crate::table::{CPlaneSymmetry, CandelaTable};
 use crate::text::{format_number, normalise_line_ends};
@@ -361,6 +361,7 @@ pub fn parse_ldt(text: &str) -> Result<Photometry, ParsePhotometryError> {
     let (c_planes, rows) = expand_planes(symmetry, &stored_c, &rows);
     let table = CandelaTable::new(c_planes, gammas, rows.concat())
         .map_err(|e| error(c_line, e.to_string()))?;
+    let table = consistent_with(symmetry, table, &mut meta.warnings);
     Ok(Photometry {
         format: Format::Eulumdat,
         symmetry,

@@ -308,23 +308,64 @@ pub fn expand_planes(
     // file may have are one plane: printed with 10 digits, 180° − C of a
     // stored plane lands 10⁻⁸° from the plane stored for it.
     let same = crate::limits::MIN_ANGLE_STEP_DEG / 2.0;
-    let mut planes: Vec<(f64, usize)> = Vec::new();
+    // (angle, 0 for the stored plane itself and 1 for an image, index).
+    let mut images: Vec<(f64, u8, usize)> = Vec::new();
     for (i, &c) in stored_c_deg.iter().enumerate() {
-        for image in symmetry.images(c) {
+        for (k, image) in symmetry.images(c).into_iter().enumerate() {
             let image = if (image - 360.0).abs() < same {
                 0.0
             } else {
                 image
             };
-            planes.push((image, i));
+            images.push((image, u8::from(k != 0), i));
         }
     }
-    planes.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    planes.dedup_by(|later, kept| (later.0 - kept.0).abs() < same);
+    images.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // Runs of angles closer than `same` are one plane: the stored plane
+    // itself where the run has one (the first stored), else the image of
+    // the first stored plane.
+    let mut planes: Vec<(f64, usize)> = Vec::new();
+    let mut k = 0;
+    while k < images.len() {
+        let mut end = k + 1;
+        while end < images.len() && images[end].0 - images[end - 1].0 < same {
+            end += 1;
+        }
+        let chosen = images[k..end]
+            .iter()
+            .min_by_key(|x| (x.1, x.2))
+            .unwrap_or(&images[k]);
+        planes.push((chosen.0, chosen.2));
+        k = end;
+    }
     (
         planes.iter().map(|p| p.0).collect(),
         planes.iter().map(|p| rows[p.1].clone()).collect(),
     )
+}
+
+/// A table read with `symmetry` that does not have it (a file whose
+/// stored planes include two images of one another with other values):
+/// averaged over the symmetry, with a warning, so that what the file
+/// declares and what the table holds agree, as every writer assumes.
+pub(crate) fn consistent_with(
+    symmetry: CPlaneSymmetry,
+    table: CandelaTable,
+    warnings: &mut Vec<String>,
+) -> CandelaTable {
+    if symmetry == CPlaneSymmetry::None || table.c_planes_deg.len() == 1 {
+        return table;
+    }
+    let asymmetry = table.asymmetry(symmetry);
+    if asymmetry <= 1e-9 {
+        return table;
+    }
+    warnings.push(format!(
+        "the stored C-planes disagree with the declared symmetry ({}) by up to {:.1} % of the peak: averaged over it",
+        symmetry.describe(),
+        100.0 * asymmetry
+    ));
+    table.symmetrised(symmetry)
 }
 
 /// Reading failed: which format, where, and what was wrong.

@@ -662,7 +662,7 @@ impl CellFlux {
         }
     }
 
-    fn point(&self, c_deg: f64, gamma_deg: f64) -> f64 {
+    pub(crate) fn point(&self, c_deg: f64, gamma_deg: f64) -> f64 {
         let d = direction(c_deg.to_radians(), gamma_deg.to_radians());
         self.reconstructed[self.layout.texel_of_direction(d)]
     }

@@ -42,7 +42,7 @@ pub fn live_bench(args: &LiveBenchArgs) -> Result<()> {
         "scene",
         "table 1st",
         "table+fig",
-        "γ step",
+        "γ angles",
         "flux err",
         "filter/snap",
         "max/snap",
@@ -77,7 +77,7 @@ pub fn live_bench(args: &LiveBenchArgs) -> Result<()> {
         let c_planes = uniform_c_planes(settings.table.c_step_deg);
         let (mut first_table_ms, mut table_ms, mut table_count) = (0.0, 0.0, 0u32);
         let (mut filter_ms, mut filter_max_ms, mut choices) = (0.0, 0.0f64, 0u32);
-        let (mut step, mut flux_error) = (0.0, 0.0);
+        let (mut angles, mut flux_error) = (0usize, 0.0);
         for k in 1..=args.snapshots {
             let target = k * args.snapshot_photons;
             while run.session().map().photons_emitted < target {
@@ -118,7 +118,7 @@ pub fn live_bench(args: &LiveBenchArgs) -> Result<()> {
                 table_ms += ms;
                 table_count += 1;
             }
-            step = table.uniform_gamma_step().unwrap_or(f64::NAN);
+            angles = table.gammas_deg.len();
             flux_error = fig.flux_lm / traced - 1.0;
         }
         // One choice in line at the last snapshot, for comparison.
@@ -127,11 +127,11 @@ pub fn live_bench(args: &LiveBenchArgs) -> Result<()> {
         filter.filter(run.session().map(), Threshold::Automatic, &symmetry, false);
         let in_line_ms = start.elapsed().as_secs_f64() * 1e3;
         println!(
-            "{:<20} {:>8.1}ms {:>8.1}ms {:>8.4}° {:>8.3}% {:>10.1}ms {:>10.1}ms {:>10} {:>10.0}ms",
+            "{:<20} {:>8.1}ms {:>8.1}ms {:>9} {:>8.3}% {:>10.1}ms {:>10.1}ms {:>10} {:>10.0}ms",
             name,
             first_table_ms,
             table_ms / f64::from(table_count.max(1)),
-            step,
+            angles,
             100.0 * flux_error,
             filter_ms / args.snapshots as f64,
             filter_max_ms,

@@ -1,0 +1,225 @@
+//! `lucerna design`: a scene shaped toward a target distribution or spec,
+//! with the tracer in the loop (`lucerna_design`).
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+use anyhow::{Context, Result, bail};
+use lucerna_design::output::Outcome;
+use lucerna_design::{Budget, DesignRequest, Progress, Stopped, Target};
+use serde::Serialize;
+
+#[derive(Debug, clap::Args)]
+pub struct DesignArgs {
+    /// The start scene (TOML).
+    pub scene: PathBuf,
+    /// The light wanted: an IES or EULUMDAT file (its distribution), or a
+    /// spec (TOML: beam, field, cut-off, LOR, UGR, what to maximise;
+    /// README, "Design").
+    #[arg(long)]
+    pub target: PathBuf,
+    /// What may change: PART.FIELD (a continuous shape parameter, e.g.
+    /// reflector.focal_length) or PART.profile (a revolved or extruded
+    /// part's control points); repeat or separate with commas.
+    #[arg(long, required = true, value_delimiter = ',')]
+    pub vary: Vec<String>,
+    #[arg(long, short)]
+    pub out: PathBuf,
+    /// How long the design may run (e.g. 120s, 5m).
+    #[arg(long, default_value = "120s", value_parser = super::bake::parse_duration)]
+    pub time: Duration,
+    /// At most this many traced candidates: a budget that does not depend
+    /// on the machine, so the same seed gives the same design anywhere.
+    #[arg(long)]
+    pub evaluations: Option<u64>,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u32,
+    /// Match the target's candela, not only its shape (both scaled to the
+    /// same flux by default).
+    #[arg(long)]
+    pub absolute: bool,
+    /// Let a varied profile's end points move too (by default they stay:
+    /// the package around the LED and the aperture).
+    #[arg(long)]
+    pub free_ends: bool,
+    /// Skip the point-source direct design of a revolved profile and
+    /// start from the scene as it is.
+    #[arg(long)]
+    pub no_direct: bool,
+    /// Texels per cube-face edge of every candidate's map.
+    #[arg(long, default_value_t = 256)]
+    pub resolution: u32,
+    /// Photons of the designed scene's final bake (and the start's, for
+    /// the comparison).
+    #[arg(long, default_value_t = 10_000_000)]
+    pub photons: u64,
+    /// The base name of the files (default: the scene file's).
+    #[arg(long)]
+    pub name: Option<String>,
+    /// ISO date of the bake's files (the same date makes them
+    /// reproducible to the byte).
+    #[arg(long)]
+    pub date: Option<String>,
+    /// Print the outcome as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// The outcome as `--json` prints it.
+#[derive(Debug, Serialize)]
+struct Report<'a> {
+    scene: String,
+    stopped: Stopped,
+    evaluations: usize,
+    variables: Vec<(String, f64, f64)>,
+    start_merit: f64,
+    direct_design_merit: Option<f64>,
+    merit: f64,
+    merit_noise: f64,
+    outcome: &'a Outcome,
+    files: Vec<String>,
+}
+
+pub fn design(args: &DesignArgs) -> Result<()> {
+    if args.time.is_zero() {
+        bail!("--time must be positive");
+    }
+    if args.photons == 0 {
+        bail!("--photons must be at least 1");
+    }
+    if !(8..=1024).contains(&args.resolution) {
+        bail!(
+            "--resolution must be between 8 and 1024, got {}",
+            args.resolution
+        );
+    }
+    if args.evaluations == Some(0) {
+        bail!("--evaluations must be at least 1");
+    }
+    let target = Target::load(&args.target, args.absolute)?;
+    let stem = args.name.clone().unwrap_or_else(|| {
+        args.scene
+            .file_stem()
+            .map_or("design".to_owned(), |s| s.to_string_lossy().into_owned())
+    });
+    let date = args
+        .date
+        .clone()
+        .unwrap_or_else(|| chrono::Local::now().format("%Y-%m-%d").to_string());
+    let request = DesignRequest {
+        scene_path: args.scene.clone(),
+        target,
+        vary: args.vary.clone(),
+        free_ends: args.free_ends,
+        budget: Budget {
+            time: args.time,
+            evaluations: args.evaluations,
+        },
+        seed: args.seed,
+        resolution: args.resolution,
+        direct: !args.no_direct,
+    };
+    let interrupt = Arc::new(AtomicBool::new(false));
+    {
+        let flag = interrupt.clone();
+        // A second handler cannot be set in one process: then Ctrl+C ends it.
+        let _ = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst));
+    }
+    let mut last_line = std::time::Instant::now() - Duration::from_secs(1);
+    let mut progress = |p: &Progress| {
+        if last_line.elapsed() < Duration::from_millis(500) {
+            return;
+        }
+        last_line = std::time::Instant::now();
+        eprintln!(
+            "{:6.1} s  {:5} candidates  stage {} ({} photons)  merit {:.5} ± {:.5}  best {}",
+            p.elapsed.as_secs_f64(),
+            p.evaluations,
+            p.stage + 1,
+            p.photons,
+            p.best_merit,
+            p.noise,
+            p.best_values
+                .iter()
+                .map(|v| format!("{v:.6}"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        );
+    };
+    let design = lucerna_design::design(&request, &interrupt, &mut progress)
+        .with_context(|| format!("design of {}", args.scene.display()))?;
+    match design.found.stopped {
+        Stopped::Interrupted => eprintln!("interrupted: writing the best design so far"),
+        Stopped::Time => eprintln!("the time is up: writing the best design found"),
+        Stopped::Evaluations => {
+            eprintln!("the evaluation budget is spent: writing the best design found")
+        }
+        Stopped::Converged => eprintln!("converged"),
+    }
+    eprintln!(
+        "baking the design and the start with {} photons each",
+        args.photons
+    );
+    let files = lucerna_design::output::files(&design, &args.out, &stem, &date, args.photons)
+        .context("the design's files")?;
+    lucerna_design::output::write(&files.files).context("nothing was written")?;
+    let outcome = &files.outcome;
+    let names: Vec<String> = files
+        .files
+        .iter()
+        .map(|(p, _)| p.display().to_string())
+        .collect();
+    if args.json {
+        let report = Report {
+            scene: args.scene.display().to_string(),
+            stopped: design.found.stopped,
+            evaluations: design.found.history.len(),
+            variables: design
+                .variables
+                .iter()
+                .zip(&design.found.values)
+                .map(|(v, &x)| (v.name.clone(), v.start, x))
+                .collect(),
+            start_merit: design.start_merit,
+            direct_design_merit: design.direct.as_ref().map(|d| d.1),
+            merit: design.found.merit,
+            merit_noise: design.found.noise,
+            outcome,
+            files: names,
+        };
+        println!("{}", serde_json::to_string_pretty(&report)?);
+        return Ok(());
+    }
+    for (v, &x) in design.variables.iter().zip(&design.found.values) {
+        println!(
+            "{:<28} {:>14.6} -> {:>14.6}   (bounds {:.6} … {:.6})",
+            v.name, v.start, x, v.lower, v.upper
+        );
+    }
+    if let (Some(d), Some(s)) = (outcome.remaining_difference, outcome.start_difference) {
+        println!(
+            "remaining difference (relative L2 on the sphere, {} photons): {d:.4} (the start: {s:.4})",
+            outcome.photons
+        );
+    }
+    for t in &outcome.terms {
+        if t.term.ends_with("(aim)") {
+            continue;
+        }
+        let state = if t.missed_by > 0.0 {
+            format!("MISSED by {:.3}", t.missed_by)
+        } else {
+            "met".to_owned()
+        };
+        println!(
+            "{:<34} {:>9.3}   wanted {:<24} {state}",
+            t.term, t.value, t.wanted
+        );
+    }
+    for n in &names {
+        println!("wrote {n}");
+    }
+    Ok(())
+}

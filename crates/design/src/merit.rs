@@ -1,0 +1,303 @@
+//! How far a candidate is from its target: for a distribution, the
+//! relative L2 difference on the sphere; for a spec, each term's shortfall
+//! in its own units of tolerance, squared and summed, plus what the spec
+//! maximises.
+
+use lucerna_datasheet::Opening;
+use lucerna_datasheet::ugr::{REFLECTANCES, ROOMS, ugr_table};
+use lucerna_photometry::{CandelaTable, Dimensions, figures};
+use serde::Serialize;
+
+use crate::target::{Maximise, Spec, Target};
+
+/// The target, ready to compare candidates with. A distribution's
+/// candidates are tabulated on its own grid (as a bake would tabulate
+/// them for that file), so the two differ by the light, not by the grid.
+#[derive(Debug, Clone)]
+pub struct Aim {
+    target: Target,
+}
+
+/// A spec term as a candidate holds it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TermStatus {
+    /// "beam angle", "field angle", "cut-off above γ 60°", "LOR", "UGR".
+    pub term: String,
+    /// The candidate's value (degrees, %, UGR).
+    pub value: f64,
+    /// What the spec asks, in words ("24° ± 1°", "at most 40°").
+    pub wanted: String,
+    /// By how much it is missed (0 when met), in the term's units.
+    pub missed_by: f64,
+}
+
+impl Aim {
+    pub fn new(target: Target) -> Aim {
+        Aim { target }
+    }
+
+    pub fn target(&self) -> &Target {
+        &self.target
+    }
+
+    /// The grid candidates are tabulated on: the target file's, or the
+    /// spec's merit grid.
+    pub fn grid(&self) -> (Vec<f64>, Vec<f64>) {
+        match &self.target {
+            Target::Distribution { table, .. } => {
+                (table.c_planes_deg.clone(), table.gammas_deg.clone())
+            }
+            Target::Spec(_) => crate::evaluate::merit_grid(),
+        }
+    }
+
+    /// The merit of a candidate (smaller is better) whose pooled table on
+    /// [`Aim::grid`] is `table`, with light output ratio `lor` and
+    /// luminous opening `opening`; `lamp_flux_lm` is the emitters' flux.
+    pub fn merit(
+        &self,
+        table: &CandelaTable,
+        lor: f64,
+        lamp_flux_lm: f64,
+        opening: &Dimensions,
+    ) -> f64 {
+        match &self.target {
+            Target::Distribution { absolute, .. } => self.relative_l2(table, *absolute),
+            Target::Spec(spec) => {
+                let terms = spec_terms(spec, table, lor, lamp_flux_lm, opening);
+                let shortfall: f64 = terms
+                    .iter()
+                    .map(|(t, unit)| (t.missed_by / unit).powi(2))
+                    .sum();
+                shortfall + objective(spec, table, lor, lamp_flux_lm)
+            }
+        }
+    }
+
+    /// The relative L2 difference on the sphere between `table` (on the
+    /// target's grid) and the target distribution: √(∫(I − T)² dΩ /
+    /// ∫T² dΩ), both read as tables are (linear between angles), the
+    /// candidate first scaled to the target's flux unless `absolute`.
+    /// Infinite for a spec.
+    pub fn relative_l2(&self, table: &CandelaTable, absolute: bool) -> f64 {
+        let Target::Distribution { table: target, .. } = &self.target else {
+            return f64::INFINITY;
+        };
+        let flux_c = table.flux_lm();
+        let scale = if absolute || !(flux_c > 0.0) {
+            1.0
+        } else {
+            target.flux_lm() / flux_c
+        };
+        let diff =
+            sphere_integral_of_square(target, |k| scale * table.candela[k] - target.candela[k]);
+        let norm = sphere_integral_of_square(target, |k| target.candela[k]);
+        if norm > 0.0 {
+            (diff / norm).sqrt()
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// Each spec term as `table` holds it (empty for a distribution).
+    pub fn terms(
+        &self,
+        table: &CandelaTable,
+        lor: f64,
+        lamp_flux_lm: f64,
+        opening: &Dimensions,
+    ) -> Vec<TermStatus> {
+        match &self.target {
+            Target::Spec(spec) => spec_terms(spec, table, lor, lamp_flux_lm, opening)
+                .into_iter()
+                .map(|(t, _)| t)
+                .collect(),
+            Target::Distribution { .. } => Vec::new(),
+        }
+    }
+}
+
+/// Each term with the unit its shortfall is counted in.
+fn spec_terms(
+    spec: &Spec,
+    table: &CandelaTable,
+    lor: f64,
+    lamp_flux_lm: f64,
+    opening: &Dimensions,
+) -> Vec<(TermStatus, f64)> {
+    let f = figures(table, Some(lamp_flux_lm));
+    let mut out = Vec::new();
+    let worst = |a: [Option<f64>; 2], wide: bool| -> f64 {
+        // A plane that never falls that low counts as 360°; one with no
+        // light as 0°.
+        let v = a.map(|x| x.unwrap_or(if f.peak_cd > 0.0 { 360.0 } else { 0.0 }));
+        if wide { v[0].max(v[1]) } else { v[0].min(v[1]) }
+    };
+    if let Some(beam) = spec.beam_angle_deg {
+        let tol = spec.beam_tolerance_deg;
+        let (narrow, wide) = (
+            worst(f.beam_angle_deg, false),
+            worst(f.beam_angle_deg, true),
+        );
+        let off = (narrow - beam).abs().max((wide - beam).abs());
+        let value = if (narrow - beam).abs() > (wide - beam).abs() {
+            narrow
+        } else {
+            wide
+        };
+        // Aimed at the middle, met within the tolerance.
+        out.push((
+            TermStatus {
+                term: "beam angle".to_owned(),
+                value,
+                wanted: format!("{beam}° ± {tol}°"),
+                missed_by: (off - tol).max(0.0),
+            },
+            tol,
+        ));
+        out.push((
+            TermStatus {
+                term: "beam angle (aim)".to_owned(),
+                value,
+                wanted: format!("{beam}°"),
+                missed_by: 0.5 * off,
+            },
+            tol * 4.0,
+        ));
+    }
+    if let Some(max) = spec.field_angle_max_deg {
+        let field = worst(f.field_angle_deg, true);
+        out.push((
+            TermStatus {
+                term: "field angle".to_owned(),
+                value: field,
+                wanted: format!("at most {max}°"),
+                missed_by: (field - max).max(0.0),
+            },
+            1.0,
+        ));
+    }
+    if let (Some(gamma), Some(fraction)) = (spec.cutoff_gamma_deg, spec.cutoff_max_fraction) {
+        let n = table.gammas_deg.len();
+        let above = table
+            .gammas_deg
+            .iter()
+            .enumerate()
+            .filter(|(_, g)| **g >= gamma)
+            .flat_map(|(j, _)| (0..table.c_planes_deg.len()).map(move |i| i * n + j))
+            .map(|k| table.candela[k])
+            .fold(0.0, f64::max);
+        let ratio = if f.peak_cd > 0.0 {
+            above / f.peak_cd
+        } else {
+            0.0
+        };
+        out.push((
+            TermStatus {
+                term: format!("cut-off above γ {gamma}°"),
+                value: 100.0 * ratio,
+                wanted: format!("at most {} % of the peak", 100.0 * fraction),
+                missed_by: 100.0 * (ratio - fraction).max(0.0),
+            },
+            100.0 * fraction,
+        ));
+    }
+    if let Some(min) = spec.lor_min_percent {
+        out.push((
+            TermStatus {
+                term: "LOR".to_owned(),
+                value: 100.0 * lor,
+                wanted: format!("at least {min} %"),
+                missed_by: (min - 100.0 * lor).max(0.0),
+            },
+            1.0,
+        ));
+    }
+    if let Some(max) = spec.ugr_max {
+        let value = ugr(spec, table, lamp_flux_lm, opening).unwrap_or(f64::INFINITY);
+        out.push((
+            TermStatus {
+                term: format!(
+                    "UGR ({}H × {}H, {}/{}/{})",
+                    spec.ugr_room[0],
+                    spec.ugr_room[1],
+                    100.0 * spec.ugr_reflectances[0],
+                    100.0 * spec.ugr_reflectances[1],
+                    100.0 * spec.ugr_reflectances[2]
+                ),
+                value,
+                wanted: format!("at most {max}"),
+                missed_by: (value - max).clamp(0.0, 100.0),
+            },
+            0.5,
+        ));
+    }
+    out
+}
+
+/// What the spec maximises, as a cost: one minus the share.
+fn objective(spec: &Spec, table: &CandelaTable, lor: f64, lamp_flux_lm: f64) -> f64 {
+    match spec.maximise {
+        None => 0.0,
+        Some(Maximise::Lor) => 1.0 - lor,
+        Some(Maximise::ConeFlux) => {
+            let g = spec.cone_half_angle_deg.unwrap_or(0.0);
+            1.0 - table.flux_between_lm(0.0, g) / lamp_flux_lm.max(1e-30)
+        }
+    }
+}
+
+/// The corrected UGR of the spec's room and reflectances, the larger of
+/// crosswise and endwise (CIE 190's table, as the datasheet prints it,
+/// plus 8·log10(Φ/1000)).
+fn ugr(spec: &Spec, table: &CandelaTable, lamp_flux_lm: f64, opening: &Dimensions) -> Option<f64> {
+    let opening = Opening::from_dimensions(opening).ok()?;
+    let klm = table.scaled(1000.0 / lamp_flux_lm);
+    let t = ugr_table(&klm, &opening, 0.25, lamp_flux_lm).ok()?;
+    let row = ROOMS.iter().position(|&(x, y)| [x, y] == spec.ugr_room)?;
+    let col = REFLECTANCES
+        .iter()
+        .position(|r| *r == spec.ugr_reflectances)?;
+    let cross = t.crosswise[row][col];
+    let end = t.endwise[row][col];
+    let worst = [cross, end]
+        .into_iter()
+        .flatten()
+        .fold(f64::NEG_INFINITY, f64::max);
+    worst.is_finite().then_some(worst + t.correction)
+}
+
+/// ∫ f² dΩ over the sphere of the piecewise-linear function whose values
+/// at `grid`'s nodes are `value(k)` (k = plane × angles + angle): Simpson
+/// on each γ segment, trapezoidal weights in C, as `CandelaTable` reads a
+/// table.
+fn sphere_integral_of_square(grid: &CandelaTable, value: impl Fn(usize) -> f64) -> f64 {
+    let c = &grid.c_planes_deg;
+    let g = &grid.gammas_deg;
+    let (nc, ng) = (c.len(), g.len());
+    let weights: Vec<f64> = if nc == 1 {
+        vec![std::f64::consts::TAU]
+    } else {
+        (0..nc)
+            .map(|i| {
+                let next = (c[(i + 1) % nc] - c[i]).rem_euclid(360.0);
+                let prev = (c[i] - c[(i + nc - 1) % nc]).rem_euclid(360.0);
+                0.5 * (next + prev).to_radians()
+            })
+            .collect()
+    };
+    let mut total = 0.0;
+    for (i, w) in weights.iter().enumerate() {
+        let mut plane = 0.0;
+        for j in 0..ng - 1 {
+            let (a, b) = (g[j].to_radians(), g[j + 1].to_radians());
+            let (fa, fb) = (value(i * ng + j), value(i * ng + j + 1));
+            let fm = 0.5 * (fa + fb);
+            let m = 0.5 * (a + b);
+            plane +=
+                (b - a) / 6.0 * (fa * fa * a.sin() + 4.0 * fm * fm * m.sin() + fb * fb * b.sin());
+        }
+        total += w * plane;
+    }
+    total
+}

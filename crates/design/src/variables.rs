@@ -1,0 +1,293 @@
+//! What a design may change: a part's continuous shape parameter
+//! (`PART.FIELD`: a focal length, an aperture, a cone angle) or the
+//! control points of a revolved or extruded part's profile
+//! (`PART.profile`), each between bounds inside the valid scene space.
+
+use lucerna_scene::{Scene, Shape, validate};
+
+use crate::DesignError;
+
+/// Where a variable lives in the scene.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Place {
+    /// A number of the part's `shape` table.
+    Field { part: usize, field: String },
+    /// Coordinate `coord` (0: r or x, 1: z) of profile point `point`.
+    ProfilePoint {
+        part: usize,
+        point: usize,
+        coord: usize,
+    },
+}
+
+/// One number a design varies, with its bounds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Variable {
+    /// As `design.csv` heads its column: `reflector.focal_length`,
+    /// `reflector.profile[2].z`.
+    pub name: String,
+    pub place: Place,
+    /// The start scene's value.
+    pub start: f64,
+    pub lower: f64,
+    pub upper: f64,
+}
+
+impl Variable {
+    /// The value at `t` ∈ [0, 1] between the bounds.
+    pub fn at(&self, t: f64) -> f64 {
+        self.lower + t * (self.upper - self.lower)
+    }
+
+    /// Where `value` lies between the bounds (0 … 1).
+    pub fn fraction(&self, value: f64) -> f64 {
+        if self.upper > self.lower {
+            (value - self.lower) / (self.upper - self.lower)
+        } else {
+            0.5
+        }
+    }
+}
+
+/// The variables `--vary` names: `PART.FIELD` or `PART.profile`; a
+/// profile's two end points stay unless `free_ends`.
+pub fn parse(
+    scene: &Scene,
+    vary: &[String],
+    free_ends: bool,
+) -> Result<Vec<Variable>, DesignError> {
+    if vary.is_empty() {
+        return Err(DesignError::Vary {
+            what: String::new(),
+            why: "name at least one variable (--vary PART.FIELD or PART.profile)".to_owned(),
+        });
+    }
+    let mut out: Vec<Variable> = Vec::new();
+    for spec in vary {
+        let bad = |why: String| DesignError::Vary {
+            what: spec.clone(),
+            why,
+        };
+        let Some((part_name, field)) = spec.rsplit_once('.') else {
+            return Err(bad("write it as PART.FIELD or PART.profile".to_owned()));
+        };
+        let Some(part) = scene.parts.iter().position(|p| p.name == part_name) else {
+            let names: Vec<&str> = scene.parts.iter().map(|p| p.name.as_str()).collect();
+            return Err(bad(format!(
+                "the scene has no part '{part_name}' (its parts: {})",
+                names.join(", ")
+            )));
+        };
+        if field == "profile" {
+            let Some(points) = profile(&scene.parts[part].shape) else {
+                return Err(bad(format!(
+                    "part '{part_name}' is a {}, which has no profile (revolved and extruded parts have one)",
+                    scene.parts[part].shape.kind()
+                )));
+            };
+            let n = points.len();
+            let range = if free_ends {
+                0..n
+            } else {
+                1..n.saturating_sub(1)
+            };
+            if range.is_empty() {
+                return Err(bad(format!(
+                    "the profile has {n} points and its two ends stay where they are: add interior points, or --free-ends"
+                )));
+            }
+            let (lo, hi) = profile_box(points);
+            let revolved = matches!(scene.parts[part].shape, Shape::Revolved(_));
+            for point in range {
+                for coord in 0..2 {
+                    let extent = (hi[coord] - lo[coord]).max(1e-3);
+                    let mut lower = lo[coord] - 0.5 * extent;
+                    if revolved && coord == 0 {
+                        lower = lower.max(0.0);
+                    }
+                    out.push(Variable {
+                        name: format!(
+                            "{part_name}.profile[{point}].{}",
+                            match (coord, revolved) {
+                                (0, true) => "r",
+                                (0, false) => "x",
+                                _ => "z",
+                            }
+                        ),
+                        place: Place::ProfilePoint { part, point, coord },
+                        start: points[point][coord],
+                        lower,
+                        upper: hi[coord] + 0.5 * extent,
+                    });
+                }
+            }
+            continue;
+        }
+        let start = field_value(&scene.parts[part].shape, field).map_err(bad)?;
+        let place = Place::Field {
+            part,
+            field: field.to_owned(),
+        };
+        let (lower, upper) = valid_range(scene, &place, start);
+        out.push(Variable {
+            name: spec.clone(),
+            place,
+            start,
+            lower,
+            upper,
+        });
+    }
+    for (i, v) in out.iter().enumerate() {
+        if out[..i].iter().any(|w| w.place == v.place) {
+            return Err(DesignError::Vary {
+                what: v.name.clone(),
+                why: "named twice".to_owned(),
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// The profile's control points of a revolved or extruded shape.
+pub fn profile(shape: &Shape) -> Option<&[[f64; 2]]> {
+    match shape {
+        Shape::Revolved(s) => Some(&s.profile),
+        Shape::Extruded(s) => Some(&s.profile),
+        _ => None,
+    }
+}
+
+fn profile_mut(shape: &mut Shape) -> Option<&mut Vec<[f64; 2]>> {
+    match shape {
+        Shape::Revolved(s) => Some(&mut s.profile),
+        Shape::Extruded(s) => Some(&mut s.profile),
+        _ => None,
+    }
+}
+
+fn profile_box(points: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for p in points {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (lo, hi)
+}
+
+/// A shape's parameters as a TOML table (how the scene file spells them).
+fn shape_table(shape: &Shape) -> Option<toml::Table> {
+    toml::Table::try_from(shape).ok()
+}
+
+/// The value of a continuous parameter, or why it is not one.
+fn field_value(shape: &Shape, field: &str) -> Result<f64, String> {
+    let table = shape_table(shape).ok_or("the shape cannot be read as a table")?;
+    match table.get(field) {
+        Some(toml::Value::Float(v)) => Ok(*v),
+        Some(toml::Value::Integer(_)) => Err(format!(
+            "'{field}' of a {} is a count, not a continuous parameter",
+            shape.kind()
+        )),
+        Some(toml::Value::Boolean(_)) => Err(format!(
+            "'{field}' of a {} is a switch, not a continuous parameter",
+            shape.kind()
+        )),
+        Some(_) => Err(format!("'{field}' of a {} is not a number", shape.kind())),
+        None => {
+            let numbers: Vec<String> = table
+                .iter()
+                .filter(|(_, v)| v.is_float())
+                .map(|(k, _)| k.clone())
+                .collect();
+            // Optional parameters left at their default are not written.
+            if let Some(v) = default_of(shape, field) {
+                return Ok(v);
+            }
+            Err(format!(
+                "a {} has no continuous parameter '{field}' (it has: {})",
+                shape.kind(),
+                numbers.join(", ")
+            ))
+        }
+    }
+}
+
+/// The default of an optional parameter a shape's file may leave out (a
+/// paraboloid's neck diameter): found by setting it and reading it back.
+fn default_of(shape: &Shape, field: &str) -> Option<f64> {
+    let mut table = shape_table(shape)?;
+    table.insert(field.to_owned(), toml::Value::Float(0.0));
+    let parsed: Shape = table.try_into().ok()?;
+    shape_table(&parsed)?;
+    Some(0.0)
+}
+
+/// `scene` with `place` set to `value`; None if the shape refuses it.
+pub fn set(scene: &mut Scene, place: &Place, value: f64) -> Option<()> {
+    match place {
+        Place::Field { part, field } => {
+            let shape = &mut scene.parts.get_mut(*part)?.shape;
+            let mut table = shape_table(shape)?;
+            table.insert(field.clone(), toml::Value::Float(value));
+            *shape = table.try_into().ok()?;
+        }
+        Place::ProfilePoint { part, point, coord } => {
+            let points = profile_mut(&mut scene.parts.get_mut(*part)?.shape)?;
+            points.get_mut(*point)?[*coord] = value;
+        }
+    }
+    Some(())
+}
+
+/// `scene` with every variable at its value.
+pub fn apply(scene: &Scene, variables: &[Variable], values: &[f64]) -> Option<Scene> {
+    let mut s = scene.clone();
+    for (v, &x) in variables.iter().zip(values) {
+        set(&mut s, &v.place, x)?;
+    }
+    Some(s)
+}
+
+/// Whether the scene validates with `place` at `value`.
+fn valid_at(scene: &Scene, place: &Place, value: f64) -> bool {
+    let mut s = scene.clone();
+    set(&mut s, place, value).is_some() && validate(&s).is_empty()
+}
+
+/// The contiguous range around `start` where the scene stays valid,
+/// within a factor of four either way (an angle ±45°; a length that
+/// starts at zero up to 50 mm): a design never leaves the valid scene
+/// space, and bounds found from the shape's own checks cannot drift from
+/// them.
+fn valid_range(scene: &Scene, place: &Place, start: f64) -> (f64, f64) {
+    let angle = matches!(place, Place::Field { field, .. } if field.ends_with("_deg"));
+    let steps = 64;
+    let candidate = |k: i32| -> f64 {
+        let t = f64::from(k) / f64::from(steps);
+        if angle {
+            start + 45.0 * t
+        } else if start > 0.0 {
+            start * 4f64.powf(t)
+        } else if start < 0.0 {
+            start * 4f64.powf(-t)
+        } else {
+            0.05 * t.max(0.0)
+        }
+    };
+    let walk = |dir: i32| -> f64 {
+        let mut last = start;
+        for k in 1..=steps {
+            let x = candidate(dir * k);
+            if !valid_at(scene, place, x) {
+                break;
+            }
+            last = x;
+        }
+        last
+    };
+    let (a, b) = (walk(-1), walk(1));
+    (a.min(b), a.max(b))
+}
