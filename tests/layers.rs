@@ -24,6 +24,7 @@ fn only_the_editor_knows_egui() {
         "lucerna-filter",
         "lucerna-room",
         "lucerna-simulation",
+        "lucerna-design",
         "lucerna-cli",
     ] {
         assert_free_of(krate, &["egui", "eframe", "winit"]);

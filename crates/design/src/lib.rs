@@ -13,6 +13,7 @@
 
 pub mod direct;
 pub mod evaluate;
+pub mod least_squares;
 pub mod merit;
 pub mod optimise;
 pub mod output;
@@ -189,9 +190,16 @@ pub fn design(
     // The direct design, where it applies, replaces the start if it is
     // better.
     let direct = if request.direct {
-        direct::design(&start, &variables, &request.target)
-            .and_then(|values| Some((trace(&mut evaluator, &values)?, values)))
-            .map(|(m, v)| (v, m))
+        direct::designs(&start, &variables, &request.target)
+            .into_iter()
+            .filter(|values| {
+                values
+                    .iter()
+                    .zip(&variables)
+                    .all(|(&x, v)| (v.lower..=v.upper).contains(&x))
+            })
+            .filter_map(|values| Some((values.clone(), trace(&mut evaluator, &values)?)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
     } else {
         None
     };
@@ -203,17 +211,31 @@ pub fn design(
     .zip(&variables)
     .map(|(&x, v)| v.fraction(x))
     .collect();
-    let found = optimise::optimise(
-        &start,
-        &variables,
-        x0,
-        &aim,
-        &mut evaluator,
-        lamp_flux_lm,
-        request.budget,
-        interrupt,
-        progress,
-    );
+    // A distribution is a sum of squares: damped least squares on its
+    // residuals; a spec's terms are not, Nelder–Mead on its merit.
+    let found = match &request.target {
+        Target::Distribution { .. } => least_squares::fit(
+            &start,
+            &variables,
+            x0,
+            &aim,
+            &mut evaluator,
+            request.budget,
+            interrupt,
+            progress,
+        ),
+        Target::Spec(_) => optimise::optimise(
+            &start,
+            &variables,
+            x0,
+            &aim,
+            &mut evaluator,
+            lamp_flux_lm,
+            request.budget,
+            interrupt,
+            progress,
+        ),
+    };
     let values = output::rounded(&variables, &found.values);
     let scene = variables::apply(&start, &variables, &values)
         .ok_or_else(|| DesignError::Output("the designed values do not apply".to_owned()))?;

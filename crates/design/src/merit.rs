@@ -16,6 +16,59 @@ use crate::target::{Maximise, Spec, Target};
 #[derive(Debug, Clone)]
 pub struct Aim {
     target: Target,
+    /// A rotationally symmetric distribution's mean over C, on
+    /// [`SMOOTH_STEP_DEG`] steps from γ 0° to 180°, for the smoothed merits
+    /// of the early stages.
+    axial: Option<Vec<f64>>,
+}
+
+/// The γ step of the axial profiles the smoothed merits compare.
+const SMOOTH_STEP_DEG: f64 = 0.1;
+
+/// A table's mean over C on [`SMOOTH_STEP_DEG`] steps.
+fn axial(table: &CandelaTable) -> Vec<f64> {
+    let n = (180.0 / SMOOTH_STEP_DEG).round() as usize;
+    let planes = &table.c_planes_deg;
+    (0..=n)
+        .map(|k| {
+            let g = k as f64 * SMOOTH_STEP_DEG;
+            planes.iter().map(|&c| table.intensity(c, g)).sum::<f64>() / planes.len() as f64
+        })
+        .collect()
+}
+
+/// `profile` blurred by a Gaussian of `sigma_deg` in γ (mirrored at 0°
+/// and 180°, where the sphere continues into the opposite plane).
+fn blurred(profile: &[f64], sigma_deg: f64) -> Vec<f64> {
+    if sigma_deg <= 0.0 {
+        return profile.to_vec();
+    }
+    let s = sigma_deg / SMOOTH_STEP_DEG;
+    let reach = (3.0 * s).ceil() as isize;
+    let kernel: Vec<f64> = (-reach..=reach)
+        .map(|k| (-0.5 * (k as f64 / s).powi(2)).exp())
+        .collect();
+    let n = profile.len() as isize;
+    let at = |i: isize| -> f64 {
+        let j = if i < 0 {
+            -i
+        } else if i >= n {
+            2 * (n - 1) - i
+        } else {
+            i
+        };
+        profile[j.clamp(0, n - 1) as usize]
+    };
+    (0..n)
+        .map(|i| {
+            let (mut sum, mut weight) = (0.0, 0.0);
+            for (k, w) in (-reach..=reach).zip(&kernel) {
+                sum += w * at(i + k);
+                weight += w;
+            }
+            sum / weight
+        })
+        .collect()
 }
 
 /// A spec term as a candidate holds it.
@@ -33,7 +86,57 @@ pub struct TermStatus {
 
 impl Aim {
     pub fn new(target: Target) -> Aim {
-        Aim { target }
+        let axial = match &target {
+            Target::Distribution { table, .. } if target.rotationally_symmetric() => {
+                Some(axial(table))
+            }
+            _ => None,
+        };
+        Aim { target, axial }
+    }
+
+    /// The merit of a stage whose comparison is blurred by `sigma_deg`
+    /// in γ: early stages of a design see where the light goes before
+    /// they see the fine shape of a narrow beam, which would otherwise
+    /// pin them to the first local fit of its peak. Zero (or a target not
+    /// the same in every C-plane, or a spec) is [`Aim::merit`].
+    pub fn stage_merit(
+        &self,
+        table: &CandelaTable,
+        lor: f64,
+        lamp_flux_lm: f64,
+        opening: &Dimensions,
+        sigma_deg: f64,
+    ) -> f64 {
+        match (&self.target, &self.axial) {
+            (Target::Distribution { absolute, .. }, Some(target)) if sigma_deg > 0.0 => {
+                let goal = blurred(target, sigma_deg);
+                let got = blurred(&axial(table), sigma_deg);
+                let weight = |k: usize| (k as f64 * SMOOTH_STEP_DEG).to_radians().sin().max(1e-4);
+                let flux = |v: &[f64]| {
+                    v.iter()
+                        .enumerate()
+                        .map(|(k, x)| weight(k) * x)
+                        .sum::<f64>()
+                };
+                let scale = if *absolute || !(flux(&got) > 0.0) {
+                    1.0
+                } else {
+                    flux(&goal) / flux(&got)
+                };
+                let (mut diff, mut norm) = (0.0, 0.0);
+                for (k, (g, t)) in got.iter().zip(&goal).enumerate() {
+                    diff += weight(k) * (scale * g - t).powi(2);
+                    norm += weight(k) * t * t;
+                }
+                if norm > 0.0 {
+                    (diff / norm).sqrt()
+                } else {
+                    f64::INFINITY
+                }
+            }
+            _ => self.merit(table, lor, lamp_flux_lm, opening),
+        }
     }
 
     pub fn target(&self) -> &Target {
@@ -72,6 +175,114 @@ impl Aim {
                 shortfall + objective(spec, table, lor, lamp_flux_lm)
             }
         }
+    }
+
+    /// The residuals whose sum of squares is the square of the
+    /// distribution merit at blur `sigma_deg` (None for a spec): over the
+    /// mean across C for a target the same in every C-plane, else over
+    /// the table's cells, each weighted by its solid angle, the candidate
+    /// scaled to the target's flux unless absolute.
+    pub fn residuals(&self, table: &CandelaTable, sigma_deg: f64) -> Option<Vec<f64>> {
+        // A negative blur asks for the cumulative flux against γ instead
+        // (where the light goes, smooth in the geometry even where a
+        // caustic makes the intensity jump).
+        if sigma_deg < 0.0 {
+            return self.cumulative_residuals(table);
+        }
+        let Target::Distribution {
+            table: target,
+            absolute,
+            ..
+        } = &self.target
+        else {
+            return None;
+        };
+        let (goal, got, weights): (Vec<f64>, Vec<f64>, Vec<f64>) = match &self.axial {
+            Some(t) => (
+                blurred(t, sigma_deg),
+                blurred(&axial(table), sigma_deg),
+                (0..t.len())
+                    .map(|k| (k as f64 * SMOOTH_STEP_DEG).to_radians().sin().max(1e-4))
+                    .collect(),
+            ),
+            None => {
+                let g = &target.gammas_deg;
+                let ng = g.len();
+                let w: Vec<f64> = (0..target.candela.len())
+                    .map(|k| {
+                        let j = k % ng;
+                        let lo = if j == 0 {
+                            g[0]
+                        } else {
+                            0.5 * (g[j - 1] + g[j])
+                        };
+                        let hi = if j + 1 == ng {
+                            g[ng - 1]
+                        } else {
+                            0.5 * (g[j] + g[j + 1])
+                        };
+                        (lo.to_radians().cos() - hi.to_radians().cos()).max(0.0)
+                    })
+                    .collect();
+                (target.candela.clone(), table.candela.clone(), w)
+            }
+        };
+        let flux = |v: &[f64]| v.iter().zip(&weights).map(|(x, w)| x * w).sum::<f64>();
+        let scale = if *absolute || !(flux(&got) > 0.0) {
+            1.0
+        } else {
+            flux(&goal) / flux(&got)
+        };
+        let norm: f64 = goal.iter().zip(&weights).map(|(t, w)| w * t * t).sum();
+        if !(norm > 0.0) {
+            return None;
+        }
+        let n = norm.sqrt();
+        Some(
+            got.iter()
+                .zip(&goal)
+                .zip(&weights)
+                .map(|((g, t), w)| w.sqrt() * (scale * g - t) / n)
+                .collect(),
+        )
+    }
+
+    /// The differences of the cumulative flux from nadir against γ
+    /// (shares of each distribution's own flux unless absolute), on the
+    /// mean across C: the Cramér–von Mises distance's residuals.
+    fn cumulative_residuals(&self, table: &CandelaTable) -> Option<Vec<f64>> {
+        let (Target::Distribution { absolute, .. }, Some(goal)) = (&self.target, &self.axial)
+        else {
+            return None;
+        };
+        let got = axial(table);
+        let cumulative = |v: &[f64]| -> Vec<f64> {
+            let mut sum = 0.0;
+            v.iter()
+                .enumerate()
+                .map(|(k, x)| {
+                    sum += x * (k as f64 * SMOOTH_STEP_DEG).to_radians().sin();
+                    sum
+                })
+                .collect()
+        };
+        let (cg, ct) = (cumulative(&got), cumulative(goal));
+        let (tg, tt) = (cg[cg.len() - 1], ct[ct.len() - 1]);
+        if !(tg > 0.0 && tt > 0.0) {
+            return None;
+        }
+        let (sg, st) = if *absolute {
+            (1.0 / tt, 1.0 / tt)
+        } else {
+            (1.0 / tg, 1.0 / tt)
+        };
+        let n = (cg.len() as f64).sqrt();
+        Some(
+            cg.iter()
+                .zip(&ct)
+                .map(|(a, b)| (a * sg - b * st) / n)
+                .collect(),
+        )
     }
 
     /// The relative L2 difference on the sphere between `table` (on the

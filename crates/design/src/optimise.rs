@@ -30,6 +30,17 @@ pub struct Budget {
     /// Traced candidates at most (a budget that does not depend on the
     /// machine's speed: the same seed and budget give the same design).
     pub evaluations: Option<u64>,
+    /// Photons of the last stage (default [`LAST_STAGE_PHOTONS`]).
+    pub max_photons: Option<u64>,
+}
+
+impl Budget {
+    /// The photons of the last stage.
+    pub fn last_stage_photons(&self) -> u64 {
+        self.max_photons
+            .unwrap_or(LAST_STAGE_PHOTONS)
+            .max(FIRST_STAGE_PHOTONS)
+    }
 }
 
 /// Why a design stopped.
@@ -136,11 +147,11 @@ impl Loop<'_> {
         let scene = apply(self.start, self.variables, &values)
             .ok_or_else(|| Refused::Invalid("the shape refuses the value".to_owned()))?;
         let traced = self.evaluator.borrow_mut().trace(&scene, self.photons)?;
-        Ok(merit_of(
+        Ok(stage_merit_of(
             self.aim,
             &traced,
             self.lamp_flux_lm,
-            &opening_of(&traced),
+            blur_of(self.stage),
         ))
     }
 }
@@ -155,9 +166,23 @@ pub fn merit_of(aim: &Aim, traced: &Traced, lamp_flux_lm: f64, opening: &Dimensi
     )
 }
 
-/// The luminous opening a candidate's UGR is computed with.
-fn opening_of(traced: &Traced) -> Dimensions {
-    traced.opening
+/// A traced candidate's merit at a stage blurred by `sigma_deg`.
+fn stage_merit_of(aim: &Aim, traced: &Traced, lamp_flux_lm: f64, sigma_deg: f64) -> f64 {
+    aim.stage_merit(
+        &traced.table,
+        traced.map.light_output_ratio(),
+        lamp_flux_lm,
+        &traced.opening,
+        sigma_deg,
+    )
+}
+
+/// The blur of each stage's comparison (degrees of γ): the first stages
+/// see where the light goes, the last its every detail.
+const STAGE_BLUR_DEG: [f64; 4] = [2.0, 1.0, 0.5, 0.0];
+
+fn blur_of(stage: usize) -> f64 {
+    STAGE_BLUR_DEG[stage.min(STAGE_BLUR_DEG.len() - 1)]
 }
 
 impl CostFunction for Loop<'_> {
@@ -246,11 +271,11 @@ pub fn optimise(
         if let Some(scene) = &scene {
             let at = |e: &mut Evaluator| e.trace(scene, photons).ok();
             if let Some(t) = at(evaluator) {
-                stage_merit = merit_of(aim, &t, lamp_flux_lm, &t.opening);
+                stage_merit = stage_merit_of(aim, &t, lamp_flux_lm, blur_of(stage));
                 let seed = evaluator.seed();
                 let mut other = evaluator.with_seed(seed.wrapping_add(0x9e37_79b9));
                 if let Some(t2) = at(&mut other) {
-                    let m2 = merit_of(aim, &t2, lamp_flux_lm, &t2.opening);
+                    let m2 = stage_merit_of(aim, &t2, lamp_flux_lm, blur_of(stage));
                     noise = (stage_merit - m2).abs() / std::f64::consts::SQRT_2;
                 }
             }
@@ -312,17 +337,17 @@ pub fn optimise(
                 (m, x, None)
             }
         };
-        if m <= best_merit {
-            best_merit = m;
-            best_x = x;
-        }
+        // Each stage's merits are its own (photons, blur): its best is
+        // the start of the next.
+        best_merit = m;
+        best_x = x;
         if let Some(why) = halted {
             break why;
         }
-        if photons >= LAST_STAGE_PHOTONS && step <= 0.01 {
+        if photons >= budget.last_stage_photons() && step <= 0.01 && blur_of(stage) == 0.0 {
             break Stopped::Converged;
         }
-        photons = (photons * 4).min(LAST_STAGE_PHOTONS);
+        photons = (photons * 4).min(budget.last_stage_photons());
         step = (step * 0.5).max(0.005);
         stage += 1;
     };

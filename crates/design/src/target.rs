@@ -231,26 +231,22 @@ impl Spec {
     }
 }
 
-/// The largest spread of a table's intensity across C at any γ, over its
-/// peak: 0 for a distribution the same in every C-plane.
+/// How far a table's intensity varies across C, as the root mean square
+/// over γ of each angle's spread around its mean across C, over the
+/// peak: 0 for a distribution the same in every C-plane; a bake of a
+/// surface of revolution keeps a few per cent of photon noise.
 pub fn rotational_asymmetry(table: &CandelaTable) -> f64 {
     let peak = table.peak().0;
     if !(peak > 0.0) {
         return 0.0;
     }
     let n = table.gammas_deg.len();
-    (0..n)
-        .map(|j| {
-            let column = table
-                .c_planes_deg
-                .iter()
-                .enumerate()
-                .map(|(i, _)| table.candela[i * n + j]);
-            let (lo, hi) = column.fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
-                (lo.min(v), hi.max(v))
-            });
-            hi - lo
-        })
-        .fold(0.0, f64::max)
-        / peak
+    let planes = table.c_planes_deg.len();
+    let mut sum = 0.0;
+    for j in 0..n {
+        let column: Vec<f64> = (0..planes).map(|i| table.candela[i * n + j]).collect();
+        let mean = column.iter().sum::<f64>() / planes as f64;
+        sum += column.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / planes as f64;
+    }
+    (sum / n as f64).sqrt() / peak
 }

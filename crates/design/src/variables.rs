@@ -202,9 +202,27 @@ fn field_value(shape: &Shape, field: &str) -> Result<f64, String> {
                 .filter(|(_, v)| v.is_float())
                 .map(|(k, _)| k.clone())
                 .collect();
-            // Optional parameters left at their default are not written.
-            if let Some(v) = default_of(shape, field) {
-                return Ok(v);
+            // Optional parameters left at their default are not written:
+            // what the shape takes there tells what they are.
+            let takes = |v: toml::Value| {
+                let mut table = table.clone();
+                table.insert(field.to_owned(), v);
+                table.try_into::<Shape>().is_ok()
+            };
+            if takes(toml::Value::Float(0.0)) {
+                return Ok(0.0);
+            }
+            if takes(toml::Value::Boolean(false)) {
+                return Err(format!(
+                    "'{field}' of a {} is a switch, not a continuous parameter",
+                    shape.kind()
+                ));
+            }
+            if takes(toml::Value::Integer(1)) {
+                return Err(format!(
+                    "'{field}' of a {} is a count, not a continuous parameter",
+                    shape.kind()
+                ));
             }
             Err(format!(
                 "a {} has no continuous parameter '{field}' (it has: {})",
@@ -213,16 +231,6 @@ fn field_value(shape: &Shape, field: &str) -> Result<f64, String> {
             ))
         }
     }
-}
-
-/// The default of an optional parameter a shape's file may leave out (a
-/// paraboloid's neck diameter): found by setting it and reading it back.
-fn default_of(shape: &Shape, field: &str) -> Option<f64> {
-    let mut table = shape_table(shape)?;
-    table.insert(field.to_owned(), toml::Value::Float(0.0));
-    let parsed: Shape = table.try_into().ok()?;
-    shape_table(&parsed)?;
-    Some(0.0)
 }
 
 /// `scene` with `place` set to `value`; None if the shape refuses it.

@@ -116,6 +116,7 @@ pub fn design(args: &DesignArgs) -> Result<()> {
         budget: Budget {
             time: args.time,
             evaluations: args.evaluations,
+            max_photons: None,
         },
         seed: args.seed,
         resolution: args.resolution,

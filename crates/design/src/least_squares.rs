@@ -1,0 +1,299 @@
+//! Damped least squares (Levenberg–Marquardt) on a distribution's
+//! residuals, with the tracer in the loop: the Jacobian by forward
+//! differences over common random numbers (every candidate of a stage is
+//! traced with the same photons, so a difference is the geometry's, not
+//! the noise's), in stages of four times the photons and a finer blur.
+//! A distribution's merit is a sum of squares over the sphere, whose
+//! structure Nelder–Mead on the scalar throws away: on the revolved
+//! reflector's six profile coordinates it stalled at 0.30 where this
+//! reaches the photon floor (BENCHMARKS.md). argmin has no
+//! Levenberg–Marquardt; the step is a 6 × 6 solve.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+use lucerna_scene::Scene;
+
+use crate::evaluate::Evaluator;
+use crate::merit::Aim;
+use crate::optimise::{Budget, FIRST_STAGE_PHOTONS, Found, Progress, Record, Stopped};
+use crate::variables::{Variable, apply};
+
+/// The blur of each stage's comparison (degrees of γ; negative: the
+/// cumulative flux against γ).
+const STAGE_BLUR_DEG: [f64; 5] = [-1.0, -1.0, 0.5, 0.0, 0.0];
+/// Damped steps per stage, at most.
+const ITERATIONS_PER_STAGE: usize = 12;
+
+struct Run<'a> {
+    start: &'a Scene,
+    variables: &'a [Variable],
+    aim: &'a Aim,
+    evaluator: &'a mut Evaluator,
+    budget: Budget,
+    began: Instant,
+    interrupt: &'a AtomicBool,
+    history: Vec<Record>,
+    progress: &'a mut dyn FnMut(&Progress),
+    stage: usize,
+    photons: u64,
+    blur: f64,
+    best: (f64, Vec<f64>),
+    noise: f64,
+}
+
+impl Run<'_> {
+    fn halted(&self) -> Option<Stopped> {
+        if self.interrupt.load(Ordering::Relaxed) {
+            return Some(Stopped::Interrupted);
+        }
+        if self.began.elapsed() >= self.budget.time {
+            return Some(Stopped::Time);
+        }
+        if self
+            .budget
+            .evaluations
+            .is_some_and(|n| self.history.len() as u64 >= n)
+        {
+            return Some(Stopped::Evaluations);
+        }
+        None
+    }
+
+    fn values(&self, x: &[f64]) -> Vec<f64> {
+        self.variables
+            .iter()
+            .zip(x)
+            .map(|(v, &t)| v.at(t))
+            .collect()
+    }
+
+    /// The residuals at normalised `x` (None: refused), recorded.
+    fn residuals(&mut self, x: &[f64]) -> Result<Option<Vec<f64>>, Stopped> {
+        if let Some(why) = self.halted() {
+            return Err(why);
+        }
+        let values = self.values(x);
+        let r = apply(self.start, self.variables, &values)
+            .and_then(|scene| self.evaluator.trace(&scene, self.photons).ok())
+            .and_then(|t| self.aim.residuals(&t.table, self.blur));
+        let merit = r.as_ref().map(|r| norm(r));
+        if let Some(m) = merit
+            && m < self.best.0
+        {
+            self.best = (m, x.to_vec());
+        }
+        let record = Record {
+            evaluation: self.history.len() as u64,
+            elapsed_s: self.began.elapsed().as_secs_f64(),
+            photons: self.photons,
+            merit,
+            values,
+        };
+        self.history.push(record.clone());
+        let report = Progress {
+            elapsed: self.began.elapsed(),
+            evaluations: self.history.len() as u64,
+            stage: self.stage,
+            photons: self.photons,
+            best_merit: self.best.0,
+            noise: self.noise,
+            best_values: self.values(&self.best.1),
+            record,
+        };
+        (self.progress)(&report);
+        Ok(r)
+    }
+}
+
+fn norm(r: &[f64]) -> f64 {
+    r.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+/// Fits `variables` of `start` to the distribution `aim` from normalised
+/// parameters `x0`.
+#[allow(clippy::too_many_arguments)]
+pub fn fit(
+    start: &Scene,
+    variables: &[Variable],
+    x0: Vec<f64>,
+    aim: &Aim,
+    evaluator: &mut Evaluator,
+    budget: Budget,
+    interrupt: &AtomicBool,
+    progress: &mut dyn FnMut(&Progress),
+) -> Found {
+    let n = variables.len();
+    let mut run = Run {
+        start,
+        variables,
+        aim,
+        evaluator,
+        budget,
+        began: Instant::now(),
+        interrupt,
+        history: Vec::new(),
+        progress,
+        stage: 0,
+        photons: FIRST_STAGE_PHOTONS,
+        blur: STAGE_BLUR_DEG[0],
+        best: (f64::INFINITY, x0.clone()),
+        noise: 0.0,
+    };
+    let mut x = x0;
+    let mut h = 0.004;
+    let stopped = 'stages: loop {
+        run.best = (f64::INFINITY, x.clone());
+        let mut r = match run.residuals(&x) {
+            Ok(Some(r)) => r,
+            Ok(None) => break Stopped::Converged,
+            Err(why) => break why,
+        };
+        // The stage's noise: the same point with a second photon stream.
+        let seed = run.evaluator.seed();
+        let mut other = run.evaluator.with_seed(seed.wrapping_add(0x9e37_79b9));
+        let values = run.values(&x);
+        run.noise = apply(start, variables, &values)
+            .and_then(|scene| other.trace(&scene, run.photons).ok())
+            .and_then(|t| aim.residuals(&t.table, run.blur))
+            .map_or(0.0, |r2| {
+                (norm(&r2) - norm(&r)).abs() / std::f64::consts::SQRT_2
+            });
+        let mut lambda = 1e-2;
+        for _ in 0..ITERATIONS_PER_STAGE {
+            // Forward differences, inward at a bound.
+            let mut jacobian: Vec<Vec<f64>> = Vec::with_capacity(n);
+            for i in 0..n {
+                let mut xi = x.clone();
+                let step = if x[i] + h <= 1.0 { h } else { -h };
+                xi[i] += step;
+                let ri = match run.residuals(&xi) {
+                    Ok(Some(ri)) => ri,
+                    // A refused neighbour tells nothing: a zero column.
+                    Ok(None) => r.clone(),
+                    Err(why) => break 'stages why,
+                };
+                jacobian.push(ri.iter().zip(&r).map(|(a, b)| (a - b) / step).collect());
+            }
+            // Normal equations: A = JᵀJ, g = Jᵀr.
+            let mut a = vec![vec![0.0; n]; n];
+            let mut g = vec![0.0; n];
+            for i in 0..n {
+                for j in 0..=i {
+                    let v: f64 = jacobian[i]
+                        .iter()
+                        .zip(&jacobian[j])
+                        .map(|(p, q)| p * q)
+                        .sum();
+                    a[i][j] = v;
+                    a[j][i] = v;
+                }
+                g[i] = jacobian[i].iter().zip(&r).map(|(p, q)| p * q).sum();
+            }
+            let current = norm(&r);
+            let mut accepted = false;
+            for _ in 0..6 {
+                let mut damped = a.clone();
+                for i in 0..n {
+                    damped[i][i] += lambda * a[i][i].max(1e-12);
+                }
+                let Some(delta) = solve(damped, g.iter().map(|v| -v).collect()) else {
+                    lambda *= 4.0;
+                    continue;
+                };
+                let trial: Vec<f64> = x
+                    .iter()
+                    .zip(&delta)
+                    .map(|(xi, d)| (xi + d).clamp(0.0, 1.0))
+                    .collect();
+                match run.residuals(&trial) {
+                    Ok(Some(rt)) if norm(&rt) < current => {
+                        x = trial;
+                        r = rt;
+                        lambda = (lambda / 3.0).max(1e-6);
+                        accepted = true;
+                        break;
+                    }
+                    Ok(_) => lambda *= 4.0,
+                    Err(why) => break 'stages why,
+                }
+            }
+            // No step helps, or what one gains is within the noise.
+            let gained = current - norm(&r);
+            if !accepted || gained < run.noise.max(1e-4 * current) {
+                break;
+            }
+        }
+        let last =
+            run.photons >= budget.last_stage_photons() && run.stage + 1 >= STAGE_BLUR_DEG.len();
+        if last {
+            break Stopped::Converged;
+        }
+        run.stage += 1;
+        run.photons = (run.photons * 4).min(budget.last_stage_photons());
+        run.blur = STAGE_BLUR_DEG[run.stage.min(STAGE_BLUR_DEG.len() - 1)];
+        h = (h * 0.6).max(0.0005);
+    };
+    let merit = run.best.0;
+    let best_x = if merit.is_finite() {
+        run.best.1.clone()
+    } else {
+        x
+    };
+    Found {
+        values: run.values(&best_x),
+        merit,
+        photons: run.photons,
+        noise: run.noise,
+        history: run.history,
+        stopped,
+    }
+}
+
+/// Solves `a x = b` by Gaussian elimination with partial pivoting.
+fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
+    let n = b.len();
+    for col in 0..n {
+        let pivot = (col..n).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
+        if a[pivot][col].abs() < 1e-300 {
+            return None;
+        }
+        a.swap(col, pivot);
+        b.swap(col, pivot);
+        for row in col + 1..n {
+            let f = a[row][col] / a[col][col];
+            for k in col..n {
+                a[row][k] -= f * a[col][k];
+            }
+            b[row] -= f * b[col];
+        }
+    }
+    let mut x = vec![0.0; n];
+    for row in (0..n).rev() {
+        let s: f64 = (row + 1..n).map(|k| a[row][k] * x[k]).sum();
+        x[row] = (b[row] - s) / a[row][row];
+    }
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::solve;
+
+    #[test]
+    fn solves_a_small_system() {
+        let x = solve(
+            vec![
+                vec![2.0, 1.0, 0.0],
+                vec![1.0, 3.0, 1.0],
+                vec![0.0, 1.0, 4.0],
+            ],
+            vec![3.0, 5.0, 5.0],
+        )
+        .unwrap();
+        for (a, b) in x.iter().zip([1.0, 1.0, 1.0]) {
+            assert!((a - b).abs() < 1e-12, "{x:?}");
+        }
+        assert!(solve(vec![vec![1.0, 2.0], vec![2.0, 4.0]], vec![1.0, 2.0]).is_none());
+    }
+}

@@ -1,0 +1,290 @@
+#![allow(clippy::unwrap_used, clippy::expect_used)] // reason: tests may panic
+//! `lucerna design` against truth: a focal length recovered from the
+//! bake of its own scene, a start that already matches staying put, a
+//! spec met on a bake with another seed, common random numbers measured
+//! against independent streams, the same seed giving the same scene, and
+//! every bad input refused with a clear error.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+use std::time::Duration;
+
+use lucerna_design::evaluate::Evaluator;
+use lucerna_design::merit::Aim;
+use lucerna_design::variables::{self, apply};
+use lucerna_design::{Budget, DesignError, DesignRequest, Spec, Target};
+use lucerna_photometry::{AxialSymmetry, figures};
+use lucerna_scene::load_scene;
+use lucerna_simulation::{BackendRequest, Luminaire, SimulationSettings, StoppingRule};
+
+const RESOLUTION: u32 = 128;
+
+fn spot_path() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/luminaires/parabolic_spot.toml")
+}
+
+/// The example spot with another focal length, written beside a copy.
+fn spot_with_focal_length(dir: &Path, f: f64) -> PathBuf {
+    let text = std::fs::read_to_string(spot_path()).unwrap();
+    let text = text.replace("focal_length = 0.025", &format!("focal_length = {f}"));
+    let path = dir.join(format!("spot_f{}.toml", (f * 1e4).round()));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// A scene's bake as a distribution target (the table a file of it holds).
+fn baked_target(scene: &Path, photons: u64, seed: u32) -> Target {
+    let luminaire = Arc::new(Luminaire::load(scene).unwrap());
+    let snapshot = lucerna_simulation::bake(
+        luminaire,
+        SimulationSettings {
+            resolution: RESOLUTION,
+            seed,
+            backend: BackendRequest::Cpu,
+            stop: StoppingRule {
+                photons: Some(photons),
+                ..StoppingRule::default()
+            },
+            ..SimulationSettings::default()
+        },
+    )
+    .unwrap();
+    Target::Distribution {
+        table: snapshot.table.as_ref().clone(),
+        absolute: false,
+        name: "target".to_owned(),
+    }
+}
+
+fn request(scene: PathBuf, target: Target, vary: &str) -> DesignRequest {
+    DesignRequest {
+        scene_path: scene,
+        target,
+        vary: vec![vary.to_owned()],
+        free_ends: false,
+        budget: Budget {
+            time: Duration::from_secs(600),
+            evaluations: None,
+            max_photons: Some(1_600_000),
+        },
+        seed: 1,
+        resolution: RESOLUTION,
+        direct: true,
+    }
+}
+
+fn focal_length(scene: &lucerna_scene::Scene) -> f64 {
+    match &scene.parts[0].shape {
+        lucerna_scene::Shape::Paraboloid(p) => p.focal_length,
+        other => panic!("not a paraboloid: {other:?}"),
+    }
+}
+
+#[test]
+fn a_focal_length_is_recovered_from_its_own_target() {
+    let dir = tempfile::tempdir().unwrap();
+    let target = baked_target(&spot_with_focal_length(dir.path(), 0.03), 4_000_000, 99);
+    let design = lucerna_design::design(
+        &request(spot_path(), target, "reflector.focal_length"),
+        &AtomicBool::new(false),
+        &mut |_| {},
+    )
+    .unwrap();
+    let f = focal_length(&design.scene);
+    eprintln!(
+        "f = {:.4} mm after {} candidates ({:?}), merit {:.5}",
+        f * 1e3,
+        design.found.history.len(),
+        design.found.stopped,
+        design.found.merit
+    );
+    assert!((f - 0.03).abs() < 0.2e-3, "{f}");
+    assert!(design.start_merit > 0.1, "{}", design.start_merit);
+}
+
+#[test]
+fn a_start_that_matches_its_target_stays_within_the_noise() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = spot_with_focal_length(dir.path(), 0.03);
+    let target = baked_target(&scene, 4_000_000, 99);
+    let design = lucerna_design::design(
+        &request(scene, target, "reflector.focal_length"),
+        &AtomicBool::new(false),
+        &mut |_| {},
+    )
+    .unwrap();
+    let f = focal_length(&design.scene);
+    eprintln!("f = {:.4} mm, merit {:.5}", f * 1e3, design.found.merit);
+    assert!((f - 0.03).abs() < 0.1e-3, "{f}");
+}
+
+/// With the same photons two nearby candidates' merits differ by their
+/// geometry; with independent streams the difference is buried in noise.
+#[test]
+fn common_random_numbers_make_nearby_candidates_comparable() {
+    let scene = load_scene(&spot_path()).unwrap();
+    let dir = spot_path().parent().unwrap().to_path_buf();
+    let variables =
+        variables::parse(&scene, &["reflector.focal_length".to_owned()], false).unwrap();
+    let aim = Aim::new(baked_target(&spot_path(), 4_000_000, 99));
+    let merit = |seed: u32, f: f64| -> f64 {
+        let mut e = Evaluator::new(
+            &dir,
+            seed,
+            RESOLUTION,
+            AxialSymmetry::None,
+            &variables,
+            aim.grid(),
+        );
+        let s = apply(&scene, &variables, &[f]).unwrap();
+        let t = e.trace(&s, 100_000).unwrap();
+        aim.merit(&t.table, t.map.light_output_ratio(), 800.0, &t.opening)
+    };
+    let (f0, f1) = (0.0252, 0.0253);
+    let spread = |d: &[f64]| {
+        let mean = d.iter().sum::<f64>() / d.len() as f64;
+        (d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (d.len() - 1) as f64).sqrt()
+    };
+    let common: Vec<f64> = (1..=6).map(|s| merit(s, f1) - merit(s, f0)).collect();
+    let independent: Vec<f64> = (1..=6).map(|s| merit(s, f1) - merit(s + 100, f0)).collect();
+    let (sc, si) = (spread(&common), spread(&independent));
+    eprintln!(
+        "merit differences: common {common:?} (sd {sc:.2e}); independent {independent:?} (sd {si:.2e})"
+    );
+    assert!(sc * 5.0 < si, "common {sc} vs independent {si}");
+}
+
+#[test]
+fn a_spec_design_meets_its_spec_on_a_bake_with_another_seed() {
+    let spec = Spec::parse(
+        "beam_angle_deg = 6.0\nbeam_tolerance_deg = 0.5\ncutoff_gamma_deg = 20.0\ncutoff_max_fraction = 0.01\n",
+    )
+    .unwrap();
+    let mut r = request(spot_path(), Target::Spec(spec), "reflector.focal_length");
+    r.budget.max_photons = Some(400_000);
+    let design = lucerna_design::design(&r, &AtomicBool::new(false), &mut |_| {}).unwrap();
+    // Baked again, with other photons.
+    let luminaire =
+        Arc::new(Luminaire::new(design.scene.clone(), spot_path().parent().unwrap()).unwrap());
+    let snapshot = lucerna_simulation::bake(
+        luminaire,
+        SimulationSettings {
+            resolution: RESOLUTION,
+            seed: 4242,
+            backend: BackendRequest::Cpu,
+            stop: StoppingRule {
+                photons: Some(2_000_000),
+                ..StoppingRule::default()
+            },
+            ..SimulationSettings::default()
+        },
+    )
+    .unwrap();
+    let f = figures(&snapshot.table, Some(800.0));
+    eprintln!(
+        "f = {:.3} mm: beam {:?}",
+        focal_length(&design.scene) * 1e3,
+        f.beam_angle_deg
+    );
+    for beam in f.beam_angle_deg {
+        let beam = beam.unwrap();
+        assert!((beam - 6.0).abs() <= 0.5, "beam {beam}");
+    }
+    let t = &snapshot.table;
+    let n = t.gammas_deg.len();
+    let above = (0..t.candela.len())
+        .filter(|k| t.gammas_deg[k % n] >= 20.0)
+        .map(|k| t.candela[k])
+        .fold(0.0, f64::max);
+    assert!(
+        above <= 0.01 * f.peak_cd,
+        "{above} cd above 20°, peak {}",
+        f.peak_cd
+    );
+}
+
+#[test]
+fn the_same_seed_and_budget_give_the_same_scene_bytes() {
+    let dir = tempfile::tempdir().unwrap();
+    let target = baked_target(&spot_with_focal_length(dir.path(), 0.028), 1_000_000, 7);
+    let mut r = request(spot_path(), target, "reflector.focal_length");
+    r.budget.evaluations = Some(10);
+    let text = || {
+        let d = lucerna_design::design(&r, &AtomicBool::new(false), &mut |_| {}).unwrap();
+        lucerna_design::output::scene_text(&d).unwrap()
+    };
+    let (a, b) = (text(), text());
+    assert_eq!(a, b);
+    // The start file's comments and labels are kept.
+    assert!(a.starts_with("# A parabolic spot"), "{a}");
+    assert!(a.contains("manufacturer = \"Lucerna examples\""));
+}
+
+#[test]
+fn bad_input_gets_a_clear_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let write = |name: &str, text: &str| {
+        let p = dir.path().join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    };
+    let err = |r: Result<Target, DesignError>| r.unwrap_err().to_string();
+    // Not a photometric file, not a spec.
+    let e = err(Target::load(&write("not.ies", "hello\n"), false));
+    assert!(e.contains("not a photometric file"), "{e}");
+    let e = err(Target::load(&write("bad.toml", "beam = \n"), false));
+    assert!(e.contains("not a valid spec"), "{e}");
+    let e = err(Target::load(
+        &write("unknown.toml", "beam_width = 20\n"),
+        false,
+    ));
+    assert!(e.contains("unknown field"), "{e}");
+    // Terms that contradict each other.
+    let e = err(Target::load(
+        &write(
+            "contradiction.toml",
+            "beam_angle_deg = 30\nfield_angle_max_deg = 20\n",
+        ),
+        false,
+    ));
+    assert!(e.contains("cannot be wider than the field"), "{e}");
+    let e = err(Target::load(
+        &write(
+            "cutoff.toml",
+            "beam_angle_deg = 60\ncutoff_gamma_deg = 20\ncutoff_max_fraction = 0.01\n",
+        ),
+        false,
+    ));
+    assert!(e.contains("beyond the cut-off"), "{e}");
+    let e = err(Target::load(
+        &write("empty.toml", "ugr_room = [4, 8]\n"),
+        false,
+    ));
+    assert!(e.contains("states no term"), "{e}");
+
+    // --vary naming what cannot vary.
+    let scene = load_scene(&spot_path()).unwrap();
+    let vary = |v: &str| {
+        variables::parse(&scene, &[v.to_owned()], false)
+            .unwrap_err()
+            .to_string()
+    };
+    assert!(vary("lamp.focal_length").contains("has no part 'lamp'"));
+    assert!(vary("reflector.segments_around").contains("is a count, not a continuous parameter"));
+    assert!(vary("reflector.faceted").contains("is a switch"));
+    assert!(vary("reflector.profile").contains("paraboloid, which has no profile"));
+    assert!(vary("reflector.colour").contains("has no continuous parameter 'colour'"));
+    assert!(vary("reflector").contains("PART.FIELD"));
+
+    // A time of zero, a scene that does not load.
+    let target = Target::Spec(Spec::parse("beam_angle_deg = 10\n").unwrap());
+    let mut r = request(spot_path(), target.clone(), "reflector.focal_length");
+    r.budget.time = Duration::ZERO;
+    let e = lucerna_design::design(&r, &AtomicBool::new(false), &mut |_| {}).unwrap_err();
+    assert!(matches!(e, DesignError::Time), "{e}");
+    let broken = write("broken.toml", "format_version = 1\nname = \n");
+    let r = request(broken, target, "reflector.focal_length");
+    let e = lucerna_design::design(&r, &AtomicBool::new(false), &mut |_| {}).unwrap_err();
+    assert!(e.to_string().contains("cannot load the scene"), "{e}");
+}
