@@ -84,6 +84,8 @@ pub struct DesignRequest {
     pub resolution: u32,
     /// Start a varied revolved profile from the point-source direct design.
     pub direct: bool,
+    /// Fit a distribution by damped least squares instead of Nelder–Mead.
+    pub least_squares: bool,
 }
 
 /// A finished design.
@@ -214,7 +216,7 @@ pub fn design(
     // A distribution is a sum of squares: damped least squares on its
     // residuals; a spec's terms are not, Nelder–Mead on its merit.
     let found = match &request.target {
-        Target::Distribution { .. } => least_squares::fit(
+        Target::Distribution { .. } if request.least_squares => least_squares::fit(
             &start,
             &variables,
             x0,
@@ -224,7 +226,7 @@ pub fn design(
             interrupt,
             progress,
         ),
-        Target::Spec(_) => optimise::optimise(
+        _ => optimise::optimise(
             &start,
             &variables,
             x0,

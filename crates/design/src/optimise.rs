@@ -63,6 +63,10 @@ pub struct Record {
     pub photons: u64,
     /// The stage's merit (None: refused).
     pub merit: Option<f64>,
+    /// What the stage's merit measures: "l2" (the relative L2 difference
+    /// on the sphere), "l2 blur 0.5°", "cumulative" (the cumulative flux
+    /// against γ), "spec".
+    pub measure: String,
     pub values: Vec<f64>,
 }
 
@@ -179,7 +183,7 @@ fn stage_merit_of(aim: &Aim, traced: &Traced, lamp_flux_lm: f64, sigma_deg: f64)
 
 /// The blur of each stage's comparison (degrees of γ): the first stages
 /// see where the light goes, the last its every detail.
-const STAGE_BLUR_DEG: [f64; 4] = [2.0, 1.0, 0.5, 0.0];
+const STAGE_BLUR_DEG: [f64; 1] = [0.0];
 
 fn blur_of(stage: usize) -> f64 {
     STAGE_BLUR_DEG[stage.min(STAGE_BLUR_DEG.len() - 1)]
@@ -205,6 +209,13 @@ impl CostFunction for Loop<'_> {
             elapsed_s: self.began.elapsed().as_secs_f64(),
             photons: self.photons,
             merit: merit.as_ref().ok().copied(),
+            measure: match self.aim.target() {
+                crate::Target::Spec(_) => "spec".to_owned(),
+                crate::Target::Distribution { .. } => match blur_of(self.stage) {
+                    b if b > 0.0 => format!("l2 blur {b}°"),
+                    _ => "l2".to_owned(),
+                },
+            },
             values: values.clone(),
         };
         self.history.borrow_mut().push(record.clone());

@@ -127,9 +127,9 @@ fn edit_in_place(
 }
 
 /// `design.csv`: evaluation, seconds, photons, merit (empty where the
-/// candidate was refused), each variable.
+/// candidate was refused), what the merit measures, each variable.
 pub fn history_csv(design: &Design) -> String {
-    let mut out = String::from("evaluation,elapsed_s,photons,merit");
+    let mut out = String::from("evaluation,elapsed_s,photons,merit,measure");
     for v in &design.variables {
         let _ = write!(out, ",{}", v.name);
     }
@@ -137,11 +137,12 @@ pub fn history_csv(design: &Design) -> String {
     for r in &design.found.history {
         let _ = write!(
             out,
-            "{},{:.3},{},{}",
+            "{},{:.3},{},{},{}",
             r.evaluation,
             r.elapsed_s,
             r.photons,
-            r.merit.map_or(String::new(), |m| format!("{m:.6}"))
+            r.merit.map_or(String::new(), |m| format!("{m:.6}")),
+            r.measure
         );
         for x in &r.values {
             let _ = write!(out, ",{x:.9}");

@@ -71,6 +71,7 @@ fn request(scene: PathBuf, target: Target, vary: &str) -> DesignRequest {
         seed: 1,
         resolution: RESOLUTION,
         direct: true,
+        least_squares: false,
     }
 }
 
@@ -101,6 +102,31 @@ fn a_focal_length_is_recovered_from_its_own_target() {
     );
     assert!((f - 0.03).abs() < 0.2e-3, "{f}");
     assert!(design.start_merit > 0.1, "{}", design.start_merit);
+}
+
+#[test]
+fn damped_least_squares_recovers_a_focal_length_too() {
+    let dir = tempfile::tempdir().unwrap();
+    let target = baked_target(&spot_with_focal_length(dir.path(), 0.027), 4_000_000, 99);
+    let mut r = request(spot_path(), target, "reflector.focal_length");
+    r.least_squares = true;
+    let design = lucerna_design::design(&r, &AtomicBool::new(false), &mut |_| {}).unwrap();
+    let f = focal_length(&design.scene);
+    eprintln!(
+        "f = {:.4} mm after {} candidates",
+        f * 1e3,
+        design.found.history.len()
+    );
+    assert!((f - 0.027).abs() < 0.2e-3, "{f}");
+    // Its early stages measure the cumulative flux, its last the L2.
+    let measures: Vec<&str> = design
+        .found
+        .history
+        .iter()
+        .map(|r| r.measure.as_str())
+        .collect();
+    assert_eq!(measures.first(), Some(&"cumulative"));
+    assert_eq!(measures.last(), Some(&"l2"));
 }
 
 #[test]

@@ -48,6 +48,11 @@ pub struct DesignArgs {
     /// start from the scene as it is.
     #[arg(long)]
     pub no_direct: bool,
+    /// Fit a distribution by damped least squares (Levenberg–Marquardt)
+    /// instead of Nelder–Mead: faster near the answer, but it stays in
+    /// the nearest valley (BENCHMARKS.md, "Design").
+    #[arg(long)]
+    pub least_squares: bool,
     /// Texels per cube-face edge of every candidate's map.
     #[arg(long, default_value_t = 256)]
     pub resolution: u32,
@@ -121,6 +126,7 @@ pub fn design(args: &DesignArgs) -> Result<()> {
         seed: args.seed,
         resolution: args.resolution,
         direct: !args.no_direct,
+        least_squares: args.least_squares,
     };
     let interrupt = Arc::new(AtomicBool::new(false));
     {

@@ -1,0 +1,48 @@
+#!/bin/bash
+# `lucerna design` against targets of known shape (issue "Design from the
+# light you want"), on this machine, in one run:
+#   1. single parameter: the parabolic spot's bake at f = 30 mm as the
+#      target, the design started at f = 25 mm, varying the focal length
+#      (60 s);
+#   2. profile: the revolved reflector's bake (a 5-point Catmull-Rom
+#      mirror around a 3 mm LED, 80 mm aperture, 60 mm deep) as the
+#      target, the design started from a straight cone between the same
+#      ends, varying the profile (120 s).
+# Each target is baked with 30 M photons (seed 99); the Monte Carlo floor
+# is the hidden scene itself baked with another seed and measured alike.
+# Prints the remaining difference (relative L2 on the sphere) and the
+# best merit of each stage against time (design.csv).
+#
+#   deploy/bench-design.sh        (LUCERNA=… TARGET_PHOTONS=30000000)
+set -euo pipefail
+REPO=$(cd "$(dirname "$0")/.." && pwd)
+LUCERNA=${LUCERNA:-$REPO/target/debug/lucerna}
+TARGET_PHOTONS=${TARGET_PHOTONS:-30000000}
+WORK=$(mktemp -d -t lucerna-bench-design.XXXXXX)
+trap 'rm -rf "$WORK"' EXIT
+DESIGNS=$REPO/assets/luminaires/design
+sed 's/focal_length = 0.025/focal_length = 0.03/' "$REPO/assets/luminaires/parabolic_spot.toml" > "$WORK/spot_f30.toml"
+
+run_case() { # name hidden start vary time
+  local name=$1 hidden=$2 start=$3 vary=$4 time=$5
+  "$LUCERNA" bake "$hidden" --photons "$TARGET_PHOTONS" --seed 99 --formats ies --date 2026-12-04 \
+    --name target --out "$WORK/$name/target" > /dev/null 2>&1
+  local target=$WORK/$name/target/target.ies
+  echo "== $name: $(basename "$start") toward $(basename "$hidden")'s bake, --vary $vary, --time $time, $(nproc) cores"
+  "$LUCERNA" design "$hidden" --target "$target" --vary "$vary" --evaluations 1 --no-direct --seed 7 \
+    --date 2026-12-04 --out "$WORK/$name/floor" 2>/dev/null | grep "remaining" | sed 's/^/floor (the hidden scene, another seed): /'
+  "$LUCERNA" design "$start" --target "$target" --vary "$vary" --time "$time" --date 2026-12-04 \
+    --out "$WORK/$name/design" 2>/dev/null | grep -v "^wrote"
+  echo "best merit per stage (measure, photons): seconds"
+  awk -F, 'NR > 1 && $4 != "" {
+      key = $5 " " $3
+      if (!(key in best) || $4 < best[key]) { best[key] = $4; at[key] = $2 }
+      if (!(key in order)) { order[key] = ++n; keys[n] = key }
+    }
+    END { for (i = 1; i <= n; i++) printf "  %-28s %.5f at %6.1f s\n", keys[i], best[keys[i]], at[keys[i]] }' \
+    "$WORK/$name/design/design.csv"
+  cp "$WORK/$name/design/design.csv" "${OUT_DIR:-$WORK}/design-$name.csv" 2>/dev/null || true
+}
+
+run_case focal "$WORK/spot_f30.toml" "$REPO/assets/luminaires/parabolic_spot.toml" reflector.focal_length 60s
+run_case profile "$DESIGNS/revolved_reflector.toml" "$DESIGNS/revolved_cone_start.toml" reflector.profile 120s
