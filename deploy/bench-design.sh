@@ -20,7 +20,7 @@ LUCERNA=${LUCERNA:-$REPO/target/debug/lucerna}
 TARGET_PHOTONS=${TARGET_PHOTONS:-30000000}
 WORK=$(mktemp -d -t lucerna-bench-design.XXXXXX)
 trap 'rm -rf "$WORK"' EXIT
-DESIGNS=$REPO/assets/luminaires/design
+DESIGNS=$REPO/assets/designs
 sed 's/focal_length = 0.025/focal_length = 0.03/' "$REPO/assets/luminaires/parabolic_spot.toml" > "$WORK/spot_f30.toml"
 
 run_case() { # name hidden start vary time
