@@ -11,7 +11,7 @@
 //! 0.30), so it is `--least-squares`, not the default. argmin has no
 //! Levenberg–Marquardt; the step is a 6 × 6 solve.
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use lucerna_scene::Scene;
@@ -46,20 +46,8 @@ struct Run<'a> {
 
 impl Run<'_> {
     fn halted(&self) -> Option<Stopped> {
-        if self.interrupt.load(Ordering::Relaxed) {
-            return Some(Stopped::Interrupted);
-        }
-        if self.began.elapsed() >= self.budget.time {
-            return Some(Stopped::Time);
-        }
-        if self
-            .budget
-            .evaluations
-            .is_some_and(|n| self.history.len() as u64 >= n)
-        {
-            return Some(Stopped::Evaluations);
-        }
-        None
+        self.budget
+            .spent(self.began, self.history.len(), self.interrupt)
     }
 
     fn values(&self, x: &[f64]) -> Vec<f64> {

@@ -483,20 +483,9 @@ fn ugr(spec: &Spec, table: &CandelaTable, lamp_flux_lm: f64, opening: &Dimension
 /// on each γ segment, trapezoidal weights in C, as `CandelaTable` reads a
 /// table.
 fn sphere_integral_of_square(grid: &CandelaTable, value: impl Fn(usize) -> f64) -> f64 {
-    let c = &grid.c_planes_deg;
     let g = &grid.gammas_deg;
-    let (nc, ng) = (c.len(), g.len());
-    let weights: Vec<f64> = if nc == 1 {
-        vec![std::f64::consts::TAU]
-    } else {
-        (0..nc)
-            .map(|i| {
-                let next = (c[(i + 1) % nc] - c[i]).rem_euclid(360.0);
-                let prev = (c[i] - c[(i + nc - 1) % nc]).rem_euclid(360.0);
-                0.5 * (next + prev).to_radians()
-            })
-            .collect()
-    };
+    let ng = g.len();
+    let weights = grid.c_weights();
     let mut total = 0.0;
     for (i, w) in weights.iter().enumerate() {
         let mut plane = 0.0;

@@ -35,6 +35,21 @@ pub struct Budget {
 }
 
 impl Budget {
+    /// Why a design that began at `began` and has traced `traced`
+    /// candidates must stop now, if it must.
+    pub fn spent(&self, began: Instant, traced: usize, interrupt: &AtomicBool) -> Option<Stopped> {
+        if interrupt.load(Ordering::Relaxed) {
+            return Some(Stopped::Interrupted);
+        }
+        if began.elapsed() >= self.time {
+            return Some(Stopped::Time);
+        }
+        if self.evaluations.is_some_and(|n| traced as u64 >= n) {
+            return Some(Stopped::Evaluations);
+        }
+        None
+    }
+
     /// The photons of the last stage.
     pub fn last_stage_photons(&self) -> u64 {
         self.max_photons
@@ -127,17 +142,8 @@ impl Loop<'_> {
     }
 
     fn halt(&self) -> Option<Stopped> {
-        if self.interrupt.load(Ordering::Relaxed) {
-            return Some(Stopped::Interrupted);
-        }
-        if self.began.elapsed() >= self.budget.time {
-            return Some(Stopped::Time);
-        }
-        let done = self.history.borrow().len() as u64;
-        if self.budget.evaluations.is_some_and(|n| done >= n) {
-            return Some(Stopped::Evaluations);
-        }
-        None
+        self.budget
+            .spent(self.began, self.history.borrow().len(), self.interrupt)
     }
 
     /// The merit of normalised parameters `x`; a candidate outside the

@@ -237,7 +237,7 @@ impl CandelaTable {
 
     /// Weight (rad) of each C-plane in the integral over C: half the angle
     /// to each neighbour, around the circle.
-    fn c_weights(&self) -> Vec<f64> {
+    pub fn c_weights(&self) -> Vec<f64> {
         let c = &self.c_planes_deg;
         let n = c.len();
         if n == 1 {
