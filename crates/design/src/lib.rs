@@ -16,6 +16,7 @@ pub mod evaluate;
 pub mod least_squares;
 pub mod merit;
 pub mod optimise;
+pub mod outcome;
 pub mod output;
 pub mod picture;
 pub mod target;

@@ -8,17 +8,16 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use lucerna_photometry::{CandelaTable, CubeMapLayout, IntensityMap};
+use lucerna_photometry::{CubeMapLayout, IntensityMap};
 use lucerna_scene::{Scene, parse_scene};
 use lucerna_simulation::{
     BackendRequest, ExportFormats, ExportOptions, ExportRequest, Luminaire, SimulationSettings,
     StoppingRule,
 };
-use serde::Serialize;
 use toml_edit::{Array, DocumentMut, Item, Value};
 
 use crate::evaluate::Evaluator;
-use crate::merit::TermStatus;
+pub use crate::outcome::Outcome;
 use crate::variables::{Place, Variable};
 use crate::{Design, DesignError, Target};
 
@@ -30,24 +29,6 @@ const DECIMALS: i32 = 9;
 pub fn rounded(_variables: &[Variable], values: &[f64]) -> Vec<f64> {
     let k = 10f64.powi(DECIMALS);
     values.iter().map(|v| (v * k).round() / k).collect()
-}
-
-/// What a design ends with, besides its files.
-#[derive(Debug, Clone, Serialize)]
-pub struct Outcome {
-    /// The relative L2 difference on the sphere between the bake's table
-    /// and the target distribution (distribution targets).
-    pub remaining_difference: Option<f64>,
-    /// The same, of the start scene baked alike.
-    pub start_difference: Option<f64>,
-    /// Each spec term, met or missed by how much (spec targets).
-    pub terms: Vec<TermStatus>,
-    /// Photons of the final bake.
-    pub photons: u64,
-    #[serde(skip)]
-    pub table: CandelaTable,
-    #[serde(skip)]
-    pub start_table: CandelaTable,
 }
 
 /// The designed scene's file: the start's text with each varied value

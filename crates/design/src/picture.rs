@@ -5,7 +5,7 @@
 use lucerna_photometry::CandelaTable;
 use lucerna_pictures::canvas::{BLACK, Canvas, Colour, WHITE};
 
-use crate::output::Outcome;
+use crate::outcome::Outcome;
 use crate::{Design, Target};
 
 const W: u32 = 1500;

@@ -252,7 +252,7 @@ impl AngleNoise {
     pub fn of_map(
         layout: CubeMapLayout,
         candela_per_texel: &[f64],
-        noise: Option<crate::gamma_grid::PhotonNoise>,
+        noise: Option<crate::noise::PhotonNoise>,
     ) -> AngleNoise {
         let Some(noise) = noise else {
             return AngleNoise::default();

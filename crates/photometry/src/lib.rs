@@ -13,10 +13,12 @@ pub mod ies;
 pub mod intensity_map;
 pub mod ldt;
 pub mod limits;
+pub mod noise;
 pub mod photometry;
 pub mod resample;
 pub mod symmetry;
 pub mod table;
+pub mod tabulate;
 pub mod text;
 
 pub use cubemap::{CubeFace, CubeMapLayout};

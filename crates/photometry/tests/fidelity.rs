@@ -12,8 +12,8 @@ use lucerna_photometry::CubeMapLayout;
 use lucerna_photometry::cubemap::CubeFace;
 use lucerna_photometry::fidelity::{CONE_HALF_ANGLES_DEG, FidelityTargets};
 use lucerna_photometry::gamma_grid::{LATTICE_STEP_DEG, PhotonNoise};
-use lucerna_photometry::resample::{GammaGrid, MAX_AUTOMATIC_GAMMAS, TableResampler};
 use lucerna_photometry::table::{angles, uniform_c_planes};
+use lucerna_photometry::tabulate::{GammaGrid, MAX_AUTOMATIC_GAMMAS, TableResampler};
 
 const PEAK_CD: f64 = 1e5;
 const FLOOR_CD: f64 = 1.0;

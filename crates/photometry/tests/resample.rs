@@ -6,9 +6,10 @@
 use lucerna_photometry::cubemap::rectangle_solid_angle;
 use lucerna_photometry::fidelity::{FidelityTargets, map_intensity_bilinear};
 use lucerna_photometry::resample::{
-    CellBinning, GammaGrid, TableResampler, gamma_cell_edges, histopolated, table_from_cube_map,
+    CellBinning, gamma_cell_edges, histopolated, table_from_cube_map,
 };
 use lucerna_photometry::table::{angles, uniform_c_planes, uniform_gammas};
+use lucerna_photometry::tabulate::{GammaGrid, TableResampler};
 use lucerna_photometry::{CandelaTable, CubeMapLayout};
 
 /// The cell integral by brute force (the definition).
@@ -172,7 +173,7 @@ fn the_automatic_grid_refines_until_the_beam_holds() {
     assert_eq!(shape.angles, g.len());
     assert!(shape.finest_step_deg < 2.5, "{shape:?}");
     assert_eq!(shape.coarsest_step_deg, 5.0);
-    assert!(g.len() <= lucerna_photometry::resample::MAX_AUTOMATIC_GAMMAS);
+    assert!(g.len() <= lucerna_photometry::tabulate::MAX_AUTOMATIC_GAMMAS);
     assert!(
         g.windows(2).all(|w| w[0] >= 4.0 || w[1] - w[0] <= 1.25),
         "{g:?}"

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use lucerna_photometry::fidelity::TableFidelity;
-use lucerna_photometry::resample::TableResampler;
+use lucerna_photometry::tabulate::TableResampler;
 use lucerna_photometry::{
     CPlaneSymmetry, CandelaTable, Dimensions, Format, IesVersion, LampSet, Metadata, Photometry,
     TexelSymmetry, to_latin1, write_ies, write_ldt,

@@ -8,8 +8,8 @@ use lucerna_gpu::{BackendRequest, GpuContext};
 use lucerna_photometry::fidelity::FidelityTargets;
 use lucerna_photometry::figures::ZONES_DEG;
 use lucerna_photometry::gamma_grid::PhotonNoise;
-use lucerna_photometry::resample::{GammaGrid, ResampledTable, TableResampler};
 use lucerna_photometry::table::uniform_c_planes;
+use lucerna_photometry::tabulate::{GammaGrid, ResampledTable, TableResampler};
 use lucerna_photometry::{AxialSymmetry, CubeMapLayout, IntensityMap, TexelSymmetry, figures};
 use lucerna_tracer::gpu::GpuTracer;
 use lucerna_tracer::session::{

@@ -230,7 +230,7 @@ fn the_spots_files_carry_the_maps_photometry_on_the_automatic_grid() {
             fidelity.gamma_grid.angles,
             "{name}"
         );
-        assert!(table.gammas_deg.len() <= lucerna_photometry::resample::MAX_AUTOMATIC_GAMMAS);
+        assert!(table.gammas_deg.len() <= lucerna_photometry::tabulate::MAX_AUTOMATIC_GAMMAS);
         let flux = table.flux_lm();
         assert!(
             (flux / map.flux_lm - 1.0).abs() < 0.0005,

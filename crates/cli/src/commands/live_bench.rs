@@ -12,8 +12,8 @@ use anyhow::Result;
 use lucerna_filter::Threshold;
 use lucerna_photometry::fidelity::FidelityTargets;
 use lucerna_photometry::gamma_grid::PhotonNoise;
-use lucerna_photometry::resample::{GammaGrid, TableResampler};
 use lucerna_photometry::table::uniform_c_planes;
+use lucerna_photometry::tabulate::{GammaGrid, TableResampler};
 use lucerna_photometry::{AxialSymmetry, TexelSymmetry, figures};
 use lucerna_simulation::{
     BackendRequest, LiveFilter, Luminaire, Run, SimulationSettings, StoppingRule,
