@@ -8,7 +8,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use lucerna_photometry::{CubeMapLayout, IntensityMap};
+use lucerna_photometry::IntensityMap;
 use lucerna_scene::{Scene, parse_scene};
 use lucerna_simulation::{
     BackendRequest, ExportFormats, ExportOptions, ExportRequest, Luminaire, SimulationSettings,
@@ -247,9 +247,4 @@ pub fn write(files: &[(PathBuf, Vec<u8>)]) -> Result<(), DesignError> {
         path: path.display().to_string(),
         source,
     })
-}
-
-/// The layout candidates are traced at (for tests and benches).
-pub fn layout(design: &Design) -> CubeMapLayout {
-    CubeMapLayout::new(design.resolution)
 }

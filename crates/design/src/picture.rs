@@ -8,6 +8,9 @@ use lucerna_pictures::canvas::{BLACK, Canvas, Colour, WHITE};
 use crate::outcome::Outcome;
 use crate::{Design, Target};
 
+/// A curve drawn: its table, colour, legend name and line width.
+type Curve<'a> = (&'a CandelaTable, Colour, &'a str, f32);
+
 const W: u32 = 1500;
 const H: u32 = 540;
 const PANEL: f32 = 500.0;
@@ -39,7 +42,7 @@ pub fn design_png(design: &Design, outcome: &Outcome) -> Result<Vec<u8>, image::
     let start = outcome.start_table.scaled(scale_to(&outcome.start_table));
     // The target drawn wide beneath the design, so both show where they
     // agree.
-    let mut curves: Vec<(&CandelaTable, Colour, &str, f32)> = vec![(&start, START, "start", 2.0)];
+    let mut curves: Vec<Curve> = vec![(&start, START, "start", 2.0)];
     if let Some(t) = target {
         curves.push((t, TARGET, "target", 5.0));
     }
@@ -121,17 +124,23 @@ fn axes(c: &mut Canvas, x0: f32, y0: f32, w: f32, h: f32) {
     c.line(x0, y0 + h, x0 + w, y0 + h, 1.0, BLACK);
 }
 
-/// The C0-C180 plane in polar form: γ from nadir, down the page.
-fn polar_panel(c: &mut Canvas, left: f32, curves: &[(&CandelaTable, Colour, &str, f32)]) {
-    title(c, left, "Polar, C0-C180 (cd)");
-    let (cx, cy, radius) = (left + 0.5 * PANEL, 80.0f32, PANEL * 0.42);
+/// The highest peak of the curves (cd), if any holds light: both
+/// diagrams share one scale.
+fn highest_peak(curves: &[Curve]) -> Option<f64> {
     let peak = curves
         .iter()
         .map(|(t, _, _, _)| t.peak().0)
         .fold(0.0, f64::max);
-    if !(peak > 0.0) {
+    (peak > 0.0).then_some(peak)
+}
+
+/// The C0-C180 plane in polar form: γ from nadir, down the page.
+fn polar_panel(c: &mut Canvas, left: f32, curves: &[Curve]) {
+    title(c, left, "Polar, C0-C180 (cd)");
+    let (cx, cy, radius) = (left + 0.5 * PANEL, 80.0f32, PANEL * 0.42);
+    let Some(peak) = highest_peak(curves) else {
         return;
-    }
+    };
     for k in 1..=4 {
         let r = radius * k as f32 / 4.0;
         let ring: Vec<(f32, f32)> = (0..=180)
@@ -168,17 +177,13 @@ fn polar_panel(c: &mut Canvas, left: f32, curves: &[(&CandelaTable, Colour, &str
 }
 
 /// I(γ) in C0 from nadir to where the light ends (at least 10°).
-fn cartesian_panel(c: &mut Canvas, left: f32, curves: &[(&CandelaTable, Colour, &str, f32)]) {
+fn cartesian_panel(c: &mut Canvas, left: f32, curves: &[Curve]) {
     title(c, left, "Cartesian, C0 (cd against γ)");
     let (x0, y0, w, h) = (left + 60.0, 50.0f32, PANEL - 90.0, H as f32 - 110.0);
     axes(c, x0, y0, w, h);
-    let peak = curves
-        .iter()
-        .map(|(t, _, _, _)| t.peak().0)
-        .fold(0.0, f64::max);
-    if !(peak > 0.0) {
+    let Some(peak) = highest_peak(curves) else {
         return;
-    }
+    };
     // The widest angle where any curve holds 0.5 % of the peak.
     let reach = curves
         .iter()
@@ -216,7 +221,7 @@ fn cartesian_panel(c: &mut Canvas, left: f32, curves: &[(&CandelaTable, Colour, 
     }
 }
 
-fn legend(c: &mut Canvas, x: f32, y: f32, curves: &[(&CandelaTable, Colour, &str, f32)]) {
+fn legend(c: &mut Canvas, x: f32, y: f32, curves: &[Curve]) {
     let mut at = x;
     for (_, colour, name, _) in curves {
         c.line(at, y, at + 24.0, y, 3.0, *colour);
