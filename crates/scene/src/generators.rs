@@ -188,10 +188,16 @@ pub(crate) fn disk(radius: f64, z: f64, segments_around: u32, normal: DVec3) -> 
 
 /// A planar quad whose winding is made to agree with `normal`.
 pub(crate) fn oriented_quad(corners: [DVec3; 4], normal: DVec3) -> TriangleMesh {
+    quad(oriented_corners(corners, normal), normal)
+}
+
+/// A planar quad's corners in the order whose winding agrees with
+/// `normal` (counter-clockwise seen from where it points).
+pub(crate) fn oriented_corners(corners: [DVec3; 4], normal: DVec3) -> [DVec3; 4] {
     let g = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
     if g.dot(normal) < 0.0 {
-        quad([corners[0], corners[3], corners[2], corners[1]], normal)
+        [corners[0], corners[3], corners[2], corners[1]]
     } else {
-        quad(corners, normal)
+        corners
     }
 }

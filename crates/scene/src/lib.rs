@@ -5,6 +5,7 @@
 //! Units: metres, lumens, degrees at the file boundary. Luminaire
 //! coordinates are right-handed with z up; the photometric axis points down.
 
+pub mod exact;
 pub mod file;
 pub mod generators;
 pub mod mesh;
@@ -24,5 +25,7 @@ pub use file::{
 pub use mesh::{MeshDefect, TriangleMesh};
 pub use model::*;
 pub use shapes::ShapeGenerator;
-pub use tessellate::{SurfaceKind, TessellateError, TessellatedScene, emitter_mesh, tessellate};
+pub use tessellate::{
+    SurfaceKind, TessellateError, TessellatedScene, emitter_exact, emitter_mesh, tessellate,
+};
 pub use validate::{Invalid, Validation, validate, validation};

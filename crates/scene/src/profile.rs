@@ -3,6 +3,7 @@
 
 use glam::DVec2;
 
+use crate::exact::ProfileCurve;
 use crate::model::Interpolation;
 
 /// A point on a profile with its tangent along increasing parameter.
@@ -115,6 +116,52 @@ pub fn sample_profile(
                 |s| evaluate(&points, interpolation, s).0,
                 |s| evaluate(&points, interpolation, s).1,
             )]
+        }
+    }
+}
+
+/// The profile as the curves [`sample_profile`] samples: a segment per
+/// span for straight segments, a cubic Bézier per span for Catmull-Rom
+/// (a uniform Catmull-Rom span is exactly that cubic).
+pub fn exact_profile(points: &[[f64; 2]], interpolation: Interpolation) -> Vec<ProfileCurve> {
+    let points: Vec<DVec2> = points.iter().map(|&p| DVec2::from_array(p)).collect();
+    (0..points.len().saturating_sub(1))
+        .map(|i| match interpolation {
+            Interpolation::Linear => ProfileCurve::Line {
+                from: points[i],
+                to: points[i + 1],
+            },
+            Interpolation::CatmullRom => {
+                let [p0, p1, p2, p3] = span_controls(&points, i);
+                ProfileCurve::Cubic {
+                    points: [p1, p1 + (p2 - p0) / 6.0, p2 - (p3 - p1) / 6.0, p2],
+                }
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exact_profile_is_the_sampled_spline() {
+        let points = [[0.004, 0.02], [0.01, 0.015], [0.03, 0.0], [0.05, -0.03]];
+        let dpoints: Vec<DVec2> = points.iter().map(|&p| DVec2::from_array(p)).collect();
+        for interpolation in [Interpolation::Linear, Interpolation::CatmullRom] {
+            let curves = exact_profile(&points, interpolation);
+            assert_eq!(curves.len(), 3);
+            for (i, c) in curves.iter().enumerate() {
+                for k in 0..=20 {
+                    let t = f64::from(k) / 20.0;
+                    let (want, _) = evaluate(&dpoints, interpolation, i as f64 + t);
+                    assert!(
+                        c.point(t).distance(want) < 1e-15,
+                        "{interpolation:?} span {i}"
+                    );
+                }
+            }
         }
     }
 }

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec2;
 
+use crate::exact::{ExactSurface, elliptic_arc};
 use crate::generators::revolve;
 use crate::mesh::{MeshDefect, TriangleMesh};
 use crate::model::{EmitterShape, Material, Scene};
@@ -130,6 +131,23 @@ pub fn emitter_mesh(shape: &EmitterShape) -> TriangleMesh {
     }
     emitter_shape(shape)
         .and_then(|g| g.generate())
+        .unwrap_or_default()
+}
+
+/// The emitter's exact surface in its local frame (metres), for CAD
+/// export: what [`emitter_mesh`] samples.
+pub fn emitter_exact(shape: &EmitterShape) -> Vec<ExactSurface> {
+    if let EmitterShape::Sphere { radius } = *shape {
+        return vec![ExactSurface::Revolution(elliptic_arc(
+            0.0,
+            radius,
+            radius,
+            0.0,
+            std::f64::consts::PI,
+        ))];
+    }
+    emitter_shape(shape)
+        .and_then(|g| g.exact())
         .unwrap_or_default()
 }
 

@@ -6,6 +6,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
+use lucerna_scene::exact::{ExactSurface, ProfileCurve};
 use lucerna_scene::shapes::{
     BoxShape, Cylinder, Disk, Dome, Ellipsoid, Extruded, Louvre, Mesh, Paraboloid, Plate, Revolved,
 };
@@ -413,5 +414,93 @@ fn triangle_count_bounds_the_generated_mesh_closely() {
             generated <= counted && counted <= generated + generated / 10,
             "{shape:?}: generates {generated}, counts {counted}"
         );
+    }
+}
+
+/// Distance from `p` (metres, part frame) to one exact surface, sampling
+/// curves densely enough that the chord error is far below f32 rounding.
+fn distance_to_exact(surface: &ExactSurface, p: glam::DVec3) -> f64 {
+    let to_curves = |curves: &[ProfileCurve], q: glam::DVec2| {
+        let mut best = f64::INFINITY;
+        for c in curves {
+            const N: usize = 4000;
+            let mut a = c.point(0.0);
+            for i in 1..=N {
+                let b = c.point(i as f64 / N as f64);
+                let ab = b - a;
+                let t = ((q - a).dot(ab) / ab.length_squared().max(1e-300)).clamp(0.0, 1.0);
+                best = best.min(q.distance(a + ab * t));
+                a = b;
+            }
+        }
+        best
+    };
+    match surface {
+        ExactSurface::Revolution(curves) => {
+            to_curves(curves, glam::DVec2::new(p.x.hypot(p.y), p.z))
+        }
+        ExactSurface::Extrusion {
+            profile, length, ..
+        } => {
+            let off_ends = (p.y.abs() - 0.5 * length).max(0.0);
+            to_curves(profile, glam::DVec2::new(p.x, p.z)).hypot(off_ends)
+        }
+        ExactSurface::Disk { radius, z } => {
+            (p.z - z).abs().hypot((p.x.hypot(p.y) - radius).max(0.0))
+        }
+        ExactSurface::Polygon(corners) => {
+            let n = (corners[1] - corners[0])
+                .cross(corners[2] - corners[0])
+                .normalize();
+            let (lo, hi) = corners
+                .iter()
+                .fold((corners[0], corners[0]), |(lo, hi), c| {
+                    (lo.min(*c), hi.max(*c))
+                });
+            let outside = (lo - p).max(p - hi).max(glam::DVec3::ZERO).length();
+            (p - corners[0]).dot(n).abs().hypot(outside)
+        }
+    }
+}
+
+#[test]
+fn every_tessellation_vertex_lies_on_the_shapes_exact_surface() {
+    let mut checked = 0;
+    for shape in examples_and_variants() {
+        let generator = shape.generator();
+        let Some(exact) = generator.exact() else {
+            continue;
+        };
+        let mesh = generator.generate().unwrap();
+        let scale = mesh
+            .positions
+            .iter()
+            .map(|p| p.abs().max_element())
+            .fold(0.0f32, f32::max) as f64;
+        for p in &mesh.positions {
+            let p = p.as_dvec3();
+            let d = exact
+                .iter()
+                .map(|s| distance_to_exact(s, p))
+                .fold(f64::INFINITY, f64::min);
+            // f32 positions: a few ulps of the shape's extent.
+            assert!(d <= 4e-7 * scale, "{shape:?}: vertex {p} is {d} m off");
+        }
+        checked += 1;
+    }
+    assert!(checked >= 10, "only {checked} shapes have exact surfaces");
+}
+
+#[test]
+fn faceted_shapes_and_meshes_have_no_exact_surface_but_their_facets() {
+    for shape in examples_and_variants() {
+        let faceted = match &shape {
+            Shape::Paraboloid(s) => s.faceted,
+            Shape::Ellipsoid(s) => s.faceted,
+            Shape::Revolved(s) => s.faceted,
+            Shape::Mesh(_) => true,
+            _ => false,
+        };
+        assert_eq!(shape.generator().exact().is_none(), faceted, "{shape:?}");
     }
 }

@@ -5,7 +5,8 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::ShapeGenerator;
-use crate::generators::oriented_quad;
+use crate::exact::ExactSurface;
+use crate::generators::{oriented_corners, oriented_quad};
 use crate::mesh::TriangleMesh;
 use crate::validate::{Checker, FieldPath, MAX_LENGTH_M};
 
@@ -41,8 +42,25 @@ impl ShapeGenerator for BoxShape {
     }
 
     fn generate(&self) -> Option<TriangleMesh> {
-        let half = DVec3::from_array(self.size) * 0.5;
         let mut mesh = TriangleMesh::default();
+        for (corners, normal) in self.faces() {
+            mesh.append(&oriented_quad(corners, normal));
+        }
+        Some(mesh)
+    }
+
+    fn exact(&self) -> Option<Vec<ExactSurface>> {
+        let polygon =
+            |(corners, normal)| ExactSurface::Polygon(oriented_corners(corners, normal).to_vec());
+        Some(self.faces().into_iter().map(polygon).collect())
+    }
+}
+
+impl BoxShape {
+    /// Each face's corners and outward normal.
+    fn faces(&self) -> Vec<([DVec3; 4], DVec3)> {
+        let half = DVec3::from_array(self.size) * 0.5;
+        let mut faces = Vec::with_capacity(6);
         for axis in 0..3 {
             for sign in [-1.0, 1.0] {
                 if axis == 2 && sign < 0.0 && self.open_bottom {
@@ -64,9 +82,9 @@ impl ShapeGenerator for BoxShape {
                     corner(1.0, 1.0),
                     corner(-1.0, 1.0),
                 ];
-                mesh.append(&oriented_quad(corners, normal));
+                faces.push((corners, normal));
             }
         }
-        Some(mesh)
+        faces
     }
 }

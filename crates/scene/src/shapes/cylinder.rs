@@ -4,6 +4,7 @@ use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 
 use super::ShapeGenerator;
+use crate::exact::{ExactSurface, ProfileCurve};
 use crate::generators::{disk, revolve};
 use crate::mesh::TriangleMesh;
 use crate::profile::sample_curve;
@@ -69,5 +70,20 @@ impl ShapeGenerator for Cylinder {
             mesh.append(&disk(radius, -h, segments_around, DVec3::NEG_Z));
         }
         Some(mesh)
+    }
+
+    fn exact(&self) -> Option<Vec<ExactSurface>> {
+        let (radius, h) = (self.radius, 0.5 * self.height);
+        let mut surfaces = vec![ExactSurface::Revolution(vec![ProfileCurve::Line {
+            from: DVec2::new(radius, -h),
+            to: DVec2::new(radius, h),
+        }])];
+        if self.cap_top {
+            surfaces.push(ExactSurface::Disk { radius, z: h });
+        }
+        if self.cap_bottom {
+            surfaces.push(ExactSurface::Disk { radius, z: -h });
+        }
+        Some(surfaces)
     }
 }

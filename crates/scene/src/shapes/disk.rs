@@ -4,6 +4,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::ShapeGenerator;
+use crate::exact::ExactSurface;
 use crate::generators::disk;
 use crate::mesh::TriangleMesh;
 use crate::validate::{Checker, FieldPath};
@@ -34,5 +35,12 @@ impl ShapeGenerator for Disk {
 
     fn generate(&self) -> Option<TriangleMesh> {
         Some(disk(self.radius, 0.0, self.segments_around, DVec3::NEG_Z))
+    }
+
+    fn exact(&self) -> Option<Vec<ExactSurface>> {
+        Some(vec![ExactSurface::Disk {
+            radius: self.radius,
+            z: 0.0,
+        }])
     }
 }

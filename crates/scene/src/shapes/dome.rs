@@ -4,6 +4,7 @@ use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
 use super::ShapeGenerator;
+use crate::exact::{ExactSurface, elliptic_arc};
 use crate::generators::{revolution_triangle_count, revolve};
 use crate::mesh::TriangleMesh;
 use crate::profile::sample_curve;
@@ -66,5 +67,13 @@ impl ShapeGenerator for Dome {
             |phi| DVec2::new(phi.cos(), -phi.sin()),
         );
         Some(revolve(&[strip], self.segments_around, false))
+    }
+
+    fn exact(&self) -> Option<Vec<ExactSurface>> {
+        let (radius, centre_z) = (self.radius, self.height - self.radius);
+        let phi_rim = ((-centre_z) / radius).clamp(-1.0, 1.0).acos();
+        Some(vec![ExactSurface::Revolution(elliptic_arc(
+            centre_z, radius, radius, 0.0, phi_rim,
+        ))])
     }
 }

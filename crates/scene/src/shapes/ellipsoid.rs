@@ -4,6 +4,7 @@ use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
 use super::ShapeGenerator;
+use crate::exact::{ExactSurface, elliptic_arc};
 use crate::generators::{revolution_triangle_count, revolve};
 use crate::mesh::TriangleMesh;
 use crate::profile::sample_curve;
@@ -100,6 +101,18 @@ impl ShapeGenerator for Ellipsoid {
             |t| DVec2::new(e.b * t.cos(), -e.a * t.sin()),
         );
         Some(revolve(&[strip], self.segments_around, self.faceted))
+    }
+
+    fn exact(&self) -> Option<Vec<ExactSurface>> {
+        if self.faceted {
+            return None;
+        }
+        let e = Ellipse::new(self.focal_distance, self.vertex_distance);
+        let t0 = e.parameter_at_radius(0.5 * self.neck_diameter);
+        let t1 = e.parameter_at_z(-self.cut_below_focus);
+        Some(vec![ExactSurface::Revolution(elliptic_arc(
+            e.centre_z, e.a, e.b, t0, t1,
+        ))])
     }
 }
 

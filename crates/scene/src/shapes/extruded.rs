@@ -4,10 +4,11 @@ use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 
 use super::ShapeGenerator;
+use crate::exact::ExactSurface;
 use crate::generators::{profile_normal, push_flat, repaired};
 use crate::mesh::TriangleMesh;
 use crate::model::Interpolation;
-use crate::profile::{Strip, sample_profile};
+use crate::profile::{Strip, exact_profile, sample_profile};
 use crate::validate::{Checker, FieldPath};
 
 /// A profile `[x, z]` extruded along y over `length` (centred), for
@@ -62,6 +63,14 @@ impl ShapeGenerator for Extruded {
             self.length,
             self.end_caps,
         ))
+    }
+
+    fn exact(&self) -> Option<Vec<ExactSurface>> {
+        Some(vec![ExactSurface::Extrusion {
+            profile: exact_profile(&self.profile, self.interpolation),
+            length: self.length,
+            end_caps: self.end_caps,
+        }])
     }
 }
 

@@ -4,7 +4,8 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::ShapeGenerator;
-use crate::generators::oriented_quad;
+use crate::exact::ExactSurface;
+use crate::generators::{oriented_corners, oriented_quad};
 use crate::mesh::TriangleMesh;
 use crate::validate::{Checker, FieldPath, MAX_SEGMENTS};
 
@@ -75,9 +76,26 @@ impl ShapeGenerator for Louvre {
     /// Blades are thin two-sided sheets; their normals face +x (cross
     /// blades +y) before tilting.
     fn generate(&self) -> Option<TriangleMesh> {
+        let mut mesh = TriangleMesh::default();
+        for (corners, normal) in self.blades() {
+            mesh.append(&oriented_quad(corners, normal));
+        }
+        Some(mesh)
+    }
+
+    fn exact(&self) -> Option<Vec<ExactSurface>> {
+        let polygon =
+            |(corners, normal)| ExactSurface::Polygon(oriented_corners(corners, normal).to_vec());
+        Some(self.blades().into_iter().map(polygon).collect())
+    }
+}
+
+impl Louvre {
+    /// Each blade's corners and the side its normal faces.
+    fn blades(&self) -> Vec<([DVec3; 4], DVec3)> {
         let (blade_count, spacing) = (self.blade_count, self.spacing);
         let (blade_height, cross_blade_count) = (self.blade_height, self.cross_blade_count);
-        let mut mesh = TriangleMesh::default();
+        let mut blades = Vec::new();
         let hl = 0.5 * self.blade_length;
         let hh = 0.5 * blade_height;
         let (st, ct) = self.tilt_deg.to_radians().sin_cos();
@@ -87,7 +105,7 @@ impl ShapeGenerator for Louvre {
             let at = |dz: f64, y: f64| DVec3::new(x - dz * st, y, -hh + dz * ct);
             let normal = DVec3::new(ct, 0.0, st);
             let corners = [at(-hh, -hl), at(-hh, hl), at(hh, hl), at(hh, -hl)];
-            mesh.append(&oriented_quad(corners, normal));
+            blades.push((corners, normal));
         }
         let span_x = f64::from(blade_count.saturating_sub(1)) * spacing;
         for k in 0..cross_blade_count {
@@ -99,8 +117,8 @@ impl ShapeGenerator for Louvre {
                 DVec3::new(hx, y, 0.0),
                 DVec3::new(-hx, y, 0.0),
             ];
-            mesh.append(&oriented_quad(corners, DVec3::Y));
+            blades.push((corners, DVec3::Y));
         }
-        Some(mesh)
+        blades
     }
 }

@@ -31,6 +31,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use crate::exact::ExactSurface;
 pub use crate::generators::revolution_triangle_count;
 use crate::mesh::TriangleMesh;
 use crate::obj::LoadObjError;
@@ -81,6 +82,14 @@ pub trait ShapeGenerator {
     /// `None` for a shape whose triangles come from a file ([`Mesh`]).
     /// Parameters must have passed [`ShapeGenerator::validate`].
     fn generate(&self) -> Option<TriangleMesh>;
+
+    /// The exact surfaces [`ShapeGenerator::generate`] samples, in the
+    /// part's frame (metres), for CAD export; `None` where the triangles
+    /// are the surface (faceted shapes, meshes from files). Parameters
+    /// must have passed [`ShapeGenerator::validate`].
+    fn exact(&self) -> Option<Vec<ExactSurface>> {
+        None
+    }
 
     /// Every surface of the shape in the part's frame, reading files
     /// relative to `scene_dir`. A generated shape is one surface in the

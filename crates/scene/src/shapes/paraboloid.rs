@@ -4,6 +4,7 @@ use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
 use super::ShapeGenerator;
+use crate::exact::{ExactSurface, parabola};
 use crate::generators::{revolution_triangle_count, revolve};
 use crate::mesh::TriangleMesh;
 use crate::profile::sample_curve;
@@ -73,5 +74,15 @@ impl ShapeGenerator for Paraboloid {
             |r| DVec2::new(1.0, -r / (2.0 * f)),
         );
         Some(revolve(&[strip], self.segments_around, self.faceted))
+    }
+
+    fn exact(&self) -> Option<Vec<ExactSurface>> {
+        (!self.faceted).then(|| {
+            vec![ExactSurface::Revolution(vec![parabola(
+                self.focal_length,
+                0.5 * self.neck_diameter,
+                0.5 * self.aperture_diameter,
+            )])]
+        })
     }
 }

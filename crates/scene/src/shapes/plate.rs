@@ -4,6 +4,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::ShapeGenerator;
+use crate::exact::ExactSurface;
 use crate::generators::quad;
 use crate::mesh::TriangleMesh;
 use crate::validate::{Checker, FieldPath};
@@ -16,6 +17,18 @@ pub struct Plate {
     pub width: f64,
     /// Extent along y (m).
     pub depth: f64,
+}
+
+impl Plate {
+    fn corners(&self) -> [DVec3; 4] {
+        let (hw, hd) = (0.5 * self.width, 0.5 * self.depth);
+        [
+            DVec3::new(-hw, -hd, 0.0),
+            DVec3::new(-hw, hd, 0.0),
+            DVec3::new(hw, hd, 0.0),
+            DVec3::new(hw, -hd, 0.0),
+        ]
+    }
 }
 
 impl ShapeGenerator for Plate {
@@ -33,15 +46,10 @@ impl ShapeGenerator for Plate {
     }
 
     fn generate(&self) -> Option<TriangleMesh> {
-        let (hw, hd) = (0.5 * self.width, 0.5 * self.depth);
-        Some(quad(
-            [
-                DVec3::new(-hw, -hd, 0.0),
-                DVec3::new(-hw, hd, 0.0),
-                DVec3::new(hw, hd, 0.0),
-                DVec3::new(hw, -hd, 0.0),
-            ],
-            DVec3::NEG_Z,
-        ))
+        Some(quad(self.corners(), DVec3::NEG_Z))
+    }
+
+    fn exact(&self) -> Option<Vec<ExactSurface>> {
+        Some(vec![ExactSurface::Polygon(self.corners().to_vec())])
     }
 }

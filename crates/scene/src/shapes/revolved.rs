@@ -3,10 +3,11 @@
 use serde::{Deserialize, Serialize};
 
 use super::ShapeGenerator;
+use crate::exact::ExactSurface;
 use crate::generators::{revolution_triangle_count, revolve};
 use crate::mesh::TriangleMesh;
 use crate::model::Interpolation;
-use crate::profile::sample_profile;
+use crate::profile::{exact_profile, sample_profile};
 use crate::validate::{Checker, FieldPath};
 
 /// A profile `[r, z]` (metres, r ≥ 0) revolved about the z axis.
@@ -67,5 +68,14 @@ impl ShapeGenerator for Revolved {
             self.segments_around,
             self.faceted,
         ))
+    }
+
+    fn exact(&self) -> Option<Vec<ExactSurface>> {
+        (!self.faceted).then(|| {
+            vec![ExactSurface::Revolution(exact_profile(
+                &self.profile,
+                self.interpolation,
+            ))]
+        })
     }
 }
