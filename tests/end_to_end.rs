@@ -684,3 +684,84 @@ fn convert_prints_the_written_files_flux() {
         }
     }
 }
+
+#[test]
+fn export_geometry_writes_every_example_and_refuses_bad_input_writing_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in [
+        "parabolic_spot",
+        "faceted_downlight",
+        "linear_louvre",
+        "obj_cone",
+        "opal_bell",
+    ] {
+        let scene = assets().join(format!("luminaires/{name}.toml"));
+        let out_dir = dir.path().join(name);
+        let out = lucerna(&[
+            "export-geometry",
+            scene.to_str().unwrap(),
+            "--out",
+            out_dir.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{name}: {}", text(&out.stderr));
+        // The same bytes as the library's (and so the editor's) export.
+        let parsed = lucerna_scene::load_scene(&scene).unwrap();
+        let files = lucerna_cad::geometry_files(
+            &parsed,
+            scene.parent().unwrap(),
+            name,
+            &lucerna_cad::GeometryRequest::default(),
+        )
+        .unwrap();
+        for (file, bytes) in files {
+            assert_eq!(std::fs::read(out_dir.join(&file)).unwrap(), bytes, "{file}");
+        }
+    }
+    let spot = assets().join("luminaires/parabolic_spot.toml");
+    let target = dir.path().join("refused");
+    let refused = |args: &[&str], says: &str| {
+        let mut all = vec!["export-geometry"];
+        all.extend_from_slice(args);
+        let out = lucerna(&all);
+        assert!(!out.status.success());
+        let err = text(&out.stderr);
+        assert!(err.contains(says), "{args:?}: {err}");
+        assert!(!target.exists(), "{args:?} wrote {}", target.display());
+    };
+    let spot_path = spot.to_str().unwrap();
+    let target_path = target.to_str().unwrap();
+    refused(
+        &[spot_path, "--out", target_path, "--parts", "reflecter"],
+        "no part or emitter named 'reflecter'",
+    );
+    refused(
+        &[spot_path, "--out", target_path, "--formats", "step,iges"],
+        "unknown geometry format 'iges'",
+    );
+    let broken = dir.path().join("broken.toml");
+    std::fs::write(
+        &broken,
+        std::fs::read_to_string(&spot)
+            .unwrap()
+            .replace("reflectance = 0.9", "reflectance = 1.9"),
+    )
+    .unwrap();
+    refused(
+        &[broken.to_str().unwrap(), "--out", target_path],
+        "reflectance",
+    );
+    let blocker = dir.path().join("a-file");
+    std::fs::write(&blocker, "x").unwrap();
+    let out = lucerna(&[
+        "export-geometry",
+        spot_path,
+        "--out",
+        blocker.join("sub").to_str().unwrap(),
+    ]);
+    assert!(!out.status.success());
+    assert!(
+        text(&out.stderr).contains("cannot write"),
+        "{}",
+        text(&out.stderr)
+    );
+}

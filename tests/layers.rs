@@ -10,6 +10,7 @@ fn data_crates_depend_on_no_gpu_or_ui_crate() {
         "lucerna-photometry",
         "lucerna-pictures",
         "lucerna-datasheet",
+        "lucerna-cad",
     ] {
         assert_free_of(krate, &["wgpu", "egui", "eframe", "naga", "winit"]);
     }

@@ -10,6 +10,7 @@ mod bench;
 mod convert;
 mod design;
 mod edit;
+mod export_geometry;
 mod filter_bench;
 mod info;
 mod live_bench;
@@ -64,6 +65,11 @@ enum Command {
     /// spec), with the photon tracer in the loop: writes the designed
     /// scene, its IES and LDT, design.csv and design.png.
     Design(design::DesignArgs),
+    /// The luminaire's parts for CAD and mesh tools: STEP (AP214) with the
+    /// exact surfaces (profiles revolved and extruded, planes), binary
+    /// STL and OBJ of the traced triangles; millimetres, light towards
+    /// −z, C0 along +x. Written all or none.
+    ExportGeometry(export_geometry::ExportGeometryArgs),
     /// Trace a luminaire and write IES (LM-63-2019), LDT, the raw map as
     /// EXR, a false-colour cube map PNG and a polar diagram PNG.
     ///
@@ -129,6 +135,7 @@ pub fn run(cli: Cli) -> Result<()> {
             }
             Ok(())
         }
+        Command::ExportGeometry(args) => export_geometry::export_geometry(&args),
         Command::Render(args) => render::render(&args),
         Command::RenderBench(args) => render::render_bench(&args),
         Command::NearFieldEval(args) => near_field::near_field_eval(&args),

@@ -181,6 +181,11 @@ impl EditorApp {
             });
         }
         export_dialog_ui(&ctx, &mut self.state, &mut self.windows.export);
+        crate::geometry_dialog::geometry_dialog_ui(
+            &ctx,
+            &mut self.state,
+            &mut self.windows.geometry,
+        );
         if let Some(chosen) = self.state.files.dialogs.prompt_ui(&ctx) {
             self.state.push(chosen);
         }

@@ -17,6 +17,7 @@ pub mod drag_benchmark;
 mod error_text;
 mod export_dialog;
 mod files;
+mod geometry_dialog;
 mod live_run;
 mod menu_bar;
 mod modelling;

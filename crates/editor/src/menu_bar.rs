@@ -17,6 +17,7 @@ use crate::ui_command::UiCommand;
 #[derive(Debug, Default)]
 pub struct Windows {
     pub export: crate::export_dialog::ExportDialog,
+    pub geometry: crate::geometry_dialog::GeometryDialog,
     pub shortcuts: bool,
     pub about: bool,
 }
@@ -36,6 +37,7 @@ pub fn run(command: UiCommand, state: &mut EditorState, windows: &mut Windows, d
         UiCommand::SaveAs => push(state, Command::FileDialog(DialogKind::SaveAs)),
         UiCommand::ImportObj => push(state, Command::FileDialog(DialogKind::ImportMesh)),
         UiCommand::Export => windows.export.open = true,
+        UiCommand::ExportGeometry => windows.geometry.open_fresh(),
         UiCommand::Datasheet => windows.export.open_for_datasheet(),
         UiCommand::Quit => push(state, Command::Quit),
         UiCommand::Undo => push(state, Command::Undo),
@@ -75,6 +77,7 @@ fn enabled(command: UiCommand, state: &EditorState) -> bool {
         UiCommand::Open | UiCommand::SaveAs | UiCommand::ImportObj => dialog_free,
         UiCommand::Save
         | UiCommand::Export
+        | UiCommand::ExportGeometry
         | UiCommand::Datasheet
         | UiCommand::Restart
         | UiCommand::PauseResume => scene,
@@ -122,6 +125,7 @@ pub fn menu_bar_ui(ui: &mut Ui, state: &mut EditorState, windows: &mut Windows, 
             ui.separator();
             item(ui, UiCommand::ImportObj);
             item(ui, UiCommand::Export);
+            item(ui, UiCommand::ExportGeometry);
             item(ui, UiCommand::Datasheet);
             ui.separator();
             item(ui, UiCommand::Quit);

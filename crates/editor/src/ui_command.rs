@@ -13,6 +13,7 @@ pub enum UiCommand {
     SaveAs,
     ImportObj,
     Export,
+    ExportGeometry,
     Datasheet,
     Quit,
     Undo,
@@ -28,13 +29,14 @@ pub enum UiCommand {
 
 impl UiCommand {
     /// In menu order.
-    pub const ALL: [UiCommand; 17] = [
+    pub const ALL: [UiCommand; 18] = [
         UiCommand::New,
         UiCommand::Open,
         UiCommand::Save,
         UiCommand::SaveAs,
         UiCommand::ImportObj,
         UiCommand::Export,
+        UiCommand::ExportGeometry,
         UiCommand::Datasheet,
         UiCommand::Quit,
         UiCommand::Undo,
@@ -57,6 +59,7 @@ impl UiCommand {
             UiCommand::SaveAs => "Save As…",
             UiCommand::ImportObj => "Import OBJ…",
             UiCommand::Export => "Export…",
+            UiCommand::ExportGeometry => "Export geometry…",
             UiCommand::Datasheet => "Datasheet…",
             UiCommand::Quit => "Quit",
             UiCommand::Undo => "Undo",
@@ -80,6 +83,9 @@ impl UiCommand {
             UiCommand::SaveAs => "Save the scene to another file",
             UiCommand::ImportObj => "Add an OBJ file as a mesh part (or drop it on the window)",
             UiCommand::Export => "IES, EULUMDAT, EXR and PNGs of the current result",
+            UiCommand::ExportGeometry => {
+                "The parts for CAD: STEP with exact surfaces, STL and OBJ (millimetres)"
+            }
             UiCommand::Datasheet => {
                 "The photometric datasheet (HTML, PDF, JSON) with the UGR table, as lucerna report writes it"
             }
@@ -118,6 +124,7 @@ impl UiCommand {
             UiCommand::PauseResume => command(Key::P),
             UiCommand::Shortcuts => Some(KeyboardShortcut::new(Modifiers::NONE, Key::F1)),
             UiCommand::ImportObj
+            | UiCommand::ExportGeometry
             | UiCommand::Datasheet
             | UiCommand::Delete
             | UiCommand::Restart

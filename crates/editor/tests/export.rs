@@ -442,3 +442,44 @@ fn the_datasheet_menu_writes_the_reports_bytes() {
         );
     }
 }
+
+#[test]
+fn export_geometry_writes_the_command_lines_bytes_for_the_ticked_parts() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_path = scene_copy(dir.path());
+    let mut h = editor(&scene_path);
+    h.step();
+    let out = dir.path().join("geometry");
+    common::menu(&mut h, "File", "Export geometry…");
+    type_into(&mut h, "Output folder", &out.display().to_string());
+    type_into(&mut h, "Base name", "spot");
+    // The reflector alone, as `--parts reflector`; STEP and OBJ only.
+    click(&mut h, "LED (emitter)");
+    click(&mut h, "STL (traced triangles)");
+    click(&mut h, "Export");
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while h.query_by_label_contains("Wrote ").is_none()
+        && h.query_by_label_contains("Export failed").is_none()
+    {
+        assert!(
+            Instant::now() < deadline,
+            "timed out waiting for the export"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+        h.step();
+    }
+    h.get_by_label("Wrote 2 files:");
+    assert_eq!(names_in(&out), ["spot.obj", "spot.step"]);
+    let scene = lucerna_scene::load_scene(&scene_path).unwrap();
+    let request = lucerna_cad::GeometryRequest {
+        formats: vec![
+            lucerna_cad::GeometryFormat::Step,
+            lucerna_cad::GeometryFormat::Obj,
+        ],
+        parts: Some(vec!["reflector".to_owned()]),
+    };
+    for (name, bytes) in lucerna_cad::geometry_files(&scene, dir.path(), "spot", &request).unwrap()
+    {
+        assert_eq!(std::fs::read(out.join(&name)).unwrap(), bytes, "{name}");
+    }
+}
