@@ -4,7 +4,7 @@
 //! triangles where the traced facets are the surface.
 
 use std::collections::HashMap;
-use std::f64::consts::TAU;
+use std::f64::consts::FRAC_PI_2;
 
 use glam::{DAffine3, DVec2};
 use lucerna_scene::TriangleMesh;
@@ -156,7 +156,10 @@ fn wire(curves: &[ProfileCurve], y: f64) -> Wire {
         .collect()
 }
 
-/// The chain revolved a full turn about z. An end on the axis closes
+/// The chain revolved a full turn about z, as four quarter turns from
+/// C0: the surface's extremes along x and y then lie on face boundaries,
+/// where CAD kernels' bounding boxes are exact (over a whole turn in
+/// thirds OpenCASCADE's box is 1 % too wide). An end on the axis closes
 /// into a pole rather than a circle of no radius (truck's `cone`).
 fn revolution(curves: &[ProfileCurve]) -> Shell {
     let on_axis = |p: DVec2| p.x == 0.0;
@@ -169,16 +172,26 @@ fn revolution(curves: &[ProfileCurve]) -> Shell {
         return revolution(&reversed);
     }
     let profile = wire(curves, 0.0);
-    if start_on {
-        builder::cone(&profile, Vector3::unit_z(), Rad(TAU))
-    } else {
-        builder::rsweep(
+    let mut shell = Shell::new();
+    for quarter in 0..4 {
+        let start = builder::rotated(
             &profile,
             Point3::new(0.0, 0.0, 0.0),
             Vector3::unit_z(),
-            Rad(TAU),
-        )
+            Rad(f64::from(quarter) * FRAC_PI_2),
+        );
+        shell.extend(if start_on {
+            builder::cone(&start, Vector3::unit_z(), Rad(FRAC_PI_2))
+        } else {
+            builder::rsweep(
+                &start,
+                Point3::new(0.0, 0.0, 0.0),
+                Vector3::unit_z(),
+                Rad(FRAC_PI_2),
+            )
+        });
     }
+    shell
 }
 
 /// The profile swept along y over `length`, centred, with its end caps:
@@ -226,16 +239,24 @@ fn encloses_area(profile: &[ProfileCurve]) -> bool {
     (0.5 * twice_area).abs() > 1e-9 * extent * extent
 }
 
-/// A disk about the axis in the plane z = `z` (metres).
+/// A disk about the axis in the plane z = `z` (metres), its rim in
+/// quarter circles from C0 (exact bounding boxes, as for revolutions).
 fn disk(radius: f64, z: f64) -> Result<Face, BrepError> {
-    let rim = builder::vertex(Point3::new(radius, 0.0, z) * MM_PER_M);
-    let circle: Wire = builder::rsweep(
-        &rim,
-        Point3::new(0.0, 0.0, 0.0),
-        Vector3::unit_z(),
-        Rad(TAU),
-    );
-    builder::try_attach_plane(&[circle]).map_err(|e| BrepError::Plane(e.to_string()))
+    let at = |angle: f64| Point3::new(radius * angle.cos(), radius * angle.sin(), z) * MM_PER_M;
+    let corners: Vec<Vertex> = (0..4)
+        .map(|k| builder::vertex(at(f64::from(k) * FRAC_PI_2)))
+        .collect();
+    let rim: Wire = (0..4)
+        .map(|k| {
+            let transit = at((f64::from(k) + 0.5) * FRAC_PI_2);
+            builder::circle_arc(
+                &corners[k as usize],
+                &corners[(k as usize + 1) % 4],
+                transit,
+            )
+        })
+        .collect();
+    builder::try_attach_plane(&[rim]).map_err(|e| BrepError::Plane(e.to_string()))
 }
 
 /// A planar polygon through `corners` (millimetres), in order.
