@@ -4,14 +4,15 @@
 //! triangles where the traced facets are the surface.
 
 use std::collections::HashMap;
-use std::f64::consts::FRAC_PI_2;
+use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
 
 use glam::{DAffine3, DVec2};
 use lucerna_scene::TriangleMesh;
 use lucerna_scene::exact::{ExactSurface, ProfileCurve};
 use truck_modeling::{
-    BSplineCurve, Curve, Edge, Face, KnotVec, Matrix4, NurbsCurve, Plane, Point3, Rad, Shell,
-    Surface, Vector3, Vector4, Vertex, Wire, builder,
+    BSplineCurve, Curve, Edge, Face, KnotVec, Line, Matrix4, NurbsCurve, Plane, Point3, Processor,
+    RevolutedCurve, Shell, Surface, Transform, Transformed, Vector3, Vector4, Vertex, Wire,
+    builder,
 };
 
 /// Scene files are in metres, CAD in millimetres.
@@ -97,9 +98,12 @@ fn point(p: DVec2, y: f64) -> Point3 {
     Point3::new(p.x, y, p.y) * MM_PER_M
 }
 
-fn edge(curve: &ProfileCurve, v0: &Vertex, v1: &Vertex, y: f64) -> Edge {
+/// The profile curve at `y` (metres) as truck's exact curve in
+/// millimetres: a line, a polynomial Bézier, or a rational one for a
+/// conic of weight below 1.
+fn curve(curve: &ProfileCurve, y: f64) -> Curve {
     match *curve {
-        ProfileCurve::Line { .. } => builder::line(v0, v1),
+        ProfileCurve::Line { from, to } => Curve::Line(Line(point(from, y), point(to, y))),
         ProfileCurve::Conic {
             from,
             control,
@@ -107,8 +111,7 @@ fn edge(curve: &ProfileCurve, v0: &Vertex, v1: &Vertex, y: f64) -> Edge {
             weight: 1.0,
         } => {
             let points = vec![point(from, y), point(control, y), point(to, y)];
-            let curve = BSplineCurve::new(KnotVec::bezier_knot(2), points);
-            Edge::new(v0, v1, Curve::BSplineCurve(curve))
+            Curve::BSplineCurve(BSplineCurve::new(KnotVec::bezier_knot(2), points))
         }
         ProfileCurve::Conic {
             from,
@@ -125,15 +128,20 @@ fn edge(curve: &ProfileCurve, v0: &Vertex, v1: &Vertex, y: f64) -> Edge {
                 homogeneous(control, weight),
                 homogeneous(to, 1.0),
             ];
-            let curve = NurbsCurve::new(BSplineCurve::new(KnotVec::bezier_knot(2), points));
-            Edge::new(v0, v1, Curve::NurbsCurve(curve))
+            Curve::NurbsCurve(NurbsCurve::new(BSplineCurve::new(
+                KnotVec::bezier_knot(2),
+                points,
+            )))
         }
         ProfileCurve::Cubic { points } => {
             let points = points.iter().map(|&p| point(p, y)).collect();
-            let curve = BSplineCurve::new(KnotVec::bezier_knot(3), points);
-            Edge::new(v0, v1, Curve::BSplineCurve(curve))
+            Curve::BSplineCurve(BSplineCurve::new(KnotVec::bezier_knot(3), points))
         }
     }
+}
+
+fn edge(profile_curve: &ProfileCurve, v0: &Vertex, v1: &Vertex, y: f64) -> Edge {
+    Edge::new(v0, v1, curve(profile_curve, y))
 }
 
 /// The chain of curves as a wire at `y`, consecutive curves sharing their
@@ -156,40 +164,111 @@ fn wire(curves: &[ProfileCurve], y: f64) -> Wire {
         .collect()
 }
 
-/// The chain revolved a full turn about z, as four quarter turns from
-/// C0: the surface's extremes along x and y then lie on face boundaries,
-/// where CAD kernels' bounding boxes are exact (over a whole turn in
-/// thirds OpenCASCADE's box is 1 % too wide). An end on the axis closes
-/// into a pole rather than a circle of no radius (truck's `cone`).
+/// A quarter turn about z, `k` times: exact (entries 0 and ±1), so the
+/// quarters' seams are the very same points.
+fn quarter_turns(k: usize) -> Matrix4 {
+    let (c, s) = [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)][k % 4];
+    Matrix4::new(
+        c, s, 0.0, 0.0, //
+        -s, c, 0.0, 0.0, //
+        0.0, 0.0, 1.0, 0.0, //
+        0.0, 0.0, 0.0, 1.0,
+    )
+}
+
+/// The quarter circle about z from `p` a quarter turn on, as an exact
+/// rational quadratic.
+fn quarter_arc(p: Point3) -> Curve {
+    let w = FRAC_PI_4.cos();
+    // Where the tangents at both ends meet: p and its quarter turn, summed.
+    let corner = Point3::new(p.x - p.y, p.y + p.x, p.z);
+    let end = Point3::new(-p.y, p.x, p.z);
+    Curve::NurbsCurve(NurbsCurve::new(BSplineCurve::new(
+        KnotVec::bezier_knot(2),
+        vec![
+            Vector4::new(p.x, p.y, p.z, 1.0),
+            Vector4::new(corner.x * w, corner.y * w, corner.z * w, w),
+            Vector4::new(end.x, end.y, end.z, 1.0),
+        ],
+    )))
+}
+
+/// The chain revolved a full turn about z as one sewn shell, each curve
+/// in four quarter-turn faces from C0: the surface's extremes along x and
+/// y lie on face boundaries, where CAD kernels' bounding boxes are exact
+/// (over a turn in thirds OpenCASCADE's box is 1 % too wide). A point of
+/// the profile on the axis is a pole: one vertex, no circle of no radius.
 fn revolution(curves: &[ProfileCurve]) -> Shell {
     let on_axis = |p: DVec2| p.x == 0.0;
-    let (start_on, end_on) = (
-        on_axis(curves[0].start()),
-        on_axis(curves[curves.len() - 1].end()),
-    );
-    if !start_on && end_on {
-        let reversed: Vec<ProfileCurve> = curves.iter().rev().map(|c| c.reversed()).collect();
-        return revolution(&reversed);
+    let mut points: Vec<DVec2> = curves.iter().map(ProfileCurve::start).collect();
+    points.push(curves[curves.len() - 1].end());
+    let closed = curves.len() > 1 && points[0] == points[points.len() - 1];
+    // vertices[j][k]: profile point j a quarter turn k on.
+    let mut vertices: Vec<[Vertex; 4]> = points
+        .iter()
+        .map(|&q| {
+            let p = point(q, 0.0);
+            if on_axis(q) {
+                let pole = builder::vertex(p);
+                [pole.clone(), pole.clone(), pole.clone(), pole]
+            } else {
+                [0, 1, 2, 3].map(|k| builder::vertex(quarter_turns(k).transform_point(p)))
+            }
+        })
+        .collect();
+    if closed {
+        let first = vertices[0].clone();
+        if let Some(last) = vertices.last_mut() {
+            *last = first;
+        }
     }
-    let profile = wire(curves, 0.0);
+    // edges[i][k]: curve i a quarter turn k on; arcs[j][k]: the rim of
+    // point j from quarter k to the next.
+    let edges: Vec<[Edge; 4]> = curves
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let generatrix = curve(c, 0.0);
+            [0, 1, 2, 3].map(|k| {
+                Edge::new(
+                    &vertices[i][k],
+                    &vertices[i + 1][k],
+                    generatrix.transformed(quarter_turns(k)),
+                )
+            })
+        })
+        .collect();
+    let arcs: Vec<Option<[Edge; 4]>> = vertices
+        .iter()
+        .zip(&points)
+        .map(|(v, &q)| {
+            (!on_axis(q)).then(|| {
+                [0, 1, 2, 3].map(|k| Edge::new(&v[k], &v[(k + 1) % 4], quarter_arc(v[k].point())))
+            })
+        })
+        .collect();
     let mut shell = Shell::new();
-    for quarter in 0..4 {
-        let start = builder::rotated(
-            &profile,
-            Point3::new(0.0, 0.0, 0.0),
-            Vector3::unit_z(),
-            Rad(f64::from(quarter) * FRAC_PI_2),
-        );
-        shell.extend(if start_on {
-            builder::cone(&start, Vector3::unit_z(), Rad(FRAC_PI_2))
-        } else {
-            builder::rsweep(
-                &start,
+    for (i, quarters) in edges.iter().enumerate() {
+        for k in 0..4 {
+            let mut boundary = Wire::new();
+            boundary.push_back(quarters[k].clone());
+            if let Some(rim) = &arcs[i + 1] {
+                boundary.push_back(rim[k].clone());
+            }
+            boundary.push_back(quarters[(k + 1) % 4].inverse());
+            if let Some(rim) = &arcs[i] {
+                boundary.push_back(rim[k].inverse());
+            }
+            let surface = RevolutedCurve::by_revolution(
+                quarters[k].curve(),
                 Point3::new(0.0, 0.0, 0.0),
                 Vector3::unit_z(),
-                Rad(FRAC_PI_2),
-            )
-        });
+            );
+            shell.push(Face::new(
+                vec![boundary],
+                Surface::RevolutedCurve(Processor::new(surface)),
+            ));
+        }
     }
     shell
 }
