@@ -20,6 +20,7 @@ pub mod symmetry;
 pub mod table;
 pub mod tabulate;
 pub mod text;
+pub mod tm25;
 
 pub use cubemap::{CubeFace, CubeMapLayout};
 pub use figures::{Figures, figures};

@@ -1,0 +1,464 @@
+//! Reading a TM-25 file: every field checked, every size checked against
+//! the file's own length before anything is allocated, the rays read
+//! straight into their one buffer.
+
+use std::io::Read;
+use std::path::Path;
+
+use super::luminous::LuminousRule;
+use super::{
+    COLUMN_NAME_BYTES, CreationMethod, Description, FILE_HEADER_BYTES, KnownData, MAGIC,
+    RayFileHeader, RaySet, SpectralTable, SpectrumType, TEXT_FIELD_CHARS, VERSION,
+};
+
+/// Largest ray file read: 20 M rays of 12 columns, with room to spare.
+/// The rays are held once, so this bounds the memory a file can take.
+pub const MAX_RAY_FILE_BYTES: u64 = 1 << 30;
+/// Most spectral tables, and wavelengths in one, additional columns:
+/// far beyond any real file, small enough to refuse absurd counts early.
+const MAX_SPECTRAL_TABLES: i32 = 100_000;
+const MAX_TABLE_ENTRIES: i32 = 1_000_000;
+const MAX_ADDITIONAL_COLUMNS: i32 = 1_000;
+/// Bytes read at a time into the ray buffer.
+const BLOCK_BYTES: usize = 1 << 22;
+
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ReadRayFileError {
+    #[error("cannot read ray file {file}")]
+    Io {
+        file: String,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error(
+        "ray file {file} is {bytes} bytes, more than the {max} bytes (1 GiB) Lucerna reads; a ray file's rays are held in memory"
+    )]
+    TooLarge { file: String, bytes: u64, max: u64 },
+    #[error("ray file {file}: {field}: {message}")]
+    Format {
+        file: String,
+        field: &'static str,
+        message: String,
+    },
+}
+
+/// Reads and checks a TM-25 file.
+pub fn read_ray_file(path: &Path) -> Result<RaySet, ReadRayFileError> {
+    let file = path.display().to_string();
+    let io = |source| ReadRayFileError::Io {
+        file: file.clone(),
+        source,
+    };
+    let handle = std::fs::File::open(path).map_err(io)?;
+    let bytes = handle.metadata().map_err(io)?.len();
+    parse(std::io::BufReader::new(handle), bytes, &file)
+}
+
+/// Parses a TM-25 file held in memory (`name` for messages).
+pub fn parse_ray_file(bytes: &[u8], name: &str) -> Result<RaySet, ReadRayFileError> {
+    parse(bytes, bytes.len() as u64, name)
+}
+
+/// A reader that knows how much is left and names what it reads.
+struct Fields<'a, R> {
+    reader: R,
+    left: u64,
+    file: &'a str,
+}
+
+impl<R: Read> Fields<'_, R> {
+    fn error(&self, field: &'static str, message: impl Into<String>) -> ReadRayFileError {
+        ReadRayFileError::Format {
+            file: self.file.to_owned(),
+            field,
+            message: message.into(),
+        }
+    }
+
+    fn bytes(&mut self, field: &'static str, n: usize) -> Result<Vec<u8>, ReadRayFileError> {
+        if (n as u64) > self.left {
+            return Err(self.error(
+                field,
+                format!(
+                    "the file ends here: {n} bytes wanted, {} left (truncated?)",
+                    self.left
+                ),
+            ));
+        }
+        let mut buf = vec![0; n];
+        self.reader
+            .read_exact(&mut buf)
+            .map_err(|e| self.error(field, format!("cannot read: {e}")))?;
+        self.left -= n as u64;
+        Ok(buf)
+    }
+
+    fn array<const N: usize>(&mut self, field: &'static str) -> Result<[u8; N], ReadRayFileError> {
+        let v = self.bytes(field, N)?;
+        let mut a = [0; N];
+        a.copy_from_slice(&v);
+        Ok(a)
+    }
+
+    fn i32(&mut self, field: &'static str) -> Result<i32, ReadRayFileError> {
+        Ok(i32::from_le_bytes(self.array(field)?))
+    }
+
+    fn u64(&mut self, field: &'static str) -> Result<u64, ReadRayFileError> {
+        Ok(u64::from_le_bytes(self.array(field)?))
+    }
+
+    fn f32(&mut self, field: &'static str) -> Result<f32, ReadRayFileError> {
+        Ok(f32::from_le_bytes(self.array(field)?))
+    }
+
+    /// A flux or wavelength: NaN is "unknown", anything else must be
+    /// finite and not negative (0 is read as unknown too, as some makers
+    /// write it).
+    fn optional_positive(&mut self, field: &'static str) -> Result<Option<f32>, ReadRayFileError> {
+        let v = self.f32(field)?;
+        if v.is_nan() || v == 0.0 {
+            Ok(None)
+        } else if v.is_finite() && v > 0.0 {
+            Ok(Some(v))
+        } else {
+            Err(self.error(field, format!("must be positive or NaN (unknown), got {v}")))
+        }
+    }
+
+    fn flag(&mut self, field: &'static str) -> Result<bool, ReadRayFileError> {
+        match self.i32(field)? {
+            0 => Ok(false),
+            1 => Ok(true),
+            v => Err(self.error(field, format!("must be 0 or 1, got {v}"))),
+        }
+    }
+
+    /// UTF-32 text of `chars` characters, up to its first NUL.
+    fn text(&mut self, field: &'static str, chars: usize) -> Result<String, ReadRayFileError> {
+        let raw = self.bytes(field, 4 * chars)?;
+        Ok(raw
+            .chunks_exact(4)
+            .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .take_while(|&c| c != 0)
+            .map(|c| char::from_u32(c).unwrap_or(char::REPLACEMENT_CHARACTER))
+            .collect())
+    }
+}
+
+fn parse(reader: impl Read, file_len: u64, file: &str) -> Result<RaySet, ReadRayFileError> {
+    if file_len > MAX_RAY_FILE_BYTES {
+        return Err(ReadRayFileError::TooLarge {
+            file: file.to_owned(),
+            bytes: file_len,
+            max: MAX_RAY_FILE_BYTES,
+        });
+    }
+    let mut f = Fields {
+        reader,
+        left: file_len,
+        file,
+    };
+    // 4.7.1 file header block.
+    let magic: [u8; 4] = f.array("file type (4.7.1.1)")?;
+    if magic != MAGIC {
+        return Err(f.error(
+            "file type (4.7.1.1)",
+            format!(
+                "not a TM-25 ray file: it starts with {:?}, not \"TM25\"",
+                String::from_utf8_lossy(&magic)
+            ),
+        ));
+    }
+    let version = f.i32("file version (4.7.1.2)")?;
+    if version != VERSION {
+        return Err(f.error(
+            "file version (4.7.1.2)",
+            format!("must be {VERSION}, got {version}"),
+        ));
+    }
+    let creation_method = CreationMethod::from_code(f.i32("creation method (4.7.1.3)")?);
+    let luminous_flux_lm = f.optional_positive("luminous flux (4.7.1.4)")?;
+    let radiant_flux_w = f.optional_positive("radiant flux (4.7.1.5)")?;
+    let ray_count = f.u64("number of rays (4.7.1.6)")?;
+    let date: [u8; 28] = f.array("date and time (4.7.1.7)")?;
+    let date_time = String::from_utf8_lossy(&date)
+        .trim_end_matches('\0')
+        .to_owned();
+    let start_position = f.i32("ray start position (4.7.1.8)")?;
+    let spectrum_code = f.i32("spectral data identifier (4.7.1.9)")?;
+    let spectrum = SpectrumType::from_code(spectrum_code).ok_or_else(|| {
+        f.error(
+            "spectral data identifier (4.7.1.9)",
+            format!("must be 0 to 4, got {spectrum_code}"),
+        )
+    })?;
+    let wavelength_nm = f.optional_positive("single wavelength (4.7.1.10)")?;
+    let min_wavelength_nm = f.optional_positive("minimum wavelength (4.7.1.11)")?;
+    let max_wavelength_nm = f.optional_positive("maximum wavelength (4.7.1.12)")?;
+    let table_count = f.i32("number of spectral tables (4.7.1.13)")?;
+    let column_count = f.i32("number of additional ray data items (4.7.1.14)")?;
+    let text_bytes = f.i32("size of the additional text block (4.7.1.15)")?;
+    f.bytes("reserved (4.7.1.16)", FILE_HEADER_BYTES - 88)?;
+    if !(0..=MAX_SPECTRAL_TABLES).contains(&table_count) {
+        return Err(f.error(
+            "number of spectral tables (4.7.1.13)",
+            format!("must be 0 to {MAX_SPECTRAL_TABLES}, got {table_count}"),
+        ));
+    }
+    if !(0..=MAX_ADDITIONAL_COLUMNS).contains(&column_count) {
+        return Err(f.error(
+            "number of additional ray data items (4.7.1.14)",
+            format!("must be 0 to {MAX_ADDITIONAL_COLUMNS}, got {column_count}"),
+        ));
+    }
+    if text_bytes < 0 || text_bytes % 4 != 0 || i64::from(text_bytes) > f.left as i64 {
+        return Err(f.error(
+            "size of the additional text block (4.7.1.15)",
+            format!(
+                "must be a multiple of 4 that the file holds, got {text_bytes} with {} bytes left",
+                f.left
+            ),
+        ));
+    }
+    if spectrum == SpectrumType::SingleWavelength && wavelength_nm.is_none() {
+        return Err(f.error(
+            "single wavelength (4.7.1.10)",
+            "a single-wavelength file (spectral identifier 1) must give the wavelength",
+        ));
+    }
+    if matches!(spectrum, SpectrumType::Table | SpectrumType::PerRayTable) && table_count == 0 {
+        return Err(f.error(
+            "number of spectral tables (4.7.1.13)",
+            format!("spectral identifier {spectrum_code} needs spectral tables, the file has none"),
+        ));
+    }
+    // 4.7.2 known data flags.
+    for field in ["position flag (4.7.2.1)", "direction flag (4.7.2.2)"] {
+        let v = f.i32(field)?;
+        if v != 1 {
+            return Err(f.error(field, format!("must be 1 (every ray has one), got {v}")));
+        }
+    }
+    let known = KnownData {
+        radiant_flux: f.flag("radiant flux flag (4.7.2.3)")?,
+        wavelength: f.flag("wavelength flag (4.7.2.4)")?,
+        luminous_flux: f.flag("luminous flux flag (4.7.2.5)")?,
+        stokes: f.flag("Stokes flag (4.7.2.6)")?,
+        tristimulus: f.flag("tristimulus flag (4.7.2.7)")?,
+        spectrum_index: f.flag("spectrum index flag (4.7.2.8)")?,
+    };
+    if !(known.radiant_flux || known.luminous_flux) {
+        return Err(f.error(
+            "flux flags (4.7.2.3, 4.7.2.5)",
+            "the rays carry neither radiant nor luminous flux",
+        ));
+    }
+    if spectrum == SpectrumType::PerRayWavelength && !known.wavelength {
+        return Err(f.error(
+            "wavelength flag (4.7.2.4)",
+            "spectral identifier 2 (a wavelength per ray) needs the wavelength column",
+        ));
+    }
+    if known.spectrum_index != (spectrum == SpectrumType::PerRayTable) {
+        return Err(f.error(
+            "spectrum index flag (4.7.2.8)",
+            format!(
+                "is {} but the spectral identifier is {spectrum_code}: the index column goes with identifier 4 only",
+                u8::from(known.spectrum_index)
+            ),
+        ));
+    }
+    // 4.7.3 description.
+    let mut texts = Vec::with_capacity(9);
+    for name in [
+        "name (4.7.3.1)",
+        "manufacturer (4.7.3.2)",
+        "model creator (4.7.3.3)",
+        "ray file creator (4.7.3.4)",
+        "equipment (4.7.3.5)",
+        "camera (4.7.3.6)",
+        "light source operation (4.7.3.7)",
+        "additional information (4.7.3.8)",
+        "data reference (4.7.3.9)",
+    ] {
+        texts.push(f.text(name, TEXT_FIELD_CHARS)?);
+    }
+    let mut texts = texts.into_iter();
+    let mut next = || texts.next().unwrap_or_default();
+    let description = Description {
+        name: next(),
+        manufacturer: next(),
+        model_creator: next(),
+        ray_file_creator: next(),
+        equipment: next(),
+        camera: next(),
+        operation: next(),
+        additional_info: next(),
+        data_reference: next(),
+    };
+    // 4.7.4 spectral tables, padded to 32 bytes.
+    let mut spectral_tables = Vec::with_capacity(table_count as usize);
+    let mut table_bytes = 0u64;
+    for _ in 0..table_count {
+        let entries = f.i32("spectral table size (4.7.4)")?;
+        if !(1..=MAX_TABLE_ENTRIES).contains(&entries) || (entries as u64) * 8 > f.left {
+            return Err(f.error(
+                "spectral table size (4.7.4)",
+                format!(
+                    "must be 1 to {MAX_TABLE_ENTRIES} pairs that the file holds, got {entries}"
+                ),
+            ));
+        }
+        let mut table = SpectralTable::default();
+        for _ in 0..entries {
+            let wavelength = f.f32("spectral table wavelength (4.7.4)")?;
+            let weight = f.f32("spectral table weight (4.7.4)")?;
+            if !(wavelength.is_finite() && wavelength > 0.0 && weight.is_finite() && weight >= 0.0)
+            {
+                return Err(f.error(
+                    "spectral table (4.7.4)",
+                    format!("wavelength {wavelength} nm, weight {weight}: wavelengths must be positive, weights not negative"),
+                ));
+            }
+            table.wavelengths_nm.push(wavelength);
+            table.weights.push(weight);
+        }
+        table_bytes += 4 + 8 * entries as u64;
+        spectral_tables.push(table);
+    }
+    if !table_bytes.is_multiple_of(32) {
+        f.bytes(
+            "spectral table padding (4.7.4)",
+            (32 - table_bytes % 32) as usize,
+        )?;
+    }
+    // The rays' columns, and where the rest of the file must end.
+    let ray_bytes_for = |columns: usize| {
+        ray_count
+            .checked_mul(columns as u64)
+            .and_then(|v| v.checked_mul(4))
+    };
+    let standard = super::Columns::of(&known, 0).count;
+    let total_columns = standard + column_count as usize;
+    let names_bytes = column_count as u64 * COLUMN_NAME_BYTES as u64;
+    let after_names = f.left.saturating_sub(names_bytes + text_bytes as u64);
+    // Makers differ on the column-name block: read it when the file
+    // holds it, else name the columns by number.
+    let names_written = ray_bytes_for(total_columns) == Some(after_names);
+    let names_missing = column_count > 0
+        && ray_bytes_for(total_columns) == Some(f.left.saturating_sub(text_bytes as u64));
+    let additional_columns: Vec<String> = if names_written {
+        let mut names = Vec::with_capacity(column_count as usize);
+        for _ in 0..column_count {
+            names.push(f.text("additional column name (4.7.5)", COLUMN_NAME_BYTES / 4)?);
+        }
+        names
+    } else if names_missing {
+        (1..=column_count).map(|k| format!("column {k}")).collect()
+    } else {
+        let rays_left = f.left.saturating_sub(names_bytes + text_bytes as u64);
+        let whole = ray_count > 0 && rays_left > 0 && rays_left.is_multiple_of(4 * ray_count);
+        let message = match ray_bytes_for(total_columns) {
+            None => format!("{ray_count} rays cannot be held in any file"),
+            Some(_) if whole => format!(
+                "the flags announce {total_columns} values per ray, but the file holds {} per ray for {ray_count} rays",
+                rays_left / (4 * ray_count)
+            ),
+            Some(need) if need > rays_left => format!(
+                "{ray_count} rays of {total_columns} values need {need} bytes, the file holds {rays_left} (truncated, or a wrong ray count)"
+            ),
+            Some(need) => format!(
+                "{ray_count} rays of {total_columns} values need {need} bytes, the file holds {rays_left}: bytes left over"
+            ),
+        };
+        return Err(f.error("ray data (4.7.7)", message));
+    };
+    let additional_text = if text_bytes > 0 {
+        f.text("additional text (4.7.6)", text_bytes as usize / 4)?
+    } else {
+        String::new()
+    };
+    if ray_count == 0 {
+        return Err(f.error("number of rays (4.7.1.6)", "the file has no rays"));
+    }
+    let header = RayFileHeader {
+        creation_method,
+        luminous_flux_lm,
+        radiant_flux_w,
+        ray_count,
+        date_time,
+        start_position,
+        spectrum,
+        wavelength_nm,
+        min_wavelength_nm,
+        max_wavelength_nm,
+        known,
+        description,
+        spectral_tables,
+        additional_columns,
+        additional_text,
+    };
+    let columns = header.columns();
+    let rule = LuminousRule::of(&header, &columns).ok_or_else(|| {
+        f.error(
+            "flux columns (4.7.2)",
+            "the spectrum type needs a column the flags do not announce",
+        )
+    })?;
+    // The rays, straight into their buffer.
+    let values = ray_count as usize * columns.count;
+    let mut records: Vec<f32> = Vec::with_capacity(values);
+    let mut block = vec![0u8; BLOCK_BYTES.min(values * 4)];
+    while records.len() < values {
+        let n = (4 * (values - records.len())).min(block.len());
+        f.reader
+            .read_exact(&mut block[..n])
+            .map_err(|e| f.error("ray data (4.7.7)", format!("cannot read: {e}")))?;
+        records.extend(
+            block[..n]
+                .chunks_exact(4)
+                .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])),
+        );
+    }
+    let mut luminous_flux_lm = Vec::with_capacity(ray_count as usize);
+    for (i, record) in records.chunks_exact(columns.count).enumerate() {
+        let bad = |what: String| ReadRayFileError::Format {
+            file: file.to_owned(),
+            field: "ray data (4.7.7)",
+            message: format!("ray {i}: {what}"),
+        };
+        if !record[..6].iter().all(|v| v.is_finite()) {
+            return Err(bad(format!(
+                "position or direction is not finite: {:?}",
+                &record[..6]
+            )));
+        }
+        if record[3] == 0.0 && record[4] == 0.0 && record[5] == 0.0 {
+            return Err(bad("its direction is the zero vector".to_owned()));
+        }
+        let flux = rule
+            .flux(record)
+            .ok_or_else(|| bad("its spectrum index names no spectral table".to_owned()))?;
+        if !(flux.is_finite() && flux >= 0.0) {
+            return Err(bad(format!(
+                "flux must be finite and not negative, got {flux}"
+            )));
+        }
+        luminous_flux_lm.push(flux as f32);
+    }
+    let set = RaySet {
+        header,
+        records,
+        luminous_flux_lm,
+    };
+    if !(set.total_luminous_flux_lm() > 0.0) {
+        return Err(ReadRayFileError::Format {
+            file: file.to_owned(),
+            field: "ray data (4.7.7)",
+            message: "the rays carry no flux (every ray's flux is 0)".to_owned(),
+        });
+    }
+    Ok(set)
+}
