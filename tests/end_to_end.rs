@@ -765,3 +765,50 @@ fn export_geometry_writes_every_example_and_refuses_bad_input_writing_nothing() 
         text(&out.stderr)
     );
 }
+
+#[test]
+fn info_and_convert_read_a_tm25_ray_file() {
+    let rays = assets().join("rayfiles/synthetic_led.tm25ray");
+    let out = lucerna(&["info", rays.to_str().unwrap(), "--json"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(report["rays"], 20000);
+    assert!((report["rays_luminous_flux_lm"].as_f64().unwrap() - 100.0).abs() < 1e-3);
+    // The 1 mm die.
+    for axis in 0..2 {
+        let (lo, hi) = (
+            report["extent_min_mm"][axis].as_f64().unwrap(),
+            report["extent_max_mm"][axis].as_f64().unwrap(),
+        );
+        assert!(
+            lo > -0.5 && lo < -0.499 && hi < 0.5 && hi > 0.499,
+            "{lo}..{hi}"
+        );
+    }
+    // The synthetic LED emits along +z, Lambertian: all of it upward,
+    // the far field's flux that of the rays.
+    let far = &report["far_field"];
+    assert!(
+        (far["flux_lm"].as_f64().unwrap() - 100.0).abs() < 0.5,
+        "{far}"
+    );
+    assert!(far["downward_fraction"].as_f64().unwrap() < 0.01, "{far}");
+    let dir = tempfile::tempdir().unwrap();
+    let ldt = dir.path().join("led.ldt");
+    let out = lucerna(&["convert", rays.to_str().unwrap(), ldt.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let (flux, _) = figures(&ldt);
+    assert!((flux - 100.0).abs() < 0.5, "{flux}");
+    // A damaged ray file: a clear error naming the file and the field.
+    let mut bytes = std::fs::read(&rays).unwrap();
+    bytes.truncate(bytes.len() - 3);
+    let broken = dir.path().join("broken.tm25ray");
+    std::fs::write(&broken, &bytes).unwrap();
+    let out = lucerna(&["info", broken.to_str().unwrap()]);
+    assert!(!out.status.success());
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("broken.tm25ray") && err.contains("ray data") && err.contains("truncated"),
+        "{err}"
+    );
+}

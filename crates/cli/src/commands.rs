@@ -17,6 +17,7 @@ mod live_bench;
 mod merge;
 mod near_field;
 mod part_bake;
+mod ray_info;
 pub use part_bake::Interrupted;
 mod render;
 mod report;
@@ -48,7 +49,9 @@ enum Command {
         json: bool,
     },
     /// Describe an IES or EULUMDAT file: format, symmetry, grids, flux,
-    /// peak, beam and field angles, LOR, luminous dimensions.
+    /// peak, beam and field angles, LOR, luminous dimensions; or a TM-25
+    /// ray file: its header, rays, flux, source extent and the far-field
+    /// figures of its rays.
     Info {
         file: PathBuf,
         /// Print the report as JSON.
@@ -108,10 +111,13 @@ enum Command {
     /// to the point-light baseline, per backend.
     RenderBench(render::RenderBenchArgs),
     /// Convert between IES (LM-63-2002, LM-63-2019) and EULUMDAT, keeping
-    /// the metadata both formats hold.
+    /// the metadata both formats hold; or a TM-25 ray file's far field to
+    /// IES or EULUMDAT.
     Convert {
         input: PathBuf,
-        output: PathBuf,
+        /// The file to write; by default INPUT with the extension of
+        /// `--to`.
+        output: Option<PathBuf>,
         /// Output format; by default from OUTPUT's extension (.ies → 2019).
         #[arg(long, value_enum)]
         to: Option<convert::OutFormat>,
@@ -139,6 +145,15 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Render(args) => render::render(&args),
         Command::RenderBench(args) => render::render_bench(&args),
         Command::NearFieldEval(args) => near_field::near_field_eval(&args),
+        Command::Info { file, json } if ray_info::is_ray_file(&file) => {
+            let report = ray_info::report(&file)?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&report)?);
+            } else {
+                print!("{report}");
+            }
+            Ok(())
+        }
         Command::Info { file, json } => {
             let report = info::report(&file)?;
             if json {
@@ -203,6 +218,13 @@ pub fn run(cli: Cli) -> Result<()> {
             to,
             resample_c,
         } => {
+            let output = match (output, to) {
+                (Some(o), _) => o,
+                (None, Some(to)) => input.with_extension(to.extension()),
+                (None, None) => anyhow::bail!(
+                    "name the output file, or give --to ies|ies2002|ldt to write beside the input"
+                ),
+            };
             println!("{}", convert::convert(&input, &output, to, resample_c)?);
             Ok(())
         }

@@ -28,16 +28,25 @@ pub enum Target {
     Scene,
     /// A room file, loaded and validated.
     Room,
+    /// A TM-25 ray file, read, its far field tabulated, written and read
+    /// back with the same rays.
+    RayFile,
 }
 
 impl Target {
-    pub const ALL: [Target; 3] = [Target::Photometry, Target::Scene, Target::Room];
+    pub const ALL: [Target; 4] = [
+        Target::Photometry,
+        Target::Scene,
+        Target::Room,
+        Target::RayFile,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
             Target::Photometry => "photometry",
             Target::Scene => "scene",
             Target::Room => "room",
+            Target::RayFile => "rayfile",
         }
     }
 }

@@ -77,6 +77,14 @@ pub fn seeds(target: Target) -> Vec<Case> {
             }
             cases.extend(corpus_cases(target));
         }
+        Target::RayFile => {
+            for p in files_under(&assets.join("rayfiles"), |p| extension_in(p, &["tm25ray"])) {
+                cases.push(vec![("rays.tm25ray".to_owned(), read(&p))]);
+            }
+            for p in files_under(&corpus_dir(target), |_| true) {
+                cases.push(vec![("rays.tm25ray".to_owned(), read(&p))]);
+            }
+        }
         Target::Room => {
             let rooms = assets.join("rooms");
             let meshes: Case = files_under(&rooms, |p| extension_in(p, &["obj", "mtl"]))
@@ -133,7 +141,27 @@ pub fn run(target: Target, case: Case) -> Option<Finding> {
         Target::Photometry => run_case(target, case, |files| photometry(&files[0].1)),
         Target::Scene => run_case(target, case, |files| in_scratch(files, scene)),
         Target::Room => run_case(target, case, |files| in_scratch(files, room)),
+        Target::RayFile => run_case(target, case, |files| ray_file(&files[0].1)),
     }
+}
+
+/// A ray file that reads has finite far-field figures, and written again
+/// reads back with the same header and rays.
+pub fn ray_file(bytes: &[u8]) -> Result<(), String> {
+    use lucerna_photometry::tm25::{parse_ray_file, write_ray_file};
+    let Ok(set) = parse_ray_file(bytes, "fuzzed.tm25ray") else {
+        return Ok(());
+    };
+    let photometry = set.far_field_photometry("fuzzed.tm25ray");
+    finite_figures(&photometry, "the ray file's far field")?;
+    let again = write_ray_file(&set);
+    let back = parse_ray_file(&again, "written.tm25ray")
+        .map_err(|e| format!("a ray file that read, written again, does not read: {e}"))?;
+    let bits = |r: &[f32]| r.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+    if back.header != set.header || bits(&back.records) != bits(&set.records) {
+        return Err("a ray file written again reads back with other rays".to_owned());
+    }
+    Ok(())
 }
 
 /// Lays the files out in a scratch folder and runs `check` on it.

@@ -34,3 +34,8 @@ fn scene_files() {
 fn room_files() {
     no_findings(Target::Room, 600);
 }
+
+#[test]
+fn ray_files() {
+    no_findings(Target::RayFile, 600);
+}

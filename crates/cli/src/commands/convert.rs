@@ -11,8 +11,18 @@ use super::info;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum OutFormat {
     Ies2002,
+    #[value(alias = "ies")]
     Ies2019,
     Ldt,
+}
+
+impl OutFormat {
+    pub fn extension(self) -> &'static str {
+        match self {
+            OutFormat::Ies2002 | OutFormat::Ies2019 => "ies",
+            OutFormat::Ldt => "ldt",
+        }
+    }
 }
 
 pub fn out_format(path: &Path, flag: Option<OutFormat>) -> Result<OutFormat> {

@@ -43,6 +43,12 @@ pub struct InfoReport {
 /// (a photometric file of megabytes is already absurd; `/dev/zero` is not
 /// read until memory runs out).
 pub fn read(path: &Path) -> Result<Photometry> {
+    if super::ray_info::is_ray_file(path) {
+        let name = path
+            .file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        return Ok(super::ray_info::read(path)?.far_field_photometry(&name));
+    }
     let bytes = lucerna_scene::read_limited(path, lucerna_scene::file::MAX_PROFILE_FILE_BYTES)
         .with_context(|| format!("cannot read {}", path.display()))?;
     read_photometry(&bytes)

@@ -13,7 +13,7 @@ use lucerna_fuzz::{Target, campaign};
     about = "Mutation fuzzing of IES/LDT, scene and room files"
 )]
 struct Args {
-    /// photometry, scene, room or all.
+    /// photometry, scene, room, rayfile or all.
     #[arg(long, default_value = "all")]
     target: String,
     /// Mutated inputs per target.
@@ -35,7 +35,7 @@ fn main() -> Result<()> {
                 .into_iter()
                 .find(|t| t.name() == name)
                 .with_context(|| {
-                    format!("unknown target '{name}' (photometry, scene, room, all)")
+                    format!("unknown target '{name}' (photometry, scene, room, rayfile, all)")
                 })?,
         ],
     };

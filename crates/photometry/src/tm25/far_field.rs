@@ -10,9 +10,12 @@ use crate::{CandelaTable, CubeMapLayout};
 
 use super::RaySet;
 
-/// Texels per cube face edge of the binning: 0.7° texels at the face
-/// centres, fine for LED beams, coarse enough for 10⁵ rays.
-pub const FAR_FIELD_RESOLUTION: u32 = 128;
+/// Texels per cube face edge of the binning for `rays` rays: about 100
+/// rays per texel were they spread over the sphere, so the figures are
+/// not the noise of a few rays, between 8 (11° texels) and 128 (0.7°).
+pub fn far_field_resolution(rays: usize) -> u32 {
+    ((rays as f64 / 600.0).sqrt().round() as u32).clamp(8, 128)
+}
 
 impl RaySet {
     /// Candela per texel of `layout`: the rays' luminous flux in each
@@ -31,7 +34,7 @@ impl RaySet {
 
     /// The far field as a candela table on C every 5°, γ every 1°.
     pub fn far_field_table(&self) -> CandelaTable {
-        let layout = CubeMapLayout::new(FAR_FIELD_RESOLUTION);
+        let layout = CubeMapLayout::new(far_field_resolution(self.len()));
         let c: Vec<f64> = (0..72).map(|k| 5.0 * f64::from(k)).collect();
         let gamma: Vec<f64> = (0..=180).map(f64::from).collect();
         table_from_cube_map(layout, &self.far_field_candela(layout), &c, &gamma)
@@ -51,6 +54,7 @@ impl RaySet {
         };
         let (lo, hi) = self.extent_mm().unwrap_or(([0.0; 3], [0.0; 3]));
         let flux = self.total_luminous_flux_lm();
+        let n = far_field_resolution(self.len());
         Photometry {
             format: Format::Ies(2019),
             symmetry: CPlaneSymmetry::None,
@@ -62,10 +66,8 @@ impl RaySet {
                 test_report: format!("far field of the ray file {file_name}"),
                 test_lab: or(&d.ray_file_creator, "TM-25 ray file"),
                 file_generation_info: format!(
-                    "{} rays binned on a {} x {} cube map by Lucerna {}",
+                    "{} rays binned on a {n} x {n} cube map by Lucerna {}",
                     self.len(),
-                    FAR_FIELD_RESOLUTION,
-                    FAR_FIELD_RESOLUTION,
                     env!("CARGO_PKG_VERSION")
                 ),
                 lamps: vec![LampSet {
