@@ -812,3 +812,42 @@ fn info_and_convert_read_a_tm25_ray_file() {
         "{err}"
     );
 }
+
+#[test]
+fn bake_writes_a_tm25_ray_file_that_info_reads() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = assets().join("luminaires/parabolic_spot.toml");
+    let out = lucerna(&[
+        "bake",
+        scene.to_str().unwrap(),
+        "--photons",
+        "100000",
+        "--resolution",
+        "32",
+        "--backend",
+        "cpu",
+        "--formats",
+        "ies,tm25",
+        "--rays",
+        "20000",
+        "--date",
+        "2026-12-04",
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let rays = dir.path().join("parabolic_spot.tm25ray");
+    let out = lucerna(&["info", rays.to_str().unwrap(), "--json"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(report["rays"], 20000);
+    let (ies_flux, _) = figures(&dir.path().join("parabolic_spot.ies"));
+    let declared = report["declared_luminous_flux_lm"].as_f64().unwrap();
+    assert!(
+        (declared - ies_flux).abs() < 1e-3 * ies_flux,
+        "{declared} vs {ies_flux}"
+    );
+    assert!(report["description"].to_string().contains("Lucerna"));
+    // The spot's beam points down: nearly all of it below the horizontal.
+    assert!(report["far_field"]["downward_fraction"].as_f64().unwrap() > 0.99);
+}

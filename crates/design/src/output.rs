@@ -212,6 +212,7 @@ pub fn files(
         cube_png: false,
         polar_png: false,
         datasheet: false,
+        tm25_rays: None,
     };
     let exported = request
         .render(&snapshot)

@@ -91,6 +91,9 @@ pub struct ExportDialog {
     ugr_standard_spacing: bool,
     /// Opened by "Datasheet…": only the datasheet is ticked.
     datasheet_only: bool,
+    /// The TM-25 ray file of the rays leaving the luminaire, and how many.
+    tm25: bool,
+    rays: u32,
     filtered: bool,
     grid: Option<TableGrid>,
     declared: Declared,
@@ -173,6 +176,8 @@ impl ExportDialog {
         self.cube_png = true;
         self.polar_png = true;
         self.datasheet = false;
+        self.tm25 = false;
+        self.rays = lucerna_simulation::DEFAULT_TM25_RAYS;
         if std::mem::take(&mut self.datasheet_only) {
             self.ies = false;
             self.ldt = false;
@@ -254,6 +259,7 @@ impl ExportDialog {
             cube_png: self.cube_png,
             polar_png: self.polar_png,
             datasheet: self.datasheet,
+            tm25_rays: self.tm25.then_some(self.rays),
         }
     }
 }
@@ -315,6 +321,20 @@ fn dialog_ui(ui: &mut Ui, state: &mut EditorState, dialog: &mut ExportDialog) {
         ui.add_enabled_ui(dialog.datasheet, |ui| {
             flag(ui, "UGR also at S/H = 1", &mut dialog.ugr_standard_spacing)
                 .on_hover_text("CIE 190's standard table beside the catalogue's S/H = 0.25");
+        });
+    });
+    ui.horizontal(|ui| {
+        flag(ui, "TM-25 ray file", &mut dialog.tm25).on_hover_text(
+            "The rays leaving the luminaire (position of their last interaction in mm, direction, luminous flux): its near field for other optics tools",
+        );
+        ui.add_enabled_ui(dialog.tm25, |ui| {
+            labelled(ui, "Rays", |ui| {
+                ui.add(
+                    egui::DragValue::new(&mut dialog.rays)
+                        .range(1..=50_000_000)
+                        .speed(10_000.0),
+                )
+            })
         });
     });
 

@@ -255,7 +255,13 @@ pub struct ExportFormats {
     /// `STEM_datasheet.html`, `.pdf` and `.json`: the photometric
     /// datasheet of the exported table (`lucerna_datasheet`).
     pub datasheet: bool,
+    /// `STEM.tm25ray` with this many rays leaving the luminaire: its
+    /// near field for other optics tools (IES TM-25).
+    pub tm25_rays: Option<u32>,
 }
+
+/// Rays in an exported TM-25 file unless told.
+pub const DEFAULT_TM25_RAYS: u32 = 1_000_000;
 
 impl Default for ExportFormats {
     fn default() -> Self {
@@ -266,6 +272,7 @@ impl Default for ExportFormats {
             cube_png: true,
             polar_png: true,
             datasheet: false,
+            tm25_rays: None,
         }
     }
 }
@@ -279,6 +286,7 @@ impl ExportFormats {
         cube_png: false,
         polar_png: false,
         datasheet: false,
+        tm25_rays: None,
     };
 
     pub fn is_empty(&self) -> bool {
@@ -287,7 +295,8 @@ impl ExportFormats {
             || self.exr
             || self.cube_png
             || self.polar_png
-            || self.datasheet)
+            || self.datasheet
+            || self.tm25_rays.is_some())
     }
 }
 
@@ -516,6 +525,13 @@ impl ExportRequest {
                 outputs.push((path.to_string_lossy().into_owned(), bytes));
             }
         }
+        if let Some(rays) = self.formats.tm25_rays {
+            report(ExportStage::Drawing("TM-25 ray"));
+            outputs.push((
+                format!("{stem}.tm25ray"),
+                self.ray_file(snapshot, &photometry, rays)?,
+            ));
+        }
         Ok(ExportedFiles {
             photometry,
             fidelity,
@@ -524,6 +540,73 @@ impl ExportRequest {
                 .map(|(name, bytes)| (self.out_dir.join(name), bytes))
                 .collect(),
         })
+    }
+
+    /// The TM-25 file of `rays` photons leaving the luminaire, traced with
+    /// the run's seed (its own first photons): each at its last
+    /// interaction (mm), its direction, and an equal share of the
+    /// luminaire's flux, so that their far field is the exported table's
+    /// within the Monte Carlo noise of `rays` rays.
+    fn ray_file(
+        &self,
+        snapshot: &Snapshot,
+        photometry: &Photometry,
+        rays: u32,
+    ) -> Result<Vec<u8>, SimulationError> {
+        use lucerna_photometry::tm25::{RayFileHeader, RaySet, write_ray_file};
+        let luminaire = &snapshot.luminaire;
+        // Ten thousand photons per ray wanted at most: a luminaire that
+        // lets almost nothing out is said so, not traced for ever.
+        let max_photons = rays.saturating_mul(10_000);
+        let (escaping, traced) = lucerna_tracer::escaping_rays(
+            &luminaire.prepared,
+            self.options.seed,
+            snapshot.settings.max_bounces,
+            rays as usize,
+            max_photons,
+        );
+        if escaping.is_empty() {
+            return Err(SimulationError::Picture {
+                what: "the TM-25 ray file",
+                message: format!("no photon of {traced} traced left the luminaire"),
+            });
+        }
+        let flux_lm = photometry.table.flux_lm();
+        let mut header = RayFileHeader::luminous(escaping.len() as u64, flux_lm as f32);
+        header.date_time = self.options.date.clone();
+        let meta = &photometry.meta;
+        header.description.name = meta.luminaire.clone();
+        header.description.manufacturer = meta.manufacturer.clone();
+        header.description.model_creator = meta.test_lab.clone();
+        header.description.ray_file_creator = format!("Lucerna {}", env!("CARGO_PKG_VERSION"));
+        header.description.equipment = "photon tracer".to_owned();
+        header.description.additional_info = format!(
+            "rays leave from their last interaction; {} photons traced with seed {} for {} escaping",
+            traced,
+            self.options.seed,
+            escaping.len()
+        );
+        header.description.data_reference = self.options.scene_file.clone();
+        let per_ray = (flux_lm / escaping.len() as f64) as f32;
+        let mut records = Vec::with_capacity(7 * escaping.len());
+        for ray in &escaping {
+            let p = ray.position * 1000.0;
+            records.extend([
+                p.x,
+                p.y,
+                p.z,
+                ray.direction.x,
+                ray.direction.y,
+                ray.direction.z,
+            ]);
+            records.push(per_ray);
+        }
+        let set = RaySet {
+            header,
+            records,
+            luminous_flux_lm: Vec::new(),
+        };
+        Ok(write_ray_file(&set))
     }
 
     /// Renders the files and writes them all or none (each atomically);

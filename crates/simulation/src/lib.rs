@@ -20,8 +20,8 @@ mod worker;
 
 pub use error::SimulationError;
 pub use export::{
-    ExportFormats, ExportOptions, ExportRequest, ExportRequestError, ExportStage, ExportedFiles,
-    Labels, photometry, write_bake_files,
+    DEFAULT_TM25_RAYS, ExportFormats, ExportOptions, ExportRequest, ExportRequestError,
+    ExportStage, ExportedFiles, Labels, photometry, write_bake_files,
 };
 pub use live_filter::LiveFilter;
 pub use lucerna_gpu::BackendRequest;

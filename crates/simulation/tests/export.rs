@@ -109,6 +109,7 @@ fn keywords_of_the_scene_reach_the_ies_and_ldt_files() {
         cube_png: false,
         polar_png: false,
         datasheet: false,
+        tm25_rays: None,
     };
     let written = request.write(&snapshot).unwrap();
     assert_eq!(written.len(), 2);
@@ -172,6 +173,7 @@ fn files_are_written_all_or_none() {
         cube_png: false,
         polar_png: false,
         datasheet: false,
+        tm25_rays: None,
     };
     assert!(none.render(&snapshot).is_err());
     for stem in ["", "a/b", ".."] {
@@ -215,6 +217,7 @@ fn the_spots_files_carry_the_maps_photometry_on_the_automatic_grid() {
         cube_png: false,
         polar_png: false,
         datasheet: false,
+        tm25_rays: None,
     };
     let files = request.render(&snapshot).unwrap();
     assert_eq!(files.fidelity, *fidelity);
@@ -319,4 +322,85 @@ fn the_datasheet_of_an_export_is_the_reports_to_the_byte() {
     assert_eq!(json["ugr"]["spacing"], 0.25);
     assert_eq!(json["ugr"]["rooms"].as_array().unwrap().len(), 19);
     assert!(first.files[1].1.starts_with(b"%PDF-"));
+}
+
+#[test]
+fn the_tm25_rays_far_field_is_the_ies_files() {
+    // The faceted downlight: a broad beam with structure, many bounces.
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../assets/luminaires/faceted_downlight.toml");
+    let luminaire = Arc::new(Luminaire::load(&scene).expect("loads"));
+    let mut s = settings(FilterChoice::Raw, TableGrid::default());
+    s.stop.photons = Some(400_000);
+    let snapshot = bake(luminaire, s).expect("bakes");
+    let dir = tempfile::tempdir().unwrap();
+    let mut request = ExportRequest::new(&snapshot, options(), dir.path(), "down");
+    request.formats = ExportFormats {
+        ies: Some(IesVersion::Lm63_2019),
+        tm25_rays: Some(200_000),
+        ..ExportFormats::NONE
+    };
+    let exported = request.render(&snapshot).unwrap();
+    let (_, ray_bytes) = exported
+        .files
+        .iter()
+        .find(|(p, _)| p.extension().is_some_and(|e| e == "tm25ray"))
+        .unwrap();
+    let rays = lucerna_photometry::tm25::parse_ray_file(ray_bytes, "down.tm25ray").unwrap();
+    assert_eq!(rays.len(), 200_000);
+    let h = &rays.header;
+    assert_eq!(
+        h.creation_method,
+        lucerna_photometry::tm25::CreationMethod::Simulation
+    );
+    assert!(h.description.ray_file_creator.starts_with("Lucerna "));
+    let ies = &exported.photometry.table;
+    // The luminaire's flux, in the header and in the rays.
+    let flux = ies.flux_lm();
+    assert!((f64::from(h.luminous_flux_lm.unwrap()) - flux).abs() < 1e-3 * flux);
+    assert!((rays.total_luminous_flux_lm() - flux).abs() < 1e-3 * flux);
+    // The rays' far field, binned on the bake's cube map and tabulated on
+    // the IES's grid: the IES's cone fluxes within the noise of 200 000
+    // rays (and the IES's own of 400 000 photons).
+    let layout = snapshot.map.layout;
+    let far = lucerna_photometry::table_from_cube_map(
+        layout,
+        &rays.far_field_candela(layout),
+        &ies.c_planes_deg,
+        &ies.gammas_deg,
+    );
+    for gamma in [10.0, 20.0, 30.0, 45.0, 60.0, 90.0] {
+        let (a, b) = (
+            ies.flux_between_lm(0.0, gamma),
+            far.flux_between_lm(0.0, gamma),
+        );
+        let share = a / flux;
+        // Binomial noise of the rays' and of the photons' share, and
+        // 0.5 % for the two tabulations (the bake's pools and resamples).
+        let sigma = (share * (1.0 - share) * (1.0 / 200_000.0 + 1.0 / 400_000.0)).sqrt() * flux;
+        assert!(
+            (a - b).abs() < 4.0 * sigma + 0.005 * flux,
+            "γ < {gamma}: IES {a} lm, rays {b} lm of {flux}"
+        );
+    }
+    // And the beam the same, in both planes.
+    let (fi, fr) = (
+        lucerna_photometry::figures(ies, None),
+        lucerna_photometry::figures(&far, None),
+    );
+    for k in 0..2 {
+        let (a, b) = (fi.beam_angle_deg[k].unwrap(), fr.beam_angle_deg[k].unwrap());
+        assert!((a - b).abs() < 1.0, "beam {a}° vs {b}°");
+    }
+    assert!((fi.peak_cd - fr.peak_cd).abs() < 0.05 * fi.peak_cd);
+    // Each ray leaves from a surface of the luminaire: inside its bounds.
+    let (lo, hi) = snapshot.luminaire.tessellated.mesh.bounds().unwrap();
+    let (lo, hi) = (lo * 1000.0 - 0.01, hi * 1000.0 + 0.01);
+    for i in 0..rays.len() {
+        let p = rays.position_mm(i);
+        assert!(
+            (0..3).all(|k| p[k] >= lo[k] && p[k] <= hi[k]),
+            "ray {i} at {p:?}"
+        );
+    }
 }

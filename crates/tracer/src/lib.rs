@@ -25,7 +25,7 @@ pub use cpu::{
     BatchTotals, CountBuffers, Fate, Tally, TraceSettings, trace_batch, trace_batch_into,
     trace_batch_into_unless,
 };
-pub use paths::{PhotonPath, sample_photon_paths};
+pub use paths::{EscapingRay, PhotonPath, escaping_rays, sample_photon_paths};
 pub use prepared::{PrepareError, PreparedScene};
 pub use session::{Backend, BackendRequest, IterationReport, Session, choose_backend};
 pub use symmetry::{LuminaireSymmetry, luminaire_symmetry};

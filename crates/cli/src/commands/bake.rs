@@ -69,6 +69,8 @@ pub enum FileFormat {
     /// STEM_datasheet.html, .pdf and .json: the photometric datasheet
     /// with the UGR table (`lucerna report` writes the same)
     Datasheet,
+    /// STEM.tm25ray, `--rays` rays leaving the luminaire (IES TM-25)
+    Tm25,
 }
 
 /// Whether photons are pooled over the luminaire's symmetry.
@@ -180,6 +182,10 @@ pub struct BakeArgs {
     /// The LM-63 edition of the IES file.
     #[arg(long, value_enum, default_value_t = IesVersionArg::Lm63_2019)]
     pub ies_version: IesVersionArg,
+    /// Rays in the TM-25 file (`--formats tm25`): the run's first photons
+    /// that leave the luminaire.
+    #[arg(long, default_value_t = lucerna_simulation::DEFAULT_TM25_RAYS, value_parser = clap::value_parser!(u32).range(1..=50_000_000))]
+    pub rays: u32,
     /// The files' base name (STEM.ies, STEM_polar.png, …); by default the
     /// scene file's name without its extension.
     #[arg(long)]
@@ -212,7 +218,7 @@ pub struct BakeArgs {
     #[arg(long, conflicts_with_all = [
         "scene", "photons", "time", "rel_error", "resolution", "seed", "backend",
         "max_bounces", "c_step", "gamma_step", "symmetrise", "symmetry", "filter",
-        "out", "formats", "ies_version", "name", "date", "ugr_spacing", "outdoor",
+        "out", "formats", "ies_version", "rays", "name", "date", "ugr_spacing", "outdoor",
     ])]
     pub resume: Option<PathBuf>,
 }
@@ -358,13 +364,13 @@ pub fn export(args: &BakeArgs, snapshot: &Snapshot) -> Result<Vec<PathBuf>> {
     std::fs::create_dir_all(out)
         .with_context(|| format!("cannot create output directory {}", out.display()))?;
     let mut request = ExportRequest::new(snapshot, options, out, &args.stem());
-    request.formats = formats(&args.formats, args.ies_version);
+    request.formats = formats(&args.formats, args.ies_version, args.rays);
     request.datasheet = args.sheet.options(scene_file);
     Ok(request.write(snapshot)?)
 }
 
 /// The files `--formats` and `--ies-version` ask for.
-pub fn formats(formats: &[FileFormat], version: IesVersionArg) -> ExportFormats {
+pub fn formats(formats: &[FileFormat], version: IesVersionArg, rays: u32) -> ExportFormats {
     ExportFormats {
         ies: formats.contains(&FileFormat::Ies).then_some(match version {
             IesVersionArg::Lm63_2019 => IesVersion::Lm63_2019,
@@ -375,6 +381,7 @@ pub fn formats(formats: &[FileFormat], version: IesVersionArg) -> ExportFormats 
         cube_png: formats.contains(&FileFormat::Cube),
         polar_png: formats.contains(&FileFormat::Polar),
         datasheet: formats.contains(&FileFormat::Datasheet),
+        tm25_rays: formats.contains(&FileFormat::Tm25).then_some(rays),
     }
 }
 
@@ -426,6 +433,8 @@ impl BakeArgs {
             join(self.formats.iter().map(value_name).collect()),
             "--ies-version".to_owned(),
             value_name(&self.ies_version),
+            "--rays".to_owned(),
+            self.rays.to_string(),
             "--name".to_owned(),
             self.stem(),
             "--ugr-spacing".to_owned(),
