@@ -17,6 +17,7 @@ mod live_bench;
 mod merge;
 mod near_field;
 mod part_bake;
+mod ray_bench;
 mod ray_info;
 pub use part_bake::Interrupted;
 mod render;
@@ -90,6 +91,9 @@ enum Command {
     /// checkpoint) and merging N parts, on maps as dense as a final
     /// bake's parts.
     SplitBench(split_bench::SplitBenchArgs),
+    /// How fast a TM-25 ray file of makers' size (20 M rays) reads and
+    /// writes, rays/s and MB/s, and the memory it takes.
+    RayFileBench(ray_bench::RayFileBenchArgs),
     /// Measure photons/s, rays/s and bounces per photon of every example on
     /// every available backend, and BVH build times.
     Bench(bench::BenchArgs),
@@ -141,6 +145,7 @@ pub fn run(cli: Cli) -> Result<()> {
             }
             Ok(())
         }
+        Command::RayFileBench(args) => ray_bench::ray_file_bench(&args),
         Command::ExportGeometry(args) => export_geometry::export_geometry(&args),
         Command::Render(args) => render::render(&args),
         Command::RenderBench(args) => render::render_bench(&args),
