@@ -69,12 +69,14 @@ struct Emitter {
     normal_z: vec4<f32>,
     // disk: radius; rectangle: width, depth; sphere: radius; cylinder: radius, height
     params: vec4<f32>,
-    // 0 disk, 1 rectangle, 2 sphere, 3 cylinder
+    // 0 disk, 1 rectangle, 2 sphere, 3 cylinder, 4 ray file
     shape: u32,
     // cumulative flux fraction
     cdf: f32,
-    // offset in `profiles`, or 0xffffffff for Lambertian emission
+    // offset in `profiles`, or 0xffffffff for Lambertian emission; a ray
+    // file's rays (start, unit direction, keep probability, alias bits)
     profile_offset: u32,
+    // a profile's C-planes, or a ray file's ray count
     profile_planes: u32,
     profile_gammas: u32,
     pad0: u32,
@@ -317,6 +319,20 @@ fn sample_profile(e: Emitter, u_cell: f32, u1: f32, u2: f32) -> vec3<f32> {
     return vec3<f32>(sin_g * cos(c), sin_g * sin(c), -cos_g);
 }
 
+// The high 32 bits of a × b (WGSL has no 64-bit integers): a column of
+// an alias table from all 32 random bits.
+fn mul_hi(a: u32, b: u32) -> u32 {
+    let a_lo = a & 0xffffu;
+    let a_hi = a >> 16u;
+    let b_lo = b & 0xffffu;
+    let b_hi = b >> 16u;
+    let lo_lo = a_lo * b_lo;
+    let hi_lo = a_hi * b_lo;
+    let lo_hi = a_lo * b_hi;
+    let cross = (lo_lo >> 16u) + (hi_lo & 0xffffu) + (lo_hi & 0xffffu);
+    return a_hi * b_hi + (hi_lo >> 16u) + (lo_hi >> 16u) + (cross >> 16u);
+}
+
 struct Ray {
     origin: vec3<f32>,
     dir: vec3<f32>,
@@ -333,6 +349,23 @@ fn emit() -> Ray {
     let e = emitters[min(index, params.emitter_count - 1u)];
     let u1 = rng_next_f32();
     let u2 = rng_next_f32();
+    if e.shape == 4u {
+        // A ray from the file by the alias method, placed by the
+        // emitter's transform; no surface to step off.
+        let n_rays = e.profile_planes;
+        let i = mul_hi(rng_next_u32(), n_rays);
+        let base = e.profile_offset + 8u * i;
+        var k = i;
+        if rng_next_f32() >= profiles[base + 6u] {
+            k = bitcast<u32>(profiles[base + 7u]);
+        }
+        let r = e.profile_offset + 8u * k;
+        let lp = vec3<f32>(profiles[r], profiles[r + 1u], profiles[r + 2u]);
+        let ld = vec3<f32>(profiles[r + 3u], profiles[r + 4u], profiles[r + 5u]);
+        let wp = e.x_axis.xyz * lp.x + e.y_axis.xyz * lp.y + e.z_axis.xyz * lp.z + e.translation.xyz;
+        let wd = normalize(e.x_axis.xyz * ld.x + e.y_axis.xyz * ld.y + e.z_axis.xyz * ld.z);
+        return Ray(wp + wd * params.epsilon, wd);
+    }
     var p = vec3<f32>(0.0);
     var n = vec3<f32>(0.0, 0.0, -1.0);
     switch e.shape {

@@ -244,6 +244,8 @@ impl Evaluator {
                     EmitterShape::Rectangle { width, depth } => 0.5 * width.hypot(depth),
                     EmitterShape::Sphere { radius } => radius,
                     EmitterShape::Cylinder { radius, height } => radius.hypot(0.5 * height),
+                    // Its rays' starts are in the file: the emitter's origin.
+                    EmitterShape::RayFile { .. } => 0.0,
                 };
             for &p in &self.varied_parts {
                 let name = &scene.parts[p].name;

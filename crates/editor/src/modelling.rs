@@ -475,7 +475,7 @@ pub fn new_part(scene: &mut Scene, kind: NewPart) -> Part {
 }
 
 /// The emitter shape kinds as scene files write them.
-pub const EMITTER_SHAPES: [&str; 4] = ["disk", "rectangle", "sphere", "cylinder"];
+pub const EMITTER_SHAPES: [&str; 5] = ["disk", "rectangle", "sphere", "cylinder", "ray_file"];
 
 pub fn emitter_shape_kind(shape: &EmitterShape) -> &'static str {
     match shape {
@@ -483,6 +483,7 @@ pub fn emitter_shape_kind(shape: &EmitterShape) -> &'static str {
         EmitterShape::Rectangle { .. } => "rectangle",
         EmitterShape::Sphere { .. } => "sphere",
         EmitterShape::Cylinder { .. } => "cylinder",
+        EmitterShape::RayFile { .. } => "ray_file",
     }
 }
 
@@ -494,8 +495,15 @@ pub fn emitter_shape_as(shape: &EmitterShape, kind: &str) -> EmitterShape {
         EmitterShape::Disk { radius } | EmitterShape::Sphere { radius } => (radius, radius),
         EmitterShape::Rectangle { width, depth } => (0.5 * width, 0.5 * depth),
         EmitterShape::Cylinder { radius, height } => (radius, 0.5 * height),
+        // A file has no size: a small LED's.
+        EmitterShape::RayFile { .. } => (0.0015, 0.0015),
     };
     match kind {
+        // The file is chosen next (Ray file field); until then the scene
+        // says which field is missing.
+        "ray_file" => EmitterShape::RayFile {
+            path: String::new(),
+        },
         "rectangle" => EmitterShape::Rectangle {
             width: 2.0 * a,
             depth: 2.0 * b,
@@ -597,7 +605,8 @@ mod tests {
             }
         }
         let disk = EmitterShape::Disk { radius: 0.002 };
-        for kind in EMITTER_SHAPES {
+        // A ray file has no size to give back: it comes back a small LED.
+        for kind in EMITTER_SHAPES.into_iter().filter(|&k| k != "ray_file") {
             assert_eq!(
                 emitter_shape_as(&emitter_shape_as(&disk, kind), "disk"),
                 disk

@@ -387,8 +387,15 @@ fn emitter_ui(ui: &mut Ui, index: usize, e: &mut Emitter, materials: &[String], 
             length_mm(ui, "Emitter radius", radius, MAX_MM);
             length_mm(ui, "Emitter height", height, MAX_MM);
         }
+        EmitterShape::RayFile { path } => {
+            text(ui, "Ray file", path).on_hover_text(
+                "An IES TM-25 ray file (.tm25ray), relative to the scene file: photons start at its rays, placed by the transform",
+            );
+        }
     }
-    emission_ui(ui, index, &mut e.emission, scene_dir);
+    if !matches!(e.shape, EmitterShape::RayFile { .. }) {
+        emission_ui(ui, index, &mut e.emission, scene_dir);
+    }
     labelled(ui, "Emitter material", |ui| {
         egui::ComboBox::from_id_salt("emitter material")
             .selected_text(e.material.as_deref().unwrap_or("absorbing (none)"))

@@ -60,8 +60,12 @@ impl Scene {
             Emission::Profile(path) => Some(path.as_str()),
             _ => None,
         });
+        let ray_files = self.emitters.iter().filter_map(|e| match &e.shape {
+            EmitterShape::RayFile { path } => Some(path.as_str()),
+            _ => None,
+        });
         let mut files: Vec<&str> = Vec::new();
-        for f in meshes.chain(profiles) {
+        for f in meshes.chain(profiles).chain(ray_files) {
             if !files.contains(&f) {
                 files.push(f);
             }
@@ -326,6 +330,12 @@ pub enum EmitterShape {
     Sphere { radius: f64 },
     /// Cylinder about z, centred, emitting from its side outwards (a tube).
     Cylinder { radius: f64, height: f64 },
+    /// An LED maker's measured rays (IES TM-25 file, path relative to the
+    /// scene file): photons start at the file's rays, in the file's frame
+    /// (mm) placed by the emitter's transform, sampled in proportion to
+    /// each ray's luminous flux. The file gives the directions, so the
+    /// emission must be Lambertian (unused); there is no surface.
+    RayFile { path: String },
 }
 
 /// Angular distribution of the emission leaving each surface point.

@@ -105,7 +105,7 @@ fn emitter_shape(shape: &EmitterShape) -> Option<Box<dyn ShapeGenerator>> {
             segments_around: EMITTER_SEGMENTS_AROUND,
         })),
         EmitterShape::Rectangle { width, depth } => Some(Box::new(Plate { width, depth })),
-        EmitterShape::Sphere { .. } => None,
+        EmitterShape::Sphere { .. } | EmitterShape::RayFile { .. } => None,
         EmitterShape::Cylinder { radius, height } => Some(Box::new(Cylinder {
             radius,
             height,
@@ -118,6 +118,10 @@ fn emitter_shape(shape: &EmitterShape) -> Option<Box<dyn ShapeGenerator>> {
 
 /// The emitter's surface in its local frame, normals along the emission.
 pub fn emitter_mesh(shape: &EmitterShape) -> TriangleMesh {
+    if let EmitterShape::RayFile { .. } = shape {
+        // Rays start in the air: no surface to come back to.
+        return TriangleMesh::default();
+    }
     if let EmitterShape::Sphere { radius } = *shape {
         // South pole to north pole: the right-hand normal points out.
         let strip = sample_curve(
@@ -153,6 +157,9 @@ pub fn emitter_exact(shape: &EmitterShape) -> Vec<ExactSurface> {
 
 /// The most triangles [`emitter_mesh`] builds for `shape`.
 pub fn emitter_triangle_count(shape: &EmitterShape) -> u64 {
+    if let EmitterShape::RayFile { .. } = shape {
+        return 0;
+    }
     match emitter_shape(shape) {
         Some(generator) => generator.triangle_count().unwrap_or(0),
         None => revolution_triangle_count(
@@ -255,6 +262,9 @@ pub fn tessellate(scene: &Scene, scene_dir: &Path) -> Result<TessellatedScene, T
     for (index, emitter) in scene.emitters.iter().enumerate().filter(|(_, e)| e.enabled) {
         within_scene_limit(&out, &emitter.name, emitter_triangle_count(&emitter.shape))?;
         let mesh = emitter_mesh(&emitter.shape).transformed(&emitter.transform.matrix());
+        if mesh.triangle_count() == 0 {
+            continue;
+        }
         mesh.check()
             .map_err(|d| mesh_error(&emitter.name, None, d))?;
         let m = match &emitter.material {

@@ -396,6 +396,17 @@ impl Checker<'_> {
                 self.length(&s, "radius", radius);
                 self.length(&s, "height", height);
             }
+            EmitterShape::RayFile { ref path } => {
+                if path.trim().is_empty() {
+                    self.fail(s.key("path"), "must name a TM-25 ray file");
+                }
+                if e.emission != crate::model::Emission::Lambertian {
+                    self.fail(
+                        at.key("emission"),
+                        "a ray-file emitter takes its directions from the file: leave emission out",
+                    );
+                }
+            }
         }
         if let crate::model::Emission::Profile(file) = &e.emission
             && file.trim().is_empty()

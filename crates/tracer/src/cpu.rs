@@ -275,6 +275,21 @@ fn emit(scene: &PreparedScene, rng: &mut PhotonRng) -> (Vec3A, Vec3A) {
         .partition_point(|&c| c <= u)
         .min(scene.emitters.len() - 1);
     let e = &scene.emitters[index];
+    if let EmitterDirections::RayFile(rays) = &e.directions {
+        // The file's start and direction, placed by the emitter's
+        // transform; no surface to step off.
+        // The surface's two numbers are drawn and unused, as the kernel
+        // draws them before it knows the shape.
+        let _surface = (rng.next_f32(), rng.next_f32());
+        let (p_local, d_local) = rays.sample(rng.next_u32(), rng.next_f32());
+        let p = e.luminaire_from_emitter.transform_point3a(p_local);
+        let d = e
+            .luminaire_from_emitter
+            .matrix3
+            .mul_vec3a(d_local)
+            .normalize();
+        return (p + d * scene.epsilon, d);
+    }
     let (p_local, n_local) = sample_emitter_surface(&e.shape, rng.next_f32(), rng.next_f32());
     let p = e.luminaire_from_emitter.transform_point3a(p_local);
     let n = (e.normal_matrix * n_local).normalize();
@@ -287,6 +302,7 @@ fn emit(scene: &PreparedScene, rng: &mut PhotonRng) -> (Vec3A, Vec3A) {
                 .mul_vec3a(local)
                 .normalize()
         }
+        EmitterDirections::RayFile(_) => unreachable!("ray files return above"),
     };
     let off = if d.dot(n) >= 0.0 { n } else { -n };
     (p + (off + d) * scene.epsilon, d)

@@ -90,6 +90,7 @@ fn gpu_emitters(scene: &PreparedScene) -> (Vec<GpuEmitter>, Vec<f32>) {
                 EmitterShape::Cylinder { radius, height } => {
                     (3, [radius as f32, height as f32, 0.0, 0.0])
                 }
+                EmitterShape::RayFile { .. } => (4, [0.0; 4]),
             };
             let (profile_offset, profile_planes, profile_gammas) = match &e.directions {
                 EmitterDirections::Lambertian => (u32::MAX, 0, 0),
@@ -98,6 +99,13 @@ fn gpu_emitters(scene: &PreparedScene) -> (Vec<GpuEmitter>, Vec<f32>) {
                     let offset = profiles.len() as u32;
                     profiles.extend(data);
                     (offset, nc, ng)
+                }
+                // The rays at `profile_offset`, 8 values each; their count
+                // in `profile_planes`.
+                EmitterDirections::RayFile(sampler) => {
+                    let offset = profiles.len() as u32;
+                    profiles.extend(sampler.packed());
+                    (offset, sampler.rays.len() as u32, 0)
                 }
             };
             GpuEmitter {

@@ -12,7 +12,7 @@ use lucerna_scene::file::{MAX_PROFILE_FILE_BYTES, read_limited};
 use lucerna_scene::{Emission, EmitterShape, Material, Scene, TessellatedScene};
 
 use crate::bvh::{Bvh, BvhQuality};
-use crate::sampling::ProfileSampler;
+use crate::sampling::{ProfileSampler, RaySampler};
 
 /// Material kinds as the kernels switch on them.
 pub mod kind {
@@ -146,6 +146,10 @@ pub enum EmitterDirections {
     Lambertian,
     /// Shared by the emitters that name the same file.
     Profile(Arc<ProfileSampler>),
+    /// Starts and directions both from a TM-25 ray file (the shape is
+    /// [`EmitterShape::RayFile`]); shared like profiles, and kept between
+    /// preparations while any scene holds it.
+    RayFile(Arc<RaySampler>),
 }
 
 /// One emitter ready to sample.
@@ -194,6 +198,49 @@ pub enum PrepareError {
     },
     #[error("emitter '{emitter}': the emission profile carries no flux")]
     EmptyProfile { emitter: String },
+    #[error("emitter '{emitter}': ray file")]
+    RayFile {
+        emitter: String,
+        #[source]
+        source: lucerna_photometry::tm25::ReadRayFileError,
+    },
+}
+
+/// The ray file at `path`, read once while any prepared scene holds it:
+/// an editor prepares the scene again at every edit, and a maker's file
+/// is half a gigabyte.
+fn ray_sampler(path: &Path) -> Result<Arc<RaySampler>, lucerna_photometry::tm25::ReadRayFileError> {
+    use std::sync::{Mutex, Weak};
+    type Key = (PathBuf, u64, Option<std::time::SystemTime>);
+    static CACHE: Mutex<Vec<(Key, Weak<RaySampler>)>> = Mutex::new(Vec::new());
+    let meta = std::fs::metadata(path).ok();
+    let key: Key = (
+        path.to_path_buf(),
+        meta.as_ref().map_or(0, |m| m.len()),
+        meta.and_then(|m| m.modified().ok()),
+    );
+    let mut cache = CACHE
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    cache.retain(|(_, w)| w.strong_count() > 0);
+    if let Some(sampler) = cache
+        .iter()
+        .find(|(k, _)| *k == key)
+        .and_then(|(_, w)| w.upgrade())
+    {
+        return Ok(sampler);
+    }
+    let rays = lucerna_photometry::tm25::read_ray_file(path)?;
+    // The reader refuses a file whose rays carry no flux.
+    let sampler = Arc::new(RaySampler::new(rays).ok_or_else(|| {
+        lucerna_photometry::tm25::ReadRayFileError::Format {
+            file: path.display().to_string(),
+            field: "ray data (4.7.7)",
+            message: "the rays carry no flux".to_owned(),
+        }
+    })?);
+    cache.push((key, Arc::downgrade(&sampler)));
+    Ok(sampler)
 }
 
 impl PreparedScene {
@@ -293,9 +340,15 @@ impl PreparedScene {
             .iter()
             .filter(|e| e.enabled && e.flux_lm > 0.0)
         {
-            let directions = match &e.emission {
-                Emission::Lambertian => EmitterDirections::Lambertian,
-                Emission::Profile(file) => {
+            let directions = match (&e.shape, &e.emission) {
+                (EmitterShape::RayFile { path }, _) => EmitterDirections::RayFile(
+                    ray_sampler(&scene_dir.join(path)).map_err(|source| PrepareError::RayFile {
+                        emitter: e.name.clone(),
+                        source,
+                    })?,
+                ),
+                (_, Emission::Lambertian) => EmitterDirections::Lambertian,
+                (_, Emission::Profile(file)) => {
                     let path = scene_dir.join(file);
                     if let Some(sampler) = samplers.get(&path) {
                         EmitterDirections::Profile(sampler.clone())
@@ -399,5 +452,7 @@ pub fn sample_emitter_surface(shape: &EmitterShape, u1: f32, u2: f32) -> (Vec3A,
                 n,
             )
         }
+        // Its rays are sampled from the file (`EmitterDirections::RayFile`).
+        EmitterShape::RayFile { .. } => (Vec3A::ZERO, Vec3A::NEG_Z),
     }
 }

@@ -205,3 +205,107 @@ impl ProfileSampler {
         Vec3A::new(sin_g * c.cos(), sin_g * c.sin(), -cos_g)
     }
 }
+
+/// Photons from a TM-25 ray file: a ray chosen in proportion to its
+/// luminous flux by Walker's alias method (constant time per photon), its
+/// start and direction as the file gives them. The file's rays are held
+/// once, here.
+#[derive(Debug)]
+pub struct RaySampler {
+    pub rays: lucerna_photometry::tm25::RaySet,
+    /// Per ray: the probability of keeping it, and the ray taken instead.
+    alias: Vec<(f32, u32)>,
+}
+
+impl RaySampler {
+    /// `None` when the rays carry no flux.
+    pub fn new(rays: lucerna_photometry::tm25::RaySet) -> Option<RaySampler> {
+        let n = rays.len();
+        let total = rays.total_luminous_flux_lm();
+        if n == 0 || !(total > 0.0) {
+            return None;
+        }
+        // Vose's construction: scaled weights split into small and large.
+        let mut scaled: Vec<f64> = rays
+            .luminous_flux_lm
+            .iter()
+            .map(|&f| f64::from(f) * n as f64 / total)
+            .collect();
+        let mut alias: Vec<(f32, u32)> = (0..n as u32).map(|i| (1.0, i)).collect();
+        let (mut small, mut large): (Vec<u32>, Vec<u32>) =
+            (0..n as u32).partition(|&i| scaled[i as usize] < 1.0);
+        while let (Some(s), Some(&l)) = (small.pop(), large.last()) {
+            alias[s as usize] = (scaled[s as usize] as f32, l);
+            scaled[l as usize] -= 1.0 - scaled[s as usize];
+            if scaled[l as usize] < 1.0 {
+                large.pop();
+                small.push(l);
+            }
+        }
+        Some(RaySampler { rays, alias })
+    }
+
+    /// The ray for a uniform `column` (all 32 bits: a 20 M-ray file needs
+    /// more than a float's 24) and uniform `u` (keep or alias): start (m)
+    /// and unit direction, the file's frame.
+    #[inline(always)]
+    pub fn sample(&self, column: u32, u: f32) -> (Vec3A, Vec3A) {
+        let n = self.alias.len();
+        let i = ((u64::from(column) * n as u64) >> 32) as usize;
+        let (keep, other) = self.alias[i];
+        let k = if u < keep { i } else { other as usize };
+        let p = self.rays.position_mm(k);
+        let d = self.rays.direction(k);
+        (
+            Vec3A::from_array(p) * 1e-3,
+            Vec3A::from_array(d).normalize(),
+        )
+    }
+
+    /// Per ray, for the GPU: start (m), unit direction, keep probability
+    /// and alias (its bits as f32).
+    pub fn packed(&self) -> Vec<f32> {
+        let mut out = Vec::with_capacity(8 * self.alias.len());
+        for (i, &(keep, other)) in self.alias.iter().enumerate() {
+            let p = Vec3A::from_array(self.rays.position_mm(i)) * 1e-3;
+            let d = Vec3A::from_array(self.rays.direction(i)).normalize();
+            out.extend([p.x, p.y, p.z, d.x, d.y, d.z, keep, f32::from_bits(other)]);
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod ray_sampler_tests {
+    use super::*;
+    use lucerna_photometry::tm25::{RayFileHeader, RaySet};
+
+    #[test]
+    fn rays_are_chosen_in_proportion_to_their_flux() {
+        // Fluxes 1, 2, 3, 4 (and a dark ray): chosen 10, 20, 30, 40 %.
+        let fluxes = [1.0f32, 0.0, 2.0, 3.0, 4.0];
+        let mut records = Vec::new();
+        for (i, f) in fluxes.iter().enumerate() {
+            records.extend([i as f32, 0.0, 0.0, 0.0, 0.0, -2.0, *f]);
+        }
+        let rays = RaySet {
+            header: RayFileHeader::luminous(5, 10.0),
+            records,
+            luminous_flux_lm: fluxes.to_vec(),
+        };
+        let sampler = RaySampler::new(rays).unwrap();
+        let mut counts = [0u32; 5];
+        let n = 100_000;
+        let mut rng = crate::rng::PhotonRng::new(3, 0, 0);
+        for _ in 0..n {
+            let (p, d) = sampler.sample(rng.next_u32(), rng.next_f32());
+            assert_eq!(d, Vec3A::NEG_Z);
+            counts[(p.x * 1000.0).round() as usize] += 1;
+        }
+        assert_eq!(counts[1], 0);
+        for (i, want) in [(0, 0.1), (2, 0.2), (3, 0.3), (4, 0.4)] {
+            let got = f64::from(counts[i]) / f64::from(n);
+            assert!((got - want).abs() < 0.005, "ray {i}: {got} vs {want}");
+        }
+    }
+}

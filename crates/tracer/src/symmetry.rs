@@ -183,6 +183,14 @@ pub fn luminaire_symmetry(scene: &Scene, tessellated: &TessellatedScene) -> Lumi
             ),
         };
     }
+    // A measured ray set is never exactly symmetric: pooling over a
+    // symmetry it only nearly has would bias the result.
+    if enabled_emitters().any(|e| matches!(e.shape, lucerna_scene::EmitterShape::RayFile { .. })) {
+        return LuminaireSymmetry {
+            symmetry: AxialSymmetry::None,
+            limited_by: Some("an emitter is a ray file (its rays are taken as they are)".into()),
+        };
+    }
     // Brushing at an angle other than 0° or 90° to the circumferential
     // direction turns with the luminaire but is not mirror-symmetric.
     let twisted = tessellated.materials.iter().find(|(_, m)| {
