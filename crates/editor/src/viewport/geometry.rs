@@ -103,6 +103,46 @@ pub fn luminaire_vertices(t: &TessellatedScene) -> Vec<MeshVertex> {
     vertices
 }
 
+/// Rays of a ray-file emitter drawn, at most this many.
+const MAX_RAY_ORIGINS: usize = 2000;
+
+/// Where the rays of each ray-file emitter start, as a cloud of small
+/// emitter-coloured marks (three crossed triangles each, seen from any
+/// side; `size` across, metres), placed by the emitter's transform. No
+/// surface: they are not picked.
+pub fn ray_origin_marks(prepared: &lucerna_tracer::PreparedScene, size: f32) -> Vec<MeshVertex> {
+    use lucerna_tracer::prepared::EmitterDirections;
+    let mut vertices = Vec::new();
+    for e in &prepared.emitters {
+        let EmitterDirections::RayFile(sampler) = &e.directions else {
+            continue;
+        };
+        let rays = &sampler.rays;
+        let step = rays.len().div_ceil(MAX_RAY_ORIGINS).max(1);
+        for i in (0..rays.len()).step_by(step) {
+            let local = glam::Vec3A::from_array(rays.position_mm(i)) * 1e-3;
+            let p = Vec3::from(e.luminaire_from_emitter.transform_point3a(local));
+            let h = 0.5 * size;
+            for (a, b, normal) in [
+                (Vec3::X, Vec3::Y, Vec3::Z),
+                (Vec3::Y, Vec3::Z, Vec3::X),
+                (Vec3::Z, Vec3::X, Vec3::Y),
+            ] {
+                for corner in [p - a * h, p + a * h, p + b * h] {
+                    vertices.push(MeshVertex {
+                        position: corner.to_array(),
+                        normal: normal.to_array(),
+                        colour: EMITTER_COLOUR,
+                        look: LOOK_EMITTER,
+                        surface: u32::MAX,
+                    });
+                }
+            }
+        }
+    }
+    vertices
+}
+
 /// The surface (index into `surfaces`) a triangle belongs to.
 pub fn surface_of_triangle(t: &TessellatedScene, triangle: usize) -> Option<usize> {
     t.surfaces
@@ -361,5 +401,30 @@ mod tests {
             bounces: 0,
         };
         assert!(path_lines(&[absorbed], Vec3::ZERO, 1.0).is_empty());
+    }
+}
+
+#[cfg(test)]
+mod ray_file_tests {
+    #![allow(clippy::unwrap_used)] // reason: tests may panic
+    use super::*;
+
+    #[test]
+    fn a_ray_file_emitter_is_drawn_as_its_rays_starts() {
+        let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../assets/rayfiles/parabolic_spot_ray_file_led.toml");
+        let luminaire = lucerna_simulation::Luminaire::load(&scene).unwrap();
+        let marks = ray_origin_marks(&luminaire.prepared, 1e-4);
+        // 2000 of the file's 20 000 rays, three triangles each.
+        assert_eq!(marks.len(), 2000 * 9);
+        // The 1 mm die at the focus, in the z = 0 plane.
+        for v in &marks {
+            let [x, y, z] = v.position;
+            assert!(
+                x.abs() <= 0.00056 && y.abs() <= 0.00056 && z.abs() <= 0.00006,
+                "{x} {y} {z}"
+            );
+            assert_eq!(v.surface, u32::MAX);
+        }
     }
 }

@@ -113,8 +113,20 @@ impl Viewport {
         match &self.mesh {
             Some((l, mesh, bounds)) if Arc::ptr_eq(l, luminaire) => (mesh.clone(), *bounds),
             _ => {
-                let mesh = Arc::new(geometry::luminaire_vertices(&luminaire.tessellated));
-                let bounds = Bounds::of_points(&luminaire.tessellated.mesh.positions);
+                let mut vertices = geometry::luminaire_vertices(&luminaire.tessellated);
+                let mut bounds = Bounds::of_points(&luminaire.tessellated.mesh.positions);
+                // A ray-file emitter has no surface: its rays' starts show
+                // where it is, marks 0.4 % of the view across.
+                let marks =
+                    geometry::ray_origin_marks(&luminaire.prepared, 4e-3 * bounds.radius.max(1e-3));
+                if !marks.is_empty() {
+                    let points: Vec<Vec3> = marks.iter().map(|v| Vec3::from(v.position)).collect();
+                    let mut all = luminaire.tessellated.mesh.positions.clone();
+                    all.extend(points);
+                    bounds = Bounds::of_points(&all);
+                    vertices.extend(marks);
+                }
+                let mesh = Arc::new(vertices);
                 self.mesh = Some((luminaire.clone(), mesh.clone(), bounds));
                 (mesh, bounds)
             }
