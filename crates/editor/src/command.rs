@@ -17,6 +17,8 @@ pub enum DialogKind {
     Open,
     SaveAs,
     ImportMesh,
+    /// A TM-25 ray file to add as an emitter.
+    RayFileEmitter,
     /// The export dialog's output folder.
     ExportFolder,
 }
@@ -59,6 +61,8 @@ pub enum Command {
     DiscardRecovery,
     /// Adds an OBJ file as a mesh part (one undo step).
     ImportMesh(PathBuf),
+    /// Adds a TM-25 ray file as an emitter (one undo step).
+    AddRayFileEmitter(PathBuf),
     /// Opens a native file dialog; the chosen path comes back as a command.
     FileDialog(DialogKind),
     SetTheme(ThemeChoice),

@@ -43,6 +43,7 @@ fn field_for(kind: DialogKind) -> &'static str {
         DialogKind::Open => "Scene file",
         DialogKind::SaveAs => "Save as path",
         DialogKind::ImportMesh => "OBJ file",
+        DialogKind::RayFileEmitter => "Ray file",
         DialogKind::ExportFolder => "Output folder",
     }
 }
@@ -56,6 +57,7 @@ fn prompt_words(kind: DialogKind) -> (&'static str, &'static str) {
         DialogKind::Open => ("Open a scene", "Open"),
         DialogKind::SaveAs => ("Save the scene as", "Save"),
         DialogKind::ImportMesh => ("Import an OBJ mesh", "Import"),
+        DialogKind::RayFileEmitter => ("Add a ray-file emitter", "Add"),
         DialogKind::ExportFolder => ("Choose the export folder", "Choose"),
     }
 }
@@ -65,6 +67,7 @@ fn command_for(kind: DialogKind, path: PathBuf) -> Command {
         DialogKind::Open => Command::Open(path),
         DialogKind::SaveAs => Command::SaveAs(path),
         DialogKind::ImportMesh => Command::ImportMesh(path),
+        DialogKind::RayFileEmitter => Command::AddRayFileEmitter(path),
         DialogKind::ExportFolder => Command::SetExportFolder(path),
     }
 }
@@ -162,6 +165,9 @@ impl Dialogs {
             DialogKind::ImportMesh => dialog
                 .set_title("Import an OBJ mesh")
                 .add_filter("Wavefront OBJ", &["obj"]),
+            DialogKind::RayFileEmitter => dialog
+                .set_title("Add a ray-file emitter")
+                .add_filter("IES TM-25 ray file", &["tm25ray", "TM25RAY"]),
             DialogKind::ExportFolder => dialog.set_title("Choose the export folder"),
         };
         if let Some(name) = file_name {
@@ -172,7 +178,9 @@ impl Dialogs {
             .spawn(move || {
                 let path = match kind {
                     DialogKind::SaveAs => dialog.save_file(),
-                    DialogKind::Open | DialogKind::ImportMesh => dialog.pick_file(),
+                    DialogKind::Open | DialogKind::ImportMesh | DialogKind::RayFileEmitter => {
+                        dialog.pick_file()
+                    }
                     DialogKind::ExportFolder => dialog.pick_folder(),
                 };
                 // The editor may have closed meanwhile.

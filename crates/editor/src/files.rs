@@ -257,6 +257,65 @@ pub fn mesh_part(
     Ok((part, notice))
 }
 
+/// Why a ray file cannot be added as an emitter.
+#[derive(Debug, thiserror::Error)]
+pub enum RayFileEmitterError {
+    #[error("cannot add {path} as an emitter")]
+    Read {
+        path: PathBuf,
+        #[source]
+        source: Box<lucerna_photometry::tm25::ReadRayFileError>,
+    },
+    #[error("the path {path} is not UTF-8, which a scene file cannot hold")]
+    NotUtf8 { path: PathBuf },
+}
+
+/// An emitter for the TM-25 ray file at `file` (relative paths from the
+/// working directory), read and checked first: named after the file,
+/// at the origin, with the file's own luminous flux (declared, else its
+/// rays' sum). The path is stored relative to the scene's folder where
+/// the scene has one.
+pub fn ray_file_emitter(
+    scene: &Scene,
+    scene_path: Option<&Path>,
+    file: &Path,
+) -> Result<Emitter, RayFileEmitterError> {
+    let absolute = std::path::absolute(file).unwrap_or_else(|_| file.to_path_buf());
+    let rays = lucerna_photometry::tm25::read_ray_file(&absolute).map_err(|source| {
+        RayFileEmitterError::Read {
+            path: file.to_owned(),
+            source: Box::new(source),
+        }
+    })?;
+    let flux_lm = rays
+        .header
+        .luminous_flux_lm
+        .map_or_else(|| rays.total_luminous_flux_lm(), f64::from);
+    let stored = scene_path
+        .map(folder_of)
+        .and_then(|dir| relative_path(dir, &absolute))
+        .unwrap_or(absolute);
+    let path = stored
+        .to_str()
+        .ok_or_else(|| RayFileEmitterError::NotUtf8 {
+            path: file.to_owned(),
+        })?
+        .to_owned();
+    let stem = file.file_stem().map_or_else(
+        || "ray file".to_owned(),
+        |s| s.to_string_lossy().into_owned(),
+    );
+    Ok(Emitter {
+        name: unique_name(&stem, |n| scene.emitters.iter().any(|e| e.name == n)),
+        shape: EmitterShape::RayFile { path },
+        flux_lm,
+        emission: Emission::Lambertian,
+        material: None,
+        enabled: true,
+        transform: Transform::default(),
+    })
+}
+
 /// The folder a file is in: "." for a bare file name, whose parent is "".
 fn folder_of(path: &Path) -> &Path {
     match path.parent() {
@@ -349,9 +408,10 @@ pub fn dropped_file_command(path: &Path) -> Result<Command, String> {
         .map(|e| e.to_string_lossy().to_ascii_lowercase());
     match ext.as_deref() {
         Some("obj") => Ok(Command::ImportMesh(path.to_owned())),
+        Some("tm25ray") => Ok(Command::AddRayFileEmitter(path.to_owned())),
         Some("toml") => Ok(Command::Open(path.to_owned())),
         _ => Err(format!(
-            "cannot use the dropped file {}: drop a scene (.toml) or an OBJ mesh (.obj)",
+            "cannot use the dropped file {}: drop a scene (.toml), an OBJ mesh (.obj) or a TM-25 ray file (.tm25ray)",
             path.display()
         )),
     }
@@ -499,6 +559,7 @@ impl EditorState {
                 }
             }
             Command::ImportMesh(obj) => self.import_mesh(&obj),
+            Command::AddRayFileEmitter(file) => self.add_ray_file_emitter(&file),
             Command::FileDialog(kind) => {
                 let start_dir = self.scene_dir_for_dialogs();
                 let file_name = match kind {
@@ -572,6 +633,24 @@ impl EditorState {
                     }
                     scene.parts.push(part);
                     *selection = Some(Selection::Part(scene.parts.len() - 1));
+                });
+            }
+            Err(e) => self.files.file_error = Some(error_chain(&e)),
+        }
+    }
+
+    fn add_ray_file_emitter(&mut self, file: &Path) {
+        let Some(scene) = &self.doc.scene else {
+            self.files.file_error =
+                Some("open a scene or start a new one before adding an emitter".to_owned());
+            return;
+        };
+        match ray_file_emitter(scene, self.files.path.as_deref(), file) {
+            Ok(emitter) => {
+                self.files.file_error = None;
+                self.structural(move |scene, selection| {
+                    scene.emitters.push(emitter);
+                    *selection = Some(Selection::Emitter(scene.emitters.len() - 1));
                 });
             }
             Err(e) => self.files.file_error = Some(error_chain(&e)),

@@ -21,6 +21,7 @@ const MAX_MM: f64 = 10_000.0;
 pub fn scene_panel_ui(ui: &mut Ui, state: &mut EditorState) {
     let mut commands = Vec::new();
     let scene_dir = state.scene_dir();
+    let ray_files = ray_files_read(state);
     let Some(scene) = &mut state.doc.scene else {
         ui.label("No scene loaded: open a scene file.");
         return;
@@ -38,6 +39,17 @@ pub fn scene_panel_ui(ui: &mut Ui, state: &mut EditorState) {
         });
         if ui.button("Add emitter").clicked() {
             commands.push(Command::Edit(SceneEdit::AddEmitter));
+        }
+        if ui
+            .button("Add ray-file emitter…")
+            .on_hover_text(
+                "An LED maker's IES TM-25 ray file (.tm25ray): photons start at its rays",
+            )
+            .clicked()
+        {
+            commands.push(Command::FileDialog(
+                crate::command::DialogKind::RayFileEmitter,
+            ));
         }
         if ui.button("Add material").clicked() {
             commands.push(Command::Edit(SceneEdit::AddMaterial));
@@ -64,7 +76,7 @@ pub fn scene_panel_ui(ui: &mut Ui, state: &mut EditorState) {
         }
         Some(Selection::Emitter(i)) => {
             if let Some(emitter) = scene.emitters.get_mut(i) {
-                emitter_ui(ui, i, emitter, &materials, &scene_dir);
+                emitter_ui(ui, i, emitter, &materials, &scene_dir, &ray_files);
                 ui.horizontal(|ui| {
                     if ui.button("Duplicate emitter").clicked() {
                         commands.push(Command::Edit(SceneEdit::DuplicateEmitter(i)));
@@ -356,11 +368,74 @@ fn transform_ui(ui: &mut Ui, t: &mut Transform) {
     }
 }
 
-fn emitter_ui(ui: &mut Ui, index: usize, e: &mut Emitter, materials: &[String], scene_dir: &Path) {
+/// What the running simulation read of each ray file: its path as the
+/// scene gives it, and the file's own figures.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RayFileRead {
+    pub path: String,
+    pub rays: usize,
+    /// As the header declares it (None: unknown), and the rays' sum.
+    pub declared_lm: Option<f32>,
+    pub summed_lm: f64,
+}
+
+/// The ray files the running simulation's scene holds (read once there:
+/// the panel reads no file).
+fn ray_files_read(state: &EditorState) -> Vec<RayFileRead> {
+    let Some(snapshot) = state.snapshot() else {
+        return Vec::new();
+    };
+    snapshot
+        .luminaire
+        .prepared
+        .emitters
+        .iter()
+        .filter_map(|prepared| match (&prepared.shape, &prepared.directions) {
+            (
+                EmitterShape::RayFile { path },
+                lucerna_tracer::prepared::EmitterDirections::RayFile(sampler),
+            ) => Some(RayFileRead {
+                path: path.clone(),
+                rays: sampler.rays.len(),
+                declared_lm: sampler.rays.header.luminous_flux_lm,
+                summed_lm: sampler.rays.total_luminous_flux_lm(),
+            }),
+            _ => None,
+        })
+        .collect()
+}
+
+fn emitter_ui(
+    ui: &mut Ui,
+    index: usize,
+    e: &mut Emitter,
+    materials: &[String],
+    scene_dir: &Path,
+    ray_files: &[RayFileRead],
+) {
     ui.strong("Emitter");
     text(ui, "Name", &mut e.name);
     flag(ui, "Enabled", &mut e.enabled);
     number(ui, "Flux", &mut e.flux_lm, 0.0..=1e7, 1.0, " lm");
+    if let EmitterShape::RayFile { path } = &e.shape {
+        // The file's own flux beside the one the scene sets: flux_lm
+        // scales the rays to it.
+        let words = match ray_files.iter().find(|r| &r.path == path) {
+            Some(r) => {
+                let own = match r.declared_lm {
+                    Some(declared) => format!(
+                        "{declared:.1} lm declared, {:.1} lm in its rays",
+                        r.summed_lm
+                    ),
+                    None => format!("{:.1} lm in its rays (none declared)", r.summed_lm),
+                };
+                format!("The file: {own}, {} rays", r.rays)
+            }
+            None => "The file: not read yet (see the problems below)".to_owned(),
+        };
+        ui.label(words)
+            .on_hover_text("The emitter sends Flux; the file's rays say only how it is shared out");
+    }
     let mut kind = emitter_shape_kind(&e.shape);
     labelled(ui, "Emitter shape", |ui| {
         egui::ComboBox::from_id_salt("emitter shape")

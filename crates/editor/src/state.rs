@@ -312,6 +312,7 @@ impl EditorState {
             | Command::Recover
             | Command::DiscardRecovery
             | Command::ImportMesh(_)
+            | Command::AddRayFileEmitter(_)
             | Command::FileDialog(_)
             | Command::SetTheme(_)
             | Command::ClearRecent) => self.apply_file_command(command),

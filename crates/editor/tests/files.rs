@@ -526,3 +526,81 @@ fn keyboard_zoom_is_on_and_remembered() {
     steps(&mut third, 2);
     assert_eq!(third.ctx.zoom_factor(), 1.0);
 }
+
+#[test]
+fn a_ray_file_is_added_as_an_emitter_showing_the_files_own_flux() {
+    use common::{answer_prompt, click};
+    use lucerna_scene::EmitterShape;
+    let work = tempfile::tempdir().unwrap();
+    // The scene and the ray file in folders of their own: the path is
+    // stored relative to the scene.
+    std::fs::create_dir_all(work.path().join("luminaires")).unwrap();
+    std::fs::create_dir_all(work.path().join("rays")).unwrap();
+    let scene_path = work.path().join("luminaires/spot.toml");
+    std::fs::copy(example(), &scene_path).unwrap();
+    let led = work.path().join("rays/synthetic_led.tm25ray");
+    std::fs::copy(assets().join("rayfiles/synthetic_led.tm25ray"), &led).unwrap();
+    let rays = lucerna_photometry::tm25::read_ray_file(&led).unwrap();
+    let declared = rays.header.luminous_flux_lm.map(f64::from);
+    let own = declared.unwrap_or_else(|| rays.total_luminous_flux_lm());
+
+    let mut h = editor(Some(scene_path), &work.path().join("config"));
+    steps(&mut h, 2);
+    let before = h.state().state.scene().unwrap().clone();
+    // Add ray-file emitter…: the prompt stands in for the native dialog.
+    click(&mut h, "Add ray-file emitter…");
+    steps(&mut h, 3);
+    answer_prompt(&mut h, "Ray file", &led, "Add");
+    let state = &h.state().state;
+    assert_eq!(state.file_error(), None);
+    let scene = state.scene().unwrap();
+    assert_eq!(scene.emitters.len(), before.emitters.len() + 1);
+    let added = scene.emitters.last().unwrap();
+    assert_eq!(added.name, "synthetic_led");
+    assert_eq!(
+        added.shape,
+        EmitterShape::RayFile {
+            path: "../rays/synthetic_led.tm25ray".to_owned()
+        }
+    );
+    assert!(
+        (added.flux_lm - own).abs() < 1e-3 * own,
+        "{} vs {own}",
+        added.flux_lm
+    );
+    assert!(state.problems().is_empty(), "{:?}", state.problems());
+    // Once the simulation has read it, the panel shows its own flux and
+    // rays beside the Flux field.
+    let deadline = Instant::now() + Duration::from_secs(60);
+    let words = format!("{} rays", rays.len());
+    loop {
+        h.step();
+        if h.query_all_by_label_contains(&words).count() > 0 {
+            break;
+        }
+        assert!(Instant::now() < deadline, "no '{words}' shown in 60 s");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let summed = format!("{:.1} lm in its rays", rays.total_luminous_flux_lm());
+    assert!(
+        h.query_all_by_label_contains(&summed).count() > 0,
+        "no '{summed}'"
+    );
+    // One undo step.
+    menu(&mut h, "Edit", "Undo");
+    assert_eq!(h.state().state.scene(), Some(&before));
+
+    // A file that is not a ray file: its error, nothing added.
+    let bogus = work.path().join("rays/bogus.tm25ray");
+    std::fs::write(&bogus, b"not a ray file at all").unwrap();
+    click(&mut h, "Add ray-file emitter…");
+    steps(&mut h, 3);
+    answer_prompt(&mut h, "Ray file", &bogus, "Add");
+    let error = h.state().state.file_error().expect("an error").to_owned();
+    assert!(error.contains("bogus.tm25ray"), "{error}");
+    assert_eq!(h.state().state.scene(), Some(&before));
+    // Dropped on the window, a ray file is added the same way.
+    drop_file(&mut h, led.clone());
+    let scene = h.state().state.scene().unwrap();
+    assert_eq!(scene.emitters.last().unwrap().name, "synthetic_led");
+}

@@ -6,7 +6,7 @@ use std::sync::OnceLock;
 use lucerna_photometry::Dimensions;
 use lucerna_scene::{Scene, TessellatedScene, load_scene, tessellate};
 use lucerna_tracer::bvh::BvhQuality;
-use lucerna_tracer::{LuminaireSymmetry, PreparedScene, luminaire_symmetry};
+use lucerna_tracer::{LuminaireSymmetry, PreparedScene, prepared_luminaire_symmetry};
 
 use crate::SimulationError;
 use crate::export::luminous_opening;
@@ -114,7 +114,8 @@ impl Luminaire {
     /// Finds the symmetry (from the triangles, materials and emitters), if
     /// not yet found, and returns it.
     pub fn find_symmetry(&self) -> &LuminaireSymmetry {
-        self.symmetry
-            .get_or_init(|| luminaire_symmetry(&self.scene, &self.tessellated))
+        self.symmetry.get_or_init(|| {
+            prepared_luminaire_symmetry(&self.scene, &self.tessellated, &self.prepared)
+        })
     }
 }

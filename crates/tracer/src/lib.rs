@@ -28,4 +28,4 @@ pub use cpu::{
 pub use paths::{EscapingRay, PhotonPath, escaping_rays, sample_photon_paths};
 pub use prepared::{PrepareError, PreparedScene};
 pub use session::{Backend, BackendRequest, IterationReport, Session, choose_backend};
-pub use symmetry::{LuminaireSymmetry, luminaire_symmetry};
+pub use symmetry::{LuminaireSymmetry, luminaire_symmetry, prepared_luminaire_symmetry};

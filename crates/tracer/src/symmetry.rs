@@ -19,6 +19,8 @@ use lucerna_photometry::{AxialIsometry, AxialSymmetry};
 use lucerna_scene::{Emission, Material, Scene, SurfaceKind, TessellatedScene};
 use rayon::prelude::*;
 
+use crate::prepared::PreparedScene;
+
 /// The luminaire's symmetry and, when something other than the geometry
 /// ruled symmetries out, what.
 #[derive(Debug, Clone, PartialEq)]
@@ -174,6 +176,179 @@ fn on_triangle(q: [Vec3; 3], normal: Vec3, p: Vec3) -> bool {
 /// triangulations, must match: a mirrored quad is split along the other
 /// diagonal.
 pub fn luminaire_symmetry(scene: &Scene, tessellated: &TessellatedScene) -> LuminaireSymmetry {
+    if has_ray_file(scene) {
+        return LuminaireSymmetry {
+            symmetry: AxialSymmetry::None,
+            limited_by: Some("an emitter is a ray file, whose rays were not checked".into()),
+        };
+    }
+    symmetry_where(scene, tessellated, &|_| true)
+}
+
+fn has_ray_file(scene: &Scene) -> bool {
+    scene
+        .emitters
+        .iter()
+        .any(|e| e.enabled && matches!(e.shape, lucerna_scene::EmitterShape::RayFile { .. }))
+}
+
+/// [`luminaire_symmetry`] of a prepared scene, whose ray-file emitters'
+/// rays are checked too: an isometry holds for them when the rays,
+/// placed in the luminaire, are its own image within the file's sampling
+/// noise ([`RayBins::holds`]). A measured file is never exactly
+/// symmetric; pooling over a symmetry it has within its own noise moves
+/// the result by less than that noise, and over one it lacks would bias
+/// it, so the test is strict (a χ² over flux-weighted bins).
+pub fn prepared_luminaire_symmetry(
+    scene: &Scene,
+    tessellated: &TessellatedScene,
+    prepared: &PreparedScene,
+) -> LuminaireSymmetry {
+    if !has_ray_file(scene) {
+        return luminaire_symmetry(scene, tessellated);
+    }
+    let bins = RayBins::of(prepared);
+    let of_rays = AxialSymmetry::largest_where(|g| bins.holds(g));
+    let mut found = symmetry_where(scene, tessellated, &|g| bins.holds(g));
+    if of_rays != AxialSymmetry::Square && found.limited_by.is_none() {
+        found.limited_by = Some(format!(
+            "the ray file's rays are symmetric only {} (checked within their noise)",
+            of_rays.describe()
+        ));
+    }
+    found
+}
+
+/// The ray-file emitters' rays in the luminaire, binned by where they
+/// start (x, y on a square grid about the axis) and where they go
+/// (direction x, y on a square grid, up or down): every isometry of the
+/// square maps these bins onto bins, so a symmetric ray set has equal
+/// flux in a bin and its image, within the rays' noise.
+#[derive(Debug)]
+pub struct RayBins {
+    /// Flux and flux² per bin.
+    flux: Vec<f64>,
+    flux_squared: Vec<f64>,
+}
+
+/// Cells per axis of the position and direction grids.
+const RAY_CELLS: usize = 4;
+/// How far above its expectation (1 per bin pair) the mean χ² may be, in
+/// its standard deviations, before a symmetry is refused.
+const RAY_SIGMAS: f64 = 6.0;
+
+impl RayBins {
+    fn bin_count() -> usize {
+        RAY_CELLS.pow(4) * 2
+    }
+
+    /// The bin of a start `p` (in the grid of half-width `half`) and a
+    /// unit direction `d`.
+    fn bin(p: [f64; 3], d: [f64; 3], half: f64) -> usize {
+        let cell = |v: f64, h: f64| {
+            (((v / h + 1.0) * 0.5 * RAY_CELLS as f64).floor() as isize)
+                .clamp(0, RAY_CELLS as isize - 1) as usize
+        };
+        let n = RAY_CELLS;
+        let up = usize::from(d[2] > 0.0);
+        (((cell(p[0], half) * n + cell(p[1], half)) * n + cell(d[0], 1.0)) * n + cell(d[1], 1.0))
+            * 2
+            + up
+    }
+
+    /// The rays of every ray-file emitter of `prepared`, each weighted by
+    /// its share of its emitter's flux.
+    pub fn of(prepared: &PreparedScene) -> RayBins {
+        use crate::prepared::EmitterDirections;
+        let sets: Vec<_> = prepared
+            .emitters
+            .iter()
+            .filter_map(|e| match &e.directions {
+                EmitterDirections::RayFile(sampler) => Some((e, sampler.clone())),
+                _ => None,
+            })
+            .collect();
+        let start =
+            |e: &crate::prepared::TraceEmitter, rays: &lucerna_photometry::tm25::RaySet, i| {
+                let p = glam::Vec3A::from_array(rays.position_mm(i)) * 1e-3;
+                let q = e.luminaire_from_emitter.transform_point3a(p);
+                let d = e
+                    .luminaire_from_emitter
+                    .matrix3
+                    .mul_vec3a(glam::Vec3A::from_array(rays.direction(i)))
+                    .normalize_or_zero();
+                (q.to_array().map(f64::from), d.to_array().map(f64::from))
+            };
+        // The grid's half-width: the farthest start from the axis.
+        let mut half = 0.0f64;
+        for (e, sampler) in &sets {
+            for i in 0..sampler.rays.len() {
+                let (p, _) = start(e, &sampler.rays, i);
+                half = half.max(p[0].abs()).max(p[1].abs());
+            }
+        }
+        let half = if half > 0.0 { half * (1.0 + 1e-6) } else { 1.0 };
+        let mut flux = vec![0.0; Self::bin_count()];
+        let mut flux_squared = vec![0.0; Self::bin_count()];
+        for (e, sampler) in &sets {
+            let rays = &sampler.rays;
+            let total = rays.total_luminous_flux_lm();
+            if !(total > 0.0) {
+                continue;
+            }
+            for i in 0..rays.len() {
+                let w = e.flux_lm * f64::from(rays.luminous_flux_lm[i]) / total;
+                let (p, d) = start(e, rays, i);
+                let b = Self::bin(p, d, half);
+                flux[b] += w;
+                flux_squared[b] += w * w;
+            }
+        }
+        RayBins { flux, flux_squared }
+    }
+
+    /// Whether `g` maps the binned rays onto themselves within their
+    /// noise: the mean over bins not their own image of
+    /// (F_b − F_g(b))² / (V_b + V_g(b)) is about 1 for a symmetric set.
+    pub fn holds(&self, g: AxialIsometry) -> bool {
+        let n = RAY_CELLS;
+        // A cell's centre on the unit grid.
+        let centre = |k: usize| (k as f64 + 0.5) * 2.0 / n as f64 - 1.0;
+        let (mut chi2, mut terms) = (0.0, 0usize);
+        for b in 0..Self::bin_count() {
+            let up = b % 2;
+            let rest = b / 2;
+            let (dy, dx) = (rest % n, (rest / n) % n);
+            let (py, px) = ((rest / n / n) % n, rest / n / n / n);
+            let p = g.apply([centre(px), centre(py), 0.0]);
+            let d = g.apply([centre(dx), centre(dy), if up == 1 { 0.5 } else { -0.5 }]);
+            let image = Self::bin(p, d, 1.0);
+            if image == b {
+                continue;
+            }
+            let v = self.flux_squared[b] + self.flux_squared[image];
+            if v > 0.0 {
+                chi2 += (self.flux[b] - self.flux[image]).powi(2) / v;
+                terms += 1;
+            }
+        }
+        if terms == 0 {
+            return true;
+        }
+        // Each pair is counted from both of its bins: half as many
+        // independent terms.
+        let independent = (terms as f64 / 2.0).max(1.0);
+        chi2 / terms as f64 <= 1.0 + RAY_SIGMAS * (2.0 / independent).sqrt()
+    }
+}
+
+/// The symmetry of the triangles, materials and surface emitters, where
+/// `also` holds too.
+fn symmetry_where(
+    scene: &Scene,
+    tessellated: &TessellatedScene,
+    also: &(dyn Fn(AxialIsometry) -> bool + Sync),
+) -> LuminaireSymmetry {
     let enabled_emitters = || scene.emitters.iter().filter(|e| e.enabled);
     if enabled_emitters().any(|e| matches!(e.emission, Emission::Profile(_))) {
         return LuminaireSymmetry {
@@ -181,14 +356,6 @@ pub fn luminaire_symmetry(scene: &Scene, tessellated: &TessellatedScene) -> Lumi
             limited_by: Some(
                 "an emitter has a measured profile (its symmetry is not checked)".into(),
             ),
-        };
-    }
-    // A measured ray set is never exactly symmetric: pooling over a
-    // symmetry it only nearly has would bias the result.
-    if enabled_emitters().any(|e| matches!(e.shape, lucerna_scene::EmitterShape::RayFile { .. })) {
-        return LuminaireSymmetry {
-            symmetry: AxialSymmetry::None,
-            limited_by: Some("an emitter is a ray file (its rays are taken as they are)".into()),
         };
     }
     // Brushing at an angle other than 0° or 90° to the circumferential
@@ -249,7 +416,7 @@ pub fn luminaire_symmetry(scene: &Scene, tessellated: &TessellatedScene) -> Lumi
     }
     let grid = TriangleGrid::new(mesh.triangle_count(), extent, corners);
     let holds = |g: AxialIsometry| {
-        if g.is_mirror() && twisted.is_some() {
+        if g.is_mirror() && twisted.is_some() || !also(g) {
             return false;
         }
         // In parallel on rayon's pool (at the editor's low priority).

@@ -5,11 +5,13 @@
 
 use std::path::{Path, PathBuf};
 
+use lucerna_photometry::AxialSymmetry;
 use lucerna_photometry::CubeMapLayout;
 use lucerna_photometry::tm25::read_ray_file;
+use lucerna_photometry::tm25::{RayFileHeader, RaySet, write_ray_file};
 use lucerna_tracer::cpu::{TraceSettings, trace_batch};
 use lucerna_tracer::gpu::GpuTracer;
-use lucerna_tracer::{PreparedScene, luminaire_symmetry};
+use lucerna_tracer::{PreparedScene, luminaire_symmetry, prepared_luminaire_symmetry};
 
 fn rayfiles() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/rayfiles")
@@ -75,8 +77,12 @@ fn photons_are_the_files_rays_on_the_cpu_and_the_gpu() {
     // No surface for the emitter: only the plate's two triangles.
     assert_eq!(tessellated.triangle_count(), 2);
     let prepared = PreparedScene::new(&scene, &tessellated, &dir).unwrap();
-    let symmetry = luminaire_symmetry(&scene, &tessellated);
-    assert!(symmetry.limited_by.unwrap().contains("ray file"));
+    // Unchecked, a ray file breaks every symmetry; checked, the synthetic
+    // LED (a Lambertian disk) and the square plate have all eight.
+    let unchecked = luminaire_symmetry(&scene, &tessellated);
+    assert!(unchecked.limited_by.unwrap().contains("ray file"));
+    let checked = prepared_luminaire_symmetry(&scene, &tessellated, &prepared);
+    assert_eq!(checked.symmetry, AxialSymmetry::Square, "{checked:?}");
     let layout = CubeMapLayout::new(8);
     let settings = TraceSettings {
         seed: 9,
@@ -118,5 +124,104 @@ fn a_missing_or_broken_ray_file_is_a_clear_error() {
     assert!(
         chain.contains("LED") && chain.contains("missing.tm25ray"),
         "{chain}"
+    );
+}
+
+/// A Lambertian disk of radius 1 mm emitting along +z, as `rays` rays of
+/// equal flux, but those going towards +x carry `plus_x` times as much;
+/// drawn from a fixed stream (SplitMix64).
+fn disk_rays(rays: usize, plus_x: f32) -> RaySet {
+    let mut state = 0x1234_5678_9abc_def0u64;
+    let mut uniform = || {
+        state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut records = Vec::with_capacity(7 * rays);
+    let mut fluxes = Vec::with_capacity(rays);
+    for _ in 0..rays {
+        let (r, a) = (uniform().sqrt(), std::f64::consts::TAU * uniform());
+        let (s, b) = (uniform().sqrt(), std::f64::consts::TAU * uniform());
+        let d = [s * b.cos(), s * b.sin(), (1.0 - s * s).sqrt()];
+        let f = if d[0] > 0.0 { plus_x } else { 1.0 };
+        records.extend([
+            (r * a.cos()) as f32,
+            (r * a.sin()) as f32,
+            0.0,
+            d[0] as f32,
+            d[1] as f32,
+            d[2] as f32,
+            f,
+        ]);
+        fluxes.push(f);
+    }
+    let total: f32 = fluxes.iter().sum();
+    RaySet {
+        header: RayFileHeader::luminous(rays as u64, total),
+        records,
+        luminous_flux_lm: fluxes,
+    }
+}
+
+/// The symmetry a scene finds with `rays` as its emitter, placed by
+/// `transform` (TOML), over a square absorbing plate.
+fn symmetry_with(rays: &RaySet, transform: &str) -> lucerna_tracer::LuminaireSymmetry {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("led.tm25ray"), write_ray_file(rays)).unwrap();
+    let text = format!(
+        r#"
+format_version = 1
+name = "checked rays"
+
+[materials.black]
+type = "absorber"
+
+[[emitter]]
+name = "LED"
+flux_lm = 100.0
+shape = {{ type = "ray_file", path = "led.tm25ray" }}
+transform = {transform}
+
+[[part]]
+name = "plate"
+material = "black"
+shape = {{ type = "plate", width = 0.05, depth = 0.05 }}
+transform = {{ translate = [0.0, 0.0, -0.02] }}
+"#
+    );
+    let scene = lucerna_scene::parse_scene(&text, &dir.path().join("s.toml")).unwrap();
+    let tessellated = lucerna_scene::tessellate(&scene, dir.path()).unwrap();
+    let prepared = PreparedScene::new(&scene, &tessellated, dir.path()).unwrap();
+    prepared_luminaire_symmetry(&scene, &tessellated, &prepared)
+}
+
+#[test]
+fn a_ray_files_symmetry_is_checked_not_assumed() {
+    let on_axis = "{ translate = [0.0, 0.0, 0.0] }";
+    // A symmetric set within its own noise: all eight.
+    let fair = disk_rays(200_000, 1.0);
+    assert_eq!(
+        symmetry_with(&fair, on_axis).symmetry,
+        AxialSymmetry::Square
+    );
+    // 10 % more light towards +x: only the mirror that keeps x.
+    let tilted = disk_rays(200_000, 1.1);
+    let found = symmetry_with(&tilted, on_axis);
+    assert_eq!(found.symmetry, AxialSymmetry::AboutC0C180, "{found:?}");
+    assert!(found.limited_by.unwrap().contains("ray file"));
+    // The fair set placed 0.5 mm off the axis along y: only the mirror
+    // that keeps y.
+    let off_axis = "{ translate = [0.0, 0.0005, 0.0] }";
+    assert_eq!(
+        symmetry_with(&fair, off_axis).symmetry,
+        AxialSymmetry::AboutC90C270
+    );
+    // Turned 5° about x (its beam leans towards −y): the same.
+    let turned = "{ rotate_deg = [5.0, 0.0, 0.0] }";
+    assert_eq!(
+        symmetry_with(&fair, turned).symmetry,
+        AxialSymmetry::AboutC90C270
     );
 }
