@@ -471,7 +471,7 @@ fn a_dropped_obj_is_imported_and_a_dropped_scene_opened_through_the_question() {
             .state
             .file_error()
             .unwrap()
-            .contains("drop a scene (.toml) or an OBJ mesh (.obj)")
+            .contains("drop a scene (.toml), an OBJ mesh (.obj) or a TM-25 ray file (.tm25ray)")
     );
 }
 
