@@ -16,8 +16,9 @@
 
 use glam::{DQuat, DVec2, DVec3};
 use lucerna_photometry::CandelaTable;
-use lucerna_scene::{Emission, EmitterShape, Interpolation, Scene, Shape};
+use lucerna_scene::{Emission, EmitterShape, Interpolation, Material, Scene, Shape};
 
+use crate::meridian::MeridianModel;
 use crate::target::Target;
 use crate::variables::{Place, Variable};
 
@@ -52,10 +53,46 @@ pub fn designs(start: &Scene, variables: &[Variable], target: &Target) -> Vec<Ve
     out
 }
 
+/// The meridian model of the revolved mirror `variables` vary, and its
+/// start profile (r, z control points), where a direct design applies
+/// and the mirror is specular (a mirror or a rough conductor, whose
+/// roughness the model leaves out).
+pub fn meridian_model(
+    start: &Scene,
+    variables: &[Variable],
+    target: &Target,
+) -> Option<(MeridianModel, Vec<[f64; 2]>)> {
+    let setup = Setup::new(start, variables, target)?;
+    let part = &start.parts[setup.part];
+    let reflectance = match start.materials.get(&part.material)? {
+        Material::Mirror { reflectance } => *reflectance,
+        Material::RoughConductor { reflectance, .. } => *reflectance,
+        _ => return None,
+    };
+    let Shape::Revolved(shape) = &part.shape else {
+        return None;
+    };
+    Some((
+        MeridianModel {
+            source_z: setup.source_z,
+            source_radius: setup.source_radius,
+            facing_down: setup.facing_down,
+            reflectance,
+            interpolation: shape.interpolation,
+            segments_per_span: shape.segments_per_span,
+        },
+        setup.points,
+    ))
+}
+
 /// What a direct design works from, in the part's r-z half-plane.
 struct Setup {
-    /// The source on the axis (z, metres).
+    /// The varied part.
+    part: usize,
+    /// The source on the axis (z, metres) and its radius (a rectangle's:
+    /// the disk of its area).
     source_z: f64,
+    source_radius: f64,
     /// +1 for a source emitting towards −z (down), −1 towards +z.
     facing_down: bool,
     /// The profile's control points and its two fixed ends.
@@ -126,7 +163,18 @@ impl Setup {
             return None;
         }
         let target = axial_profile(table);
+        let scale = et.scale[0].abs().max(et.scale[1].abs());
+        let source_radius = scale
+            * match emitter.shape {
+                EmitterShape::Disk { radius } => radius,
+                EmitterShape::Rectangle { width, depth } => {
+                    (width * depth / std::f64::consts::PI).sqrt()
+                }
+                _ => return None,
+            };
         Some(Setup {
+            part,
+            source_radius,
             source_z: et.translate[2] - t.translate[2],
             facing_down: normal.z < 0.0,
             points: shape.profile.clone(),

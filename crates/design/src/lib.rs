@@ -13,7 +13,9 @@
 
 pub mod direct;
 pub mod evaluate;
+pub mod global;
 pub mod least_squares;
+pub mod meridian;
 pub mod merit;
 pub mod optimise;
 pub mod outcome;
@@ -101,6 +103,8 @@ pub struct Design {
     pub start_merit: f64,
     /// The direct design's values and merit, where one was made.
     pub direct: Option<(Vec<f64>, f64)>,
+    /// The meridian model's global search, where one was made.
+    pub model_search: Option<ModelSearch>,
     pub found: Found,
     /// The designed scene.
     pub scene: Scene,
@@ -110,6 +114,27 @@ pub struct Design {
     pub resolution: u32,
     pub lamp_flux_lm: f64,
 }
+
+/// What the meridian model's global search ([`global`]) gave.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ModelSearch {
+    /// Runs finished and model candidates traced.
+    pub runs: usize,
+    pub evaluations: u64,
+    pub seconds: f64,
+    /// The best run's relative L2 difference in the model, and the
+    /// tracer's merit of the best of the few it traced.
+    pub model_l2: f64,
+    pub traced_merit: Option<f64>,
+}
+
+/// Runs of the meridian model's global search, its share of the design's
+/// time and the most time it takes, and how many of its best the tracer
+/// judges.
+const MODEL_RUNS: usize = 16;
+const MODEL_TIME_SHARE: u32 = 4;
+const MODEL_TIME_MAX: std::time::Duration = std::time::Duration::from_secs(30);
+const MODEL_TRACED: usize = 3;
 
 /// Loads, checks and runs a design; `progress` hears of every traced
 /// candidate, `interrupt` stops it with the best so far.
@@ -121,6 +146,7 @@ pub fn design(
     if request.budget.time.is_zero() {
         return Err(DesignError::Time);
     }
+    let began = std::time::Instant::now();
     let path = &request.scene_path;
     let scene_err = |source| DesignError::Scene {
         path: path.display().to_string(),
@@ -206,14 +232,143 @@ pub fn design(
     } else {
         None
     };
-    let x0: Vec<f64> = match &direct {
-        Some((values, m)) if *m < start_merit => values,
-        _ => &start_values,
-    }
+    // The meridian model's global search, where the model applies: its
+    // best few traced, the best of them replaces the start if better.
+    let mut model_records = Vec::new();
+    let mut model_best: Option<(Vec<f64>, f64)> = None;
+    let model_search = match (&request.target, request.direct) {
+        (Target::Distribution { table, .. }, true) => {
+            direct::meridian_model(&start, &variables, &request.target).and_then(
+                |(model, points)| {
+                    let goal = merit::axial(table);
+                    // With an evaluation budget (a design that must not depend
+                    // on the machine's speed) every run finishes.
+                    let deadline = began
+                        + if request.budget.evaluations.is_some() {
+                            request.budget.time
+                        } else {
+                            (request.budget.time / MODEL_TIME_SHARE).min(MODEL_TIME_MAX)
+                        };
+                    let values_of = |profile: &[[f64; 2]]| -> Vec<f64> {
+                        variables
+                            .iter()
+                            .map(|v| match v.place {
+                                variables::Place::ProfilePoint { point, coord, .. } => {
+                                    profile[point][coord]
+                                }
+                                variables::Place::Field { .. } => v.start,
+                            })
+                            .collect()
+                    };
+                    let mut heard = 0u64;
+                    let mut finished_at = [0.0; MODEL_RUNS];
+                    let mut best_heard = f64::INFINITY;
+                    let mut best_values = start_values.clone();
+                    let mut on_run = |run: usize, c: &global::Candidate| {
+                        heard += 1;
+                        if let Some(t) = finished_at.get_mut(run) {
+                            *t = began.elapsed().as_secs_f64();
+                        }
+                        let values = values_of(&c.profile);
+                        if c.model_l2 < best_heard {
+                            best_heard = c.model_l2;
+                            best_values = values.clone();
+                        }
+                        progress(&Progress {
+                            elapsed: began.elapsed(),
+                            evaluations: heard,
+                            stage: 0,
+                            photons: 0,
+                            best_merit: best_heard,
+                            noise: 0.0,
+                            best_values: best_values.clone(),
+                            record: Record {
+                                evaluation: run as u64,
+                                elapsed_s: began.elapsed().as_secs_f64(),
+                                photons: 0,
+                                merit: Some(c.model_l2),
+                                measure: "meridian model".to_owned(),
+                                values,
+                            },
+                        });
+                    };
+                    let search = global::search(
+                        &model,
+                        &points,
+                        &goal,
+                        request.seed,
+                        MODEL_RUNS,
+                        deadline,
+                        interrupt,
+                        &mut on_run,
+                    )?;
+                    // One row per run, in the order they finished.
+                    let mut rows: Vec<(f64, &global::Candidate)> = search
+                        .candidates
+                        .iter()
+                        .map(|c| (finished_at.get(c.run).copied().unwrap_or(0.0), c))
+                        .collect();
+                    rows.sort_by(|a, b| a.0.total_cmp(&b.0));
+                    for (k, (t, c)) in rows.into_iter().enumerate() {
+                        model_records.push(Record {
+                            evaluation: k as u64,
+                            elapsed_s: t,
+                            photons: 0,
+                            merit: Some(c.model_l2),
+                            measure: "meridian model".to_owned(),
+                            values: values_of(&c.profile),
+                        });
+                    }
+                    for c in search.candidates.iter().take(MODEL_TRACED) {
+                        let values = values_of(&c.profile);
+                        let in_bounds = values
+                            .iter()
+                            .zip(&variables)
+                            .all(|(&x, v)| (v.lower..=v.upper).contains(&x));
+                        if let Some(m) = in_bounds.then(|| trace(&mut evaluator, &values)).flatten()
+                            && model_best.as_ref().is_none_or(|(_, b)| m < *b)
+                        {
+                            model_best = Some((values, m));
+                        }
+                    }
+                    Some(ModelSearch {
+                        runs: search.candidates.len(),
+                        evaluations: search.evaluations,
+                        seconds: search.seconds,
+                        model_l2: search
+                            .candidates
+                            .first()
+                            .map_or(f64::INFINITY, |c| c.model_l2),
+                        traced_merit: model_best.as_ref().map(|b| b.1),
+                    })
+                },
+            )
+        }
+        _ => None,
+    };
+    let x0: Vec<f64> = [
+        Some((&start_values, start_merit)),
+        direct.as_ref().map(|(v, m)| (v, *m)),
+        model_best.as_ref().map(|(v, m)| (v, *m)),
+    ]
+    .into_iter()
+    .flatten()
+    .min_by(|a, b| a.1.total_cmp(&b.1))
+    .map_or(&start_values, |(v, _)| v)
     .iter()
     .zip(&variables)
     .map(|(&x, v)| v.fraction(x))
     .collect();
+    // The tracer's loop has the time the search left.
+    let before_loop = began.elapsed();
+    let budget = Budget {
+        time: request
+            .budget
+            .time
+            .saturating_sub(before_loop)
+            .max(std::time::Duration::from_millis(1)),
+        ..request.budget
+    };
     // A distribution is a sum of squares: damped least squares on its
     // residuals; a spec's terms are not, Nelder–Mead on its merit.
     let found = match &request.target {
@@ -223,7 +378,7 @@ pub fn design(
             x0,
             &aim,
             &mut evaluator,
-            request.budget,
+            budget,
             interrupt,
             progress,
         ),
@@ -234,11 +389,21 @@ pub fn design(
             &aim,
             &mut evaluator,
             lamp_flux_lm,
-            request.budget,
+            budget,
             interrupt,
             progress,
         ),
     };
+    // design.csv lists the model's runs first, then the traced
+    // candidates, on one clock.
+    let mut found = found;
+    let offset = model_records.len() as u64;
+    for r in &mut found.history {
+        r.evaluation += offset;
+        r.elapsed_s += before_loop.as_secs_f64();
+    }
+    model_records.append(&mut found.history);
+    found.history = model_records;
     let values = output::rounded(&variables, &found.values);
     let scene = variables::apply(&start, &variables, &values)
         .ok_or_else(|| DesignError::Output("the designed values do not apply".to_owned()))?;
@@ -249,6 +414,7 @@ pub fn design(
         variables,
         start_merit,
         direct,
+        model_search,
         found: Found { values, ..found },
         scene,
         aim,

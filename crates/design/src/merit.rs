@@ -23,10 +23,10 @@ pub struct Aim {
 }
 
 /// The γ step of the axial profiles the smoothed merits compare.
-const SMOOTH_STEP_DEG: f64 = 0.1;
+pub const SMOOTH_STEP_DEG: f64 = 0.1;
 
 /// A table's mean over C on [`SMOOTH_STEP_DEG`] steps.
-fn axial(table: &CandelaTable) -> Vec<f64> {
+pub fn axial(table: &CandelaTable) -> Vec<f64> {
     let n = (180.0 / SMOOTH_STEP_DEG).round() as usize;
     let planes = &table.c_planes_deg;
     (0..=n)

@@ -44,8 +44,8 @@ pub struct DesignArgs {
     /// the package around the LED and the aperture).
     #[arg(long)]
     pub free_ends: bool,
-    /// Skip the point-source direct design of a revolved profile and
-    /// start from the scene as it is.
+    /// Skip the point-source direct design of a revolved profile and the
+    /// meridian model's global search, and start from the scene as it is.
     #[arg(long)]
     pub no_direct: bool,
     /// Fit a distribution by damped least squares (Levenberg–Marquardt)
@@ -81,6 +81,7 @@ struct Report<'a> {
     variables: Vec<(String, f64, f64)>,
     start_merit: f64,
     direct_design_merit: Option<f64>,
+    meridian_model_search: Option<lucerna_design::ModelSearch>,
     merit: f64,
     merit_noise: f64,
     outcome: &'a Outcome,
@@ -136,6 +137,17 @@ pub fn design(args: &DesignArgs) -> Result<()> {
     }
     let mut last_line = std::time::Instant::now() - Duration::from_secs(1);
     let mut progress = |p: &Progress| {
+        if p.photons == 0 {
+            // The meridian model's global search: a line per run.
+            eprintln!(
+                "{:6.1} s  meridian model run {:2} done  model L2 {:.4}  best {:.4}",
+                p.elapsed.as_secs_f64(),
+                p.record.evaluation + 1,
+                p.record.merit.unwrap_or(f64::NAN),
+                p.best_merit,
+            );
+            return;
+        }
         if last_line.elapsed() < Duration::from_millis(500) {
             return;
         }
@@ -191,6 +203,7 @@ pub fn design(args: &DesignArgs) -> Result<()> {
                 .collect(),
             start_merit: design.start_merit,
             direct_design_merit: design.direct.as_ref().map(|d| d.1),
+            meridian_model_search: design.model_search.clone(),
             merit: design.found.merit,
             merit_noise: design.found.noise,
             outcome,
@@ -198,6 +211,19 @@ pub fn design(args: &DesignArgs) -> Result<()> {
         };
         println!("{}", serde_json::to_string_pretty(&report)?);
         return Ok(());
+    }
+    if let Some(m) = &design.model_search {
+        println!(
+            "meridian model search: {} runs, {} model candidates in {:.1} s, best model L2 {:.4}; traced (100 k photons): {}",
+            m.runs,
+            m.evaluations,
+            m.seconds,
+            m.model_l2,
+            m.traced_merit.map_or("refused".to_owned(), |t| format!(
+                "{t:.4} (the start: {:.4})",
+                design.start_merit
+            ))
+        );
     }
     for (v, &x) in design.variables.iter().zip(&design.found.values) {
         println!(

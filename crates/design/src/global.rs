@@ -1,0 +1,484 @@
+//! A global search for a revolved mirror's profile on the meridian model
+//! ([`crate::meridian`]), before the tracer in the loop: the relative L2
+//! difference of a narrow beam is a needle in the profile's space (a
+//! 0.2 mm move of a control point takes it from the floor to 0.3), where
+//! Nelder–Mead from a cone stops in the first side valley. The model
+//! traces a candidate in about a millisecond, so CMA-ES (the `cmaes`
+//! crate) can run many times from spread-out starts:
+//!
+//! 1. on the 2-Wasserstein distance between the γ distributions of flux
+//!    (degrees; it grows steadily as light moves away from where the
+//!    target has it, where the L2 of intensity is flat until the beam
+//!    almost matches), then
+//! 2. on the relative L2 difference itself, from the first's best, with a
+//!    small step.
+//!
+//! Control points move in polar coordinates about the source (the angle
+//! θ from the axis and d = ρ(1 − cos θ), constant along a parabola focused
+//! at the source, the shape every beam is made of), kept in order between
+//! the fixed ends, monotone from one end to the other and not crowded (a
+//! quarter of the mean span at least): the profiles a designer draws. The
+//! candidates are ranked by the model; the tracer then judges the best few.
+
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::time::Instant;
+
+use cmaes::{CMAESOptions, DVector};
+
+use crate::meridian::MeridianModel;
+use crate::merit::SMOOTH_STEP_DEG;
+
+/// Candidates traced in each stage of one run.
+const WASSERSTEIN_EVALUATIONS: usize = 1200;
+const POLISH_EVALUATIONS: usize = 800;
+/// CMA-ES step sizes of the two stages (normalised coordinates).
+const WASSERSTEIN_STEP: f64 = 0.15;
+const POLISH_STEP: f64 = 0.02;
+/// The range of d either side of the ends' geometric mean (a factor).
+const D_RANGE: f64 = 4.0;
+/// The shortest span, as a share of the mean span.
+const MIN_SPAN_SHARE: f64 = 0.35;
+/// Quantiles the Wasserstein distance compares.
+const QUANTILES: usize = 200;
+
+/// One run's result.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Candidate {
+    /// Which run found it.
+    pub run: usize,
+    /// The profile's control points (r, z), ends as given.
+    pub profile: Vec<[f64; 2]>,
+    /// The model's relative L2 difference to the target.
+    pub model_l2: f64,
+    /// The model's 2-Wasserstein distance (degrees of γ).
+    pub wasserstein_deg: f64,
+}
+
+/// What the search found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Search {
+    /// One per finished run, best (smallest model L2) first.
+    pub candidates: Vec<Candidate>,
+    /// Model candidates traced.
+    pub evaluations: u64,
+    pub seconds: f64,
+}
+
+/// The coordinates of a profile's interior points: θ and d about the
+/// source, each normalised to 0 … 1.
+struct Coordinates<'a> {
+    model: &'a MeridianModel,
+    start: &'a [[f64; 2]],
+    theta_first: f64,
+    theta_last: f64,
+    d_reference: f64,
+}
+
+impl<'a> Coordinates<'a> {
+    fn new(model: &'a MeridianModel, start: &'a [[f64; 2]]) -> Option<Coordinates<'a>> {
+        let n = start.len();
+        if n < 3 {
+            return None;
+        }
+        let mut c = Coordinates {
+            model,
+            start,
+            theta_first: 0.0,
+            theta_last: 0.0,
+            d_reference: 0.0,
+        };
+        let (t0, d0) = c.polar(start[0]);
+        let (t1, d1) = c.polar(start[n - 1]);
+        c.theta_first = t0;
+        c.theta_last = t1;
+        c.d_reference = (d0 * d1).sqrt();
+        ((t0 - t1).abs() > 1e-3 && c.d_reference > 0.0).then_some(c)
+    }
+
+    /// θ from the source's axis (the side it emits to) and d.
+    fn polar(&self, p: [f64; 2]) -> (f64, f64) {
+        let along = if self.model.facing_down { -1.0 } else { 1.0 } * (p[1] - self.model.source_z);
+        let theta = p[0].atan2(along);
+        let rho = p[0].hypot(along);
+        (theta, rho * (1.0 - theta.cos()))
+    }
+
+    fn point(&self, theta: f64, d: f64) -> [f64; 2] {
+        let rho = d / (1.0 - theta.cos()).max(1e-9);
+        let sign = if self.model.facing_down { -1.0 } else { 1.0 };
+        [
+            rho * theta.sin(),
+            self.model.source_z + sign * rho * theta.cos(),
+        ]
+    }
+
+    /// Normalised coordinates of a profile (2 per interior point).
+    fn of(&self, profile: &[[f64; 2]]) -> Vec<f64> {
+        let n = profile.len();
+        (1..n - 1)
+            .flat_map(|i| {
+                let (t, d) = self.polar(profile[i]);
+                [
+                    (t - self.theta_last) / (self.theta_first - self.theta_last),
+                    0.5 + (d / self.d_reference).ln() / (2.0 * D_RANGE.ln()),
+                ]
+            })
+            .collect()
+    }
+
+    /// The profile of normalised coordinates (clamped to 0 … 1, the θs in
+    /// order from the first end to the last) and how far outside the box
+    /// they were.
+    fn profile(&self, x: &[f64]) -> (Vec<[f64; 2]>, f64) {
+        let n = self.start.len();
+        let outside: f64 = x.iter().map(|t| (-t).max(0.0) + (t - 1.0).max(0.0)).sum();
+        let mut thetas: Vec<f64> = (0..n - 2).map(|i| x[2 * i].clamp(0.0, 1.0)).collect();
+        thetas.sort_by(|a, b| b.total_cmp(a));
+        let mut p = self.start.to_vec();
+        for i in 1..n - 1 {
+            let theta = self.theta_last + thetas[i - 1] * (self.theta_first - self.theta_last);
+            let d = self.d_reference
+                * ((x[2 * (i - 1) + 1].clamp(0.0, 1.0) - 0.5) * 2.0 * D_RANGE.ln()).exp();
+            p[i] = self.point(theta, d);
+        }
+        (p, outside)
+    }
+
+    /// How far a profile is from the designer's kind: each coordinate
+    /// moving from the first end towards the last (where they differ), no
+    /// span shorter than [`MIN_SPAN_SHARE`] of the mean. Zero for one of
+    /// that kind.
+    fn unlike(&self, p: &[[f64; 2]]) -> f64 {
+        let n = p.len();
+        let mut out = 0.0;
+        for c in 0..2 {
+            let chord = p[n - 1][c] - p[0][c];
+            if chord.abs() > 1e-9 {
+                for i in 1..n {
+                    out += (-(p[i][c] - p[i - 1][c]) / chord).max(0.0);
+                }
+            }
+        }
+        let spans: Vec<f64> = (1..n)
+            .map(|i| (p[i][0] - p[i - 1][0]).hypot(p[i][1] - p[i - 1][1]))
+            .collect();
+        let mean = spans.iter().sum::<f64>() / spans.len() as f64;
+        out + spans
+            .iter()
+            .map(|s| (MIN_SPAN_SHARE - s / mean.max(1e-12)).max(0.0))
+            .sum::<f64>()
+    }
+}
+
+/// The relative L2 difference of two axial profiles on
+/// [`SMOOTH_STEP_DEG`] steps (weighted by sin γ), `got` scaled to
+/// `goal`'s flux.
+pub fn axial_l2(got: &[f64], goal: &[f64]) -> f64 {
+    let w = |k: usize| (k as f64 * SMOOTH_STEP_DEG).to_radians().sin().max(1e-4);
+    let flux = |v: &[f64]| v.iter().enumerate().map(|(k, x)| w(k) * x).sum::<f64>();
+    let scale = flux(goal) / flux(got);
+    if !scale.is_finite() {
+        return f64::INFINITY;
+    }
+    let (mut diff, mut norm) = (0.0, 0.0);
+    for (k, (g, t)) in got.iter().zip(goal).enumerate() {
+        diff += w(k) * (scale * g - t).powi(2);
+        norm += w(k) * t * t;
+    }
+    (diff / norm).sqrt()
+}
+
+/// The 2-Wasserstein distance (degrees) between the γ distributions of
+/// flux of two axial profiles, by their quantiles.
+pub fn wasserstein_deg(got: &[f64], goal: &[f64]) -> f64 {
+    let quantiles = |v: &[f64]| -> Option<Vec<f64>> {
+        let mut cumulative = vec![0.0; v.len()];
+        let mut sum = 0.0;
+        for k in 1..v.len() {
+            let middle = (k as f64 - 0.5) * SMOOTH_STEP_DEG;
+            sum += 0.5 * (v[k - 1] + v[k]) * middle.to_radians().sin();
+            cumulative[k] = sum;
+        }
+        (sum > 0.0).then(|| {
+            (0..QUANTILES)
+                .map(|i| {
+                    let u = (i as f64 + 0.5) / QUANTILES as f64 * sum;
+                    let k = cumulative.partition_point(|&c| c < u).clamp(1, v.len() - 1);
+                    let f =
+                        (u - cumulative[k - 1]) / (cumulative[k] - cumulative[k - 1]).max(1e-300);
+                    (k as f64 - 1.0 + f) * SMOOTH_STEP_DEG
+                })
+                .collect()
+        })
+    };
+    match (quantiles(got), quantiles(goal)) {
+        (Some(a), Some(b)) => {
+            (a.iter().zip(&b).map(|(x, y)| (x - y).powi(2)).sum::<f64>() / QUANTILES as f64).sqrt()
+        }
+        _ => f64::INFINITY,
+    }
+}
+
+/// One CMA-ES run from `x0` on `merit` (of a profile's axial intensity);
+/// its best in-box profile of the designer's kind.
+fn run(
+    coords: &Coordinates<'_>,
+    goal: &[f64],
+    x0: Vec<f64>,
+    step: f64,
+    evaluations: usize,
+    seed: u64,
+    deadline: Instant,
+    merit: fn(&[f64], &[f64]) -> f64,
+    count: &AtomicUsize,
+) -> Option<(f64, Vec<f64>)> {
+    let mut best: Option<(f64, Vec<f64>)> = None;
+    let objective = |x: &DVector<f64>| -> f64 {
+        count.fetch_add(1, Ordering::Relaxed);
+        let x = x.as_slice();
+        let (profile, outside) = coords.profile(x);
+        let unlike = coords.unlike(&profile);
+        if unlike > 0.0 || outside > 0.0 {
+            // Outside: worse than any candidate, less so nearer the box.
+            return 1e3 * (1.0 + unlike + outside);
+        }
+        let Some(got) = coords.model.intensity(&profile, SMOOTH_STEP_DEG) else {
+            return 1e4;
+        };
+        let m = merit(&got, goal);
+        if m.is_finite() && best.as_ref().is_none_or(|(b, _)| m < *b) {
+            best = Some((m, x.to_vec()));
+        }
+        if m.is_finite() { m } else { 1e3 }
+    };
+    let left = deadline.saturating_duration_since(Instant::now());
+    let mut state = CMAESOptions::new(x0, step)
+        .seed(seed)
+        .max_function_evals(evaluations)
+        .max_time(left)
+        .build(objective)
+        .ok()?;
+    let _ = state.run();
+    drop(state);
+    best
+}
+
+/// Searches profiles between `start`'s fixed ends toward `goal` (the
+/// target's mean over C on [`SMOOTH_STEP_DEG`] steps): `runs` runs, the
+/// first from `start`, the others from spread-out starts drawn from
+/// `seed`, on two threads, until `deadline` or `interrupt`. The same seed
+/// gives the same candidates (but for a run the deadline cut).
+/// `finished` hears of each run's candidate as it finishes (run index).
+#[allow(clippy::too_many_arguments)]
+pub fn search(
+    model: &MeridianModel,
+    start: &[[f64; 2]],
+    goal: &[f64],
+    seed: u32,
+    runs: usize,
+    deadline: Instant,
+    interrupt: &AtomicBool,
+    finished: &mut dyn FnMut(usize, &Candidate),
+) -> Option<Search> {
+    let began = Instant::now();
+    let coords = Coordinates::new(model, start)?;
+    let count = AtomicUsize::new(0);
+    let next = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<Candidate>>> = Mutex::new(vec![None; runs]);
+    let interior = start.len() - 2;
+    let worker = |done: std::sync::mpsc::Sender<(usize, Candidate)>| {
+        loop {
+            let r = next.fetch_add(1, Ordering::Relaxed);
+            if r >= runs || Instant::now() >= deadline || interrupt.load(Ordering::Relaxed) {
+                return;
+            }
+            let run_seed = u64::from(seed) * 1_000_003 + r as u64;
+            let x0 = if r == 0 {
+                coords
+                    .of(start)
+                    .iter()
+                    .map(|t| t.clamp(0.02, 0.98))
+                    .collect()
+            } else {
+                let mut rng = SplitMix(run_seed);
+                let mut thetas: Vec<f64> = (0..interior).map(|_| rng.uniform()).collect();
+                thetas.sort_by(|a, b| b.total_cmp(a));
+                thetas
+                    .iter()
+                    .flat_map(|&t| [t, 0.5 + 0.3 * (2.0 * rng.uniform() - 1.0)])
+                    .collect()
+            };
+            let Some((_, coarse)) = run(
+                &coords,
+                goal,
+                x0,
+                WASSERSTEIN_STEP,
+                WASSERSTEIN_EVALUATIONS,
+                run_seed,
+                deadline,
+                wasserstein_deg,
+                &count,
+            ) else {
+                continue;
+            };
+            let Some((_, fine)) = run(
+                &coords,
+                goal,
+                coarse.clone(),
+                POLISH_STEP,
+                POLISH_EVALUATIONS,
+                run_seed ^ 0x5bd1_e995,
+                deadline,
+                axial_l2,
+                &count,
+            ) else {
+                continue;
+            };
+            let (profile, _) = coords.profile(&fine);
+            let Some(got) = model.intensity(&profile, SMOOTH_STEP_DEG) else {
+                continue;
+            };
+            let candidate = Candidate {
+                run: r,
+                model_l2: axial_l2(&got, goal),
+                wasserstein_deg: wasserstein_deg(&got, goal),
+                profile,
+            };
+            if let Ok(mut all) = results.lock() {
+                all[r] = Some(candidate.clone());
+            }
+            let _ = done.send((r, candidate));
+        }
+    };
+    std::thread::scope(|s| {
+        let threads = std::thread::available_parallelism()
+            .map_or(1, |n| n.get())
+            .min(2);
+        let (done, heard) = std::sync::mpsc::channel();
+        for _ in 0..threads {
+            let done = done.clone();
+            s.spawn(move || worker(done));
+        }
+        drop(done);
+        for (r, candidate) in heard {
+            finished(r, &candidate);
+        }
+    });
+    let mut candidates: Vec<Candidate> = results
+        .into_inner()
+        .unwrap_or_default()
+        .into_iter()
+        .flatten()
+        .collect();
+    candidates.sort_by(|a, b| a.model_l2.total_cmp(&b.model_l2));
+    Some(Search {
+        candidates,
+        evaluations: count.load(Ordering::Relaxed) as u64,
+        seconds: began.elapsed().as_secs_f64(),
+    })
+}
+
+/// SplitMix64: the runs' spread-out starts, the same for the same seed.
+struct SplitMix(u64);
+
+impl SplitMix {
+    fn uniform(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lucerna_scene::Interpolation;
+
+    fn model() -> MeridianModel {
+        MeridianModel {
+            source_z: 0.0,
+            source_radius: 0.0015,
+            facing_down: true,
+            reflectance: 0.9,
+            interpolation: Interpolation::CatmullRom,
+            segments_per_span: 16,
+        }
+    }
+
+    #[test]
+    fn the_wasserstein_distance_of_a_shifted_beam_is_the_shift() {
+        let n = (180.0 / SMOOTH_STEP_DEG).round() as usize + 1;
+        // A ring of light between 20° and 30°, and the same 4° further out
+        // (as flux: intensity / sin γ).
+        let ring = |from: f64| -> Vec<f64> {
+            (0..n)
+                .map(|k| {
+                    let g = k as f64 * SMOOTH_STEP_DEG;
+                    if (from..from + 10.0).contains(&g) {
+                        1.0 / g.to_radians().sin()
+                    } else {
+                        0.0
+                    }
+                })
+                .collect()
+        };
+        let (a, b) = (ring(20.0), ring(24.0));
+        assert!((wasserstein_deg(&a, &b) - 4.0).abs() < 0.05);
+        assert!(wasserstein_deg(&a, &a) < 1e-9);
+        assert!(axial_l2(&a, &a) < 1e-12);
+        // Where they differ, ∫ sin γ (1/sin γ)² dγ = ln tan(γ/2) between
+        // the edges: 20°–24° and 30°–34° against 24°–34°.
+        let lt = |g: f64| (g.to_radians() / 2.0).tan().ln();
+        let expected = ((lt(24.0) - lt(20.0) + lt(34.0) - lt(30.0)) / (lt(34.0) - lt(24.0))).sqrt();
+        assert!(
+            (axial_l2(&a, &b) - expected).abs() < 0.02,
+            "{} vs {expected}",
+            axial_l2(&a, &b)
+        );
+    }
+
+    #[test]
+    fn the_search_finds_a_profile_far_better_than_the_cone_and_repeats_itself() {
+        // The target: the model's own light of a smooth reflector (a broad
+        // beam); the search starts from the cone between its ends.
+        let hidden = [
+            [0.006, 0.0],
+            [0.016, -0.006],
+            [0.026, -0.02],
+            [0.034, -0.038],
+            [0.04, -0.06],
+        ];
+        let cone = [
+            [0.006, 0.0],
+            [0.0145, -0.015],
+            [0.023, -0.03],
+            [0.0315, -0.045],
+            [0.04, -0.06],
+        ];
+        let m = model();
+        let goal = m.intensity(&hidden, SMOOTH_STEP_DEG).unwrap();
+        let start = axial_l2(&m.intensity(&cone, SMOOTH_STEP_DEG).unwrap(), &goal);
+        let deadline = Instant::now() + std::time::Duration::from_secs(300);
+        let never = AtomicBool::new(false);
+        let mut heard = 0;
+        let found = search(&m, &cone, &goal, 7, 4, deadline, &never, &mut |_, _| {
+            heard += 1
+        })
+        .unwrap();
+        assert_eq!(heard, found.candidates.len());
+        let best = &found.candidates[0];
+        assert!(
+            best.model_l2 < 0.25 * start,
+            "{} from {start}",
+            best.model_l2
+        );
+        // The ends stay.
+        assert_eq!(best.profile[0], cone[0]);
+        assert_eq!(best.profile[4], cone[4]);
+        let again = search(&m, &cone, &goal, 7, 4, deadline, &never, &mut |_, _| {}).unwrap();
+        assert_eq!(found.candidates, again.candidates);
+    }
+}
