@@ -301,7 +301,7 @@ pub fn search(
                     .map(|t| t.clamp(0.02, 0.98))
                     .collect()
             } else {
-                let mut rng = SplitMix(run_seed);
+                let mut rng = Starts::new(run_seed);
                 let mut thetas: Vec<f64> = (0..interior).map(|_| rng.uniform()).collect();
                 thetas.sort_by(|a, b| b.total_cmp(a));
                 thetas
@@ -379,16 +379,19 @@ pub fn search(
     })
 }
 
-/// SplitMix64: the runs' spread-out starts, the same for the same seed.
-struct SplitMix(u64);
+/// The runs' spread-out starts: uniform numbers from ChaCha8, the same
+/// for the same seed.
+struct Starts(rand_chacha::ChaCha8Rng);
 
-impl SplitMix {
+impl Starts {
+    fn new(seed: u64) -> Starts {
+        use rand_chacha::rand_core::SeedableRng;
+        Starts(rand_chacha::ChaCha8Rng::seed_from_u64(seed))
+    }
+
     fn uniform(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+        use rand_chacha::rand_core::RngCore;
+        (self.0.next_u64() >> 11) as f64 / (1u64 << 53) as f64
     }
 }
 
