@@ -49,15 +49,7 @@ impl MeridianModel {
         if profile.len() < 2 {
             return None;
         }
-        let polyline: Vec<DVec2> =
-            sample_profile(profile, self.interpolation, self.segments_per_span)
-                .iter()
-                .flatten()
-                .map(|s| s.point)
-                .collect();
-        // Both halves of the meridian: (r, z) and (−r, z).
-        let mirrored: Vec<DVec2> = polyline.iter().map(|p| DVec2::new(-p.x, p.y)).collect();
-        let mirror = Mirror::new(&[&polyline, &mirrored]);
+        let mirror = self.mirror(profile);
         let bins = (180.0 / BIN_DEG).round() as usize;
         let mut flux = vec![0.0; bins + 1];
         let deposit = |flux: &mut Vec<f64>, gamma_deg: f64, w: f64| {
@@ -164,6 +156,19 @@ impl MeridianModel {
 }
 
 impl MeridianModel {
+    /// The mirror of `profile` in both halves of the meridian: (r, z) and
+    /// (−r, z).
+    fn mirror(&self, profile: &[[f64; 2]]) -> Mirror {
+        let polyline: Vec<DVec2> =
+            sample_profile(profile, self.interpolation, self.segments_per_span)
+                .iter()
+                .flatten()
+                .map(|s| s.point)
+                .collect();
+        let mirrored: Vec<DVec2> = polyline.iter().map(|p| DVec2::new(-p.x, p.y)).collect();
+        Mirror::new(&[&polyline, &mirrored])
+    }
+
     /// Where each ray from the source's centre goes, for `count` source
     /// angles θ (from nadir, towards +r) between `from` and `to`: θ, the
     /// signed output angle from nadir (negative: across the axis) and the
@@ -175,14 +180,7 @@ impl MeridianModel {
         to: f64,
         count: usize,
     ) -> Vec<(f64, f64, usize)> {
-        let polyline: Vec<DVec2> =
-            sample_profile(profile, self.interpolation, self.segments_per_span)
-                .iter()
-                .flatten()
-                .map(|s| s.point)
-                .collect();
-        let mirrored: Vec<DVec2> = polyline.iter().map(|p| DVec2::new(-p.x, p.y)).collect();
-        let mirror = Mirror::new(&[&polyline, &mirrored]);
+        let mirror = self.mirror(profile);
         let down = if self.facing_down { -1.0 } else { 1.0 };
         (0..count)
             .map(|j| {

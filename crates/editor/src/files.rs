@@ -213,15 +213,10 @@ pub fn mesh_part(
         (1.0, None)
     };
     let scene_dir = scene_path.map(folder_of);
-    let stored = scene_dir
-        .and_then(|dir| relative_path(dir, &absolute))
-        .unwrap_or(absolute);
-    let stored_text = stored
-        .to_str()
-        .ok_or_else(|| ImportMeshError::NotUtf8 {
+    let stored_text =
+        stored_path(scene_path, absolute).ok_or_else(|| ImportMeshError::NotUtf8 {
             path: obj.to_owned(),
-        })?
-        .to_owned();
+        })?;
     let stem = obj
         .file_stem()
         .map_or_else(|| "mesh".to_owned(), |s| s.to_string_lossy().into_owned());
@@ -291,16 +286,9 @@ pub fn ray_file_emitter(
         .header
         .luminous_flux_lm
         .map_or_else(|| rays.total_luminous_flux_lm(), f64::from);
-    let stored = scene_path
-        .map(folder_of)
-        .and_then(|dir| relative_path(dir, &absolute))
-        .unwrap_or(absolute);
-    let path = stored
-        .to_str()
-        .ok_or_else(|| RayFileEmitterError::NotUtf8 {
-            path: file.to_owned(),
-        })?
-        .to_owned();
+    let path = stored_path(scene_path, absolute).ok_or_else(|| RayFileEmitterError::NotUtf8 {
+        path: file.to_owned(),
+    })?;
     let stem = file.file_stem().map_or_else(
         || "ray file".to_owned(),
         |s| s.to_string_lossy().into_owned(),
@@ -314,6 +302,17 @@ pub fn ray_file_emitter(
         enabled: true,
         transform: Transform::default(),
     })
+}
+
+/// How a scene at `scene_path` refers to the file at `absolute`: relative
+/// to the scene's folder where it has one; None where the path is not
+/// UTF-8 (a scene file cannot hold it).
+fn stored_path(scene_path: Option<&Path>, absolute: PathBuf) -> Option<String> {
+    let stored = scene_path
+        .map(folder_of)
+        .and_then(|dir| relative_path(dir, &absolute))
+        .unwrap_or(absolute);
+    stored.to_str().map(str::to_owned)
 }
 
 /// The folder a file is in: "." for a bare file name, whose parent is "".
