@@ -128,9 +128,15 @@ fn a_missing_or_broken_ray_file_is_a_clear_error() {
 }
 
 /// A Lambertian disk of radius 1 mm emitting along +z, as `rays` rays of
-/// equal flux, but those going towards +x carry `plus_x` times as much;
-/// drawn from a fixed stream (SplitMix64).
+/// equal flux, but those going towards +x carry `plus_x` times as much.
 fn disk_rays(rays: usize, plus_x: f32) -> RaySet {
+    lambertian_disk(rays, 1.0, 1.0, plus_x)
+}
+
+/// A Lambertian disk of `radius_mm` emitting along `z_sign` z, as `rays`
+/// rays of equal flux, but those going towards +x carry `plus_x` times as
+/// much; drawn from a fixed stream (SplitMix64).
+fn lambertian_disk(rays: usize, radius_mm: f64, z_sign: f64, plus_x: f32) -> RaySet {
     let mut state = 0x1234_5678_9abc_def0u64;
     let mut uniform = || {
         state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
@@ -144,11 +150,11 @@ fn disk_rays(rays: usize, plus_x: f32) -> RaySet {
     for _ in 0..rays {
         let (r, a) = (uniform().sqrt(), std::f64::consts::TAU * uniform());
         let (s, b) = (uniform().sqrt(), std::f64::consts::TAU * uniform());
-        let d = [s * b.cos(), s * b.sin(), (1.0 - s * s).sqrt()];
+        let d = [s * b.cos(), s * b.sin(), z_sign * (1.0 - s * s).sqrt()];
         let f = if d[0] > 0.0 { plus_x } else { 1.0 };
         records.extend([
-            (r * a.cos()) as f32,
-            (r * a.sin()) as f32,
+            (radius_mm * r * a.cos()) as f32,
+            (radius_mm * r * a.sin()) as f32,
             0.0,
             d[0] as f32,
             d[1] as f32,
@@ -223,5 +229,86 @@ fn a_ray_files_symmetry_is_checked_not_assumed() {
     assert_eq!(
         symmetry_with(&fair, turned).symmetry,
         AxialSymmetry::AboutC90C270
+    );
+}
+
+/// Ideal emitter equivalence: the parabolic spot's 3 mm Lambertian LED
+/// written as a ray file (1 M rays of our own generator) in place of its
+/// disk bakes the same distribution as the native disk, within the Monte
+/// Carlo floor: a two-sample χ² over the texels, each count's variance
+/// Poisson for the disk and Poisson times (1 + photons / rays) for the
+/// file (its rays are themselves a sample).
+#[test]
+fn a_lambertian_disk_as_a_ray_file_bakes_as_the_native_disk() {
+    let spot =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/luminaires/parabolic_spot.toml");
+    let native = lucerna_scene::load_scene(&spot).unwrap();
+    let lucerna_scene::EmitterShape::Disk { radius } = native.emitters[0].shape else {
+        panic!("the spot's LED is a disk");
+    };
+    let rays = 1_000_000;
+    let dir = tempfile::tempdir().unwrap();
+    // The native disk emits along its own −z.
+    let file = lambertian_disk(rays, radius * 1e3, -1.0, 1.0);
+    std::fs::write(dir.path().join("disk.tm25ray"), write_ray_file(&file)).unwrap();
+    let mut with_file = native.clone();
+    with_file.emitters[0].shape = lucerna_scene::EmitterShape::RayFile {
+        path: "disk.tm25ray".to_owned(),
+    };
+    // Texels of 0.35°: the spot's 7° beam over a few hundred of them.
+    let layout = CubeMapLayout::new(256);
+    let photons = 400_000u32;
+    let counts = |scene: &lucerna_scene::Scene, folder: &Path, seed: u32| {
+        let tessellated = lucerna_scene::tessellate(scene, folder).unwrap();
+        let prepared = PreparedScene::new(scene, &tessellated, folder).unwrap();
+        let settings = TraceSettings {
+            seed,
+            max_bounces: 64,
+            layout,
+        };
+        trace_batch(&prepared, &settings, 0, 0, photons).counts
+    };
+    let spot_dir = spot.parent().unwrap();
+    let a = counts(&native, spot_dir, 1);
+    let b = counts(&with_file, dir.path(), 2);
+    let c = counts(&native, spot_dir, 3);
+    let inflation = 1.0 + f64::from(photons) / rays as f64;
+    let chi2 = |x: &[u32], y: &[u32], vy: f64| -> (f64, f64) {
+        let (mut s, mut dof) = (0.0, 0.0);
+        for (&p, &q) in x.iter().zip(y) {
+            let (p, q) = (f64::from(p), f64::from(q));
+            if p + q >= 40.0 {
+                s += (p - q).powi(2) / (p + vy * q);
+                dof += 1.0;
+            }
+        }
+        (s, dof)
+    };
+    let (s, dof) = chi2(&a, &b, inflation);
+    assert!(dof > 50.0, "{dof} texels");
+    assert!(
+        s < dof + 5.0 * (2.0 * dof).sqrt(),
+        "ray file vs disk: χ² {s} over {dof}"
+    );
+    // The floor: the native disk against itself with another seed.
+    let (s0, dof0) = chi2(&a, &c, 1.0);
+    assert!(
+        s0 < dof0 + 5.0 * (2.0 * dof0).sqrt(),
+        "floor: χ² {s0} over {dof0}"
+    );
+    // It can fail: the file's LED 0.5 mm off the focus is another light.
+    let mut moved = with_file.clone();
+    moved.emitters[0].transform.translate[2] += 0.0005;
+    let m = counts(&moved, dir.path(), 2);
+    let (sm, dofm) = chi2(&a, &m, inflation);
+    assert!(
+        sm > dofm + 10.0 * (2.0 * dofm).sqrt(),
+        "moved: χ² {sm} over {dofm}"
+    );
+    eprintln!(
+        "χ²/dof: ray file {:.3}, floor {:.3}, moved {:.3}",
+        s / dof,
+        s0 / dof0,
+        sm / dofm
     );
 }
