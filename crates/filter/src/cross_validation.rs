@@ -4,7 +4,7 @@
 
 use lucerna_photometry::TexelSymmetry;
 
-use crate::pyramid::safe_intensity;
+use crate::intensity::safe_intensity;
 use crate::settings::{AUTOMATIC_FALLBACK, FilterSettings, POISSON_Z, Threshold, UNCAPPED};
 use crate::thinning::thinned_folds;
 

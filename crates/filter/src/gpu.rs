@@ -8,7 +8,8 @@ use lucerna_gpu::{GpuContext, GpuError};
 use lucerna_photometry::{AxialSymmetry, CubeMapLayout, TexelSymmetry};
 use wgpu::util::DeviceExt;
 
-use crate::driver::{Filtered, filter_pooled};
+use crate::driver::filter_pooled;
+use crate::filtered::Filtered;
 use crate::pyramid::{pyramid_resolutions, pyramid_solid_angles, renormalise};
 use crate::settings::{FilterSettings, POISSON_MIN_KEEP_PHOTONS, Threshold};
 

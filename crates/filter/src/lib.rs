@@ -42,7 +42,9 @@
 mod cross_validation;
 mod driver;
 pub mod evaluation;
+mod filtered;
 pub mod gpu;
+mod intensity;
 mod pyramid;
 mod settings;
 mod thinning;
@@ -50,7 +52,8 @@ mod thinning;
 pub use cross_validation::{
     AutomaticReport, CV_FOLDS, CandidateScore, automatic_candidates, choose_automatic,
 };
-pub use driver::{Filtered, filter, filter_map, filter_symmetric};
+pub use driver::{filter, filter_map, filter_symmetric};
+pub use filtered::Filtered;
 pub use settings::{
     AUTOMATIC_FALLBACK, FilterSettings, POISSON_BORDER_THRESHOLD_PHOTONS,
     POISSON_FALLBACK_CAP_PHOTONS, POISSON_MIN_KEEP_PHOTONS, POISSON_Z, Threshold, UNCAPPED,

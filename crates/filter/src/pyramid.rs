@@ -6,7 +6,8 @@
 use lucerna_photometry::{AxialSymmetry, CubeFace, CubeMapLayout};
 use rayon::prelude::*;
 
-use crate::driver::Filtered;
+use crate::filtered::Filtered;
+use crate::intensity::safe_intensity;
 use crate::settings::{FilterSettings, POISSON_MIN_KEEP_PHOTONS, Threshold};
 
 /// One pyramid level: photon counts and solid angles per texel.
@@ -67,11 +68,6 @@ fn texel_at(layout: CubeMapLayout, face: CubeFace, cx: i64, cy: i64) -> usize {
     let a = -1.0 + (cx as f64 + 0.5) * step;
     let b = -1.0 + (cy as f64 + 0.5) * step;
     layout.texel_of_direction(face.direction(a, b))
-}
-
-/// Photons per steradian of a texel; 0 for a texel of no solid angle.
-pub(crate) fn safe_intensity(count: f64, omega: f64) -> f64 {
-    if omega > 0.0 { count / omega } else { 0.0 }
 }
 
 /// Where fine texel column (or row) i falls on the coarser level: the

@@ -12,6 +12,7 @@ pub mod rng;
 pub mod sampling;
 pub mod session;
 pub mod symmetry;
+pub mod triangle;
 // reason: SIMD intrinsics and `#[target_feature]` functions, called only
 // after run-time feature detection.
 #[allow(unsafe_code)]

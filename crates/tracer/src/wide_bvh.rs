@@ -31,7 +31,7 @@
 
 use glam::Vec3A;
 
-use crate::bvh::BvhTriangle;
+use crate::triangle::BvhTriangle;
 
 /// A child reference with this bit set names a [`TriangleBlock`].
 const LEAF: u32 = 1 << 31;
@@ -60,7 +60,7 @@ pub struct TriangleBlock {
     /// The tag [`crate::bvh::Bvh::build`] was given per triangle.
     pub tag: [u32; 4],
     /// Lanes photons can hit: used, and not
-    /// [`crate::bvh::PASS_THROUGH_TAG`] (bit `l` for lane `l`).
+    /// [`crate::triangle::PASS_THROUGH_TAG`] (bit `l` for lane `l`).
     pub photon_lanes: u32,
     /// Lanes in use.
     pub all_lanes: u32,
@@ -244,7 +244,8 @@ impl TriangleBlock {
     fn set_photon_lanes(&mut self) {
         self.photon_lanes = (0..4)
             .filter(|&l| {
-                self.all_lanes & (1 << l) != 0 && self.tag[l] & crate::bvh::PASS_THROUGH_TAG == 0
+                self.all_lanes & (1 << l) != 0
+                    && self.tag[l] & crate::triangle::PASS_THROUGH_TAG == 0
             })
             .fold(0, |m, l| m | (1 << l));
     }
@@ -432,7 +433,7 @@ fn intersect_boxes(a: ([f32; 3], [f32; 3]), b: ([f32; 3], [f32; 3])) -> ([f32; 3
 /// faceted downlight's fan apex): 1e-6 of the luminaire's size in BVH
 /// units. A box that tight around its triangles would cull such hits.
 pub(crate) fn margin(x: f64) -> f64 {
-    x.abs() * 4.0 * f64::from(f32::EPSILON) + 1e-6 * f64::from(crate::bvh::BVH_EXTENT)
+    x.abs() * 4.0 * f64::from(f32::EPSILON) + 1e-6 * f64::from(crate::triangle::BVH_EXTENT)
 }
 
 pub(crate) fn outward_down(x: f64) -> f32 {
@@ -492,7 +493,7 @@ fn safe_reciprocal(x: f32) -> f32 {
 /// Which surfaces a query sees.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Surfaces {
-    /// Those that scatter photons: not [`crate::bvh::PASS_THROUGH_TAG`].
+    /// Those that scatter photons: not [`crate::triangle::PASS_THROUGH_TAG`].
     ForPhotons,
     /// All of them (picking in the editor).
     All,
@@ -507,7 +508,7 @@ pub struct WideHit {
     pub u: f32,
     pub v: f32,
     pub tag: u32,
-    /// Unit geometric normal, [`crate::bvh::unit_normal`] of its edges.
+    /// Unit geometric normal, [`crate::triangle::unit_normal`] of its edges.
     pub normal: Vec3A,
 }
 
@@ -803,7 +804,7 @@ impl RayTraversal {
                 u,
                 v,
                 tag: *block.tag.get_unchecked(lane),
-                normal: crate::bvh::unit_normal(edge(3), edge(6)),
+                normal: crate::triangle::unit_normal(edge(3), edge(6)),
             })
         }
     }
