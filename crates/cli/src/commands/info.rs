@@ -102,6 +102,23 @@ fn angle(a: Option<f64>) -> String {
     a.map_or("—".to_owned(), |v| format!("{v:.1}°"))
 }
 
+/// The beam and field angle lines of `info`, for a photometric file and a
+/// ray file's far field alike.
+pub(crate) fn beam_and_field_lines(s: &mut String, fig: &Figures) {
+    let _ = writeln!(
+        s,
+        "beam (50 %)    C0-C180 {}   C90-C270 {}",
+        angle(fig.beam_angle_deg[0]),
+        angle(fig.beam_angle_deg[1])
+    );
+    let _ = writeln!(
+        s,
+        "field (10 %)   C0-C180 {}   C90-C270 {}",
+        angle(fig.field_angle_deg[0]),
+        angle(fig.field_angle_deg[1])
+    );
+}
+
 impl fmt::Display for InfoReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let fig = &self.figures;
@@ -176,18 +193,7 @@ impl fmt::Display for InfoReport {
             "peak           {:.1} cd at C{}° γ{}°",
             fig.peak_cd, fig.peak_c_deg, fig.peak_gamma_deg
         );
-        let _ = writeln!(
-            s,
-            "beam (50 %)    C0-C180 {}   C90-C270 {}",
-            angle(fig.beam_angle_deg[0]),
-            angle(fig.beam_angle_deg[1])
-        );
-        let _ = writeln!(
-            s,
-            "field (10 %)   C0-C180 {}   C90-C270 {}",
-            angle(fig.field_angle_deg[0]),
-            angle(fig.field_angle_deg[1])
-        );
+        beam_and_field_lines(&mut s, fig);
         let a = &self.luminous_area;
         if a.circular {
             let _ = writeln!(

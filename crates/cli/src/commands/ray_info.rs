@@ -89,10 +89,6 @@ pub fn report(path: &Path) -> Result<RayFileReport> {
     })
 }
 
-fn angle(a: Option<f64>) -> String {
-    a.map_or("—".to_owned(), |v| format!("{v:.1}°"))
-}
-
 impl fmt::Display for RayFileReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let mut s = String::new();
@@ -146,18 +142,7 @@ impl fmt::Display for RayFileReport {
                 ""
             }
         );
-        let _ = writeln!(
-            s,
-            "beam (50 %)    C0-C180 {}   C90-C270 {}",
-            angle(fig.beam_angle_deg[0]),
-            angle(fig.beam_angle_deg[1])
-        );
-        let _ = writeln!(
-            s,
-            "field (10 %)   C0-C180 {}   C90-C270 {}",
-            angle(fig.field_angle_deg[0]),
-            angle(fig.field_angle_deg[1])
-        );
+        super::info::beam_and_field_lines(&mut s, fig);
         f.write_str(&s)
     }
 }
