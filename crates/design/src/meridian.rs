@@ -343,7 +343,7 @@ mod tests {
     }
 
     #[test]
-    fn flux_is_conserved_and_the_direct_light_is_lambertian() {
+    fn with_no_mirror_in_the_way_the_light_is_the_sources_lambertian() {
         // No mirror in the way (a tiny profile far above the source): the
         // model's intensity is the source's, I(γ) ∝ cos γ below, zero above.
         let model = MeridianModel {

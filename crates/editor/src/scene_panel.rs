@@ -398,7 +398,7 @@ fn ray_files_read(state: &EditorState) -> Vec<RayFileRead> {
                 path: path.clone(),
                 rays: sampler.rays.len(),
                 declared_lm: sampler.rays.header.luminous_flux_lm,
-                summed_lm: sampler.rays.total_luminous_flux_lm(),
+                summed_lm: sampler.total_lm,
             }),
             _ => None,
         })

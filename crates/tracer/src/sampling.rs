@@ -215,6 +215,9 @@ pub struct RaySampler {
     pub rays: lucerna_photometry::tm25::RaySet,
     /// Per ray: the probability of keeping it, and the ray taken instead.
     alias: Vec<(f32, u32)>,
+    /// The rays' luminous flux summed once (lm): a panel showing it every
+    /// frame must not add up 20 M rays each time.
+    pub total_lm: f64,
 }
 
 impl RaySampler {
@@ -242,7 +245,11 @@ impl RaySampler {
                 small.push(l);
             }
         }
-        Some(RaySampler { rays, alias })
+        Some(RaySampler {
+            rays,
+            alias,
+            total_lm: total,
+        })
     }
 
     /// The ray for a uniform `column` (all 32 bits: a 20 M-ray file needs

@@ -292,7 +292,7 @@ impl RayBins {
         let mut flux_squared = vec![0.0; Self::bin_count()];
         for (e, sampler) in &sets {
             let rays = &sampler.rays;
-            let total = rays.total_luminous_flux_lm();
+            let total = sampler.total_lm;
             if !(total > 0.0) {
                 continue;
             }
