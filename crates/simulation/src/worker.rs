@@ -94,9 +94,14 @@ pub struct Simulation {
     commands: Sender<Command>,
     shared: Arc<Shared>,
     generation: u64,
-    /// The newest generation sent, read by the worker to stop building a
-    /// scene a newer edit has replaced.
+    /// The newest generation sent, read by the worker to cut short an
+    /// iteration that new settings or an edit have made stale.
     newest: Arc<AtomicU64>,
+    /// The generation of the newest edit, read by the worker to stop
+    /// building (or finding the symmetry of) a scene a newer edit has
+    /// replaced. New settings or a restart do not replace the scene: a
+    /// build they interrupted would never be made again.
+    newest_edit: Arc<AtomicU64>,
     settings: SimulationSettings,
     thread: Option<JoinHandle<()>>,
 }
@@ -150,7 +155,8 @@ impl Simulation {
         let shared = Arc::new(Shared::default());
         let worker_shared = shared.clone();
         let newest = Arc::new(AtomicU64::new(0));
-        let worker_newest = newest.clone();
+        let newest_edit = Arc::new(AtomicU64::new(0));
+        let (worker_newest, worker_newest_edit) = (newest.clone(), newest_edit.clone());
         commands
             .send(first)
             .map_err(|_| SimulationError::WorkerGone)?;
@@ -162,6 +168,7 @@ impl Simulation {
                     pace,
                     worker_shared.clone(),
                     worker_newest,
+                    worker_newest_edit,
                     Box::new(on_update),
                 )
                 .serve(inbox);
@@ -174,6 +181,7 @@ impl Simulation {
             shared,
             generation: 0,
             newest,
+            newest_edit,
             settings,
             thread: Some(thread),
         })
@@ -189,6 +197,7 @@ impl Simulation {
     pub fn edit(&mut self, scene: Scene, scene_dir: &Path) -> u64 {
         self.generation += 1;
         self.newest.store(self.generation, Ordering::SeqCst);
+        self.newest_edit.store(self.generation, Ordering::SeqCst);
         self.send(Command::Edit(
             Box::new(scene),
             scene_dir.to_path_buf(),
@@ -327,6 +336,7 @@ struct Worker {
     pace: Pace,
     shared: Arc<Shared>,
     newest: Arc<AtomicU64>,
+    newest_edit: Arc<AtomicU64>,
     notify: Notify,
     generation: u64,
     luminaire: Option<Arc<Luminaire>>,
@@ -356,14 +366,16 @@ impl Worker {
         pace: Pace,
         shared: Arc<Shared>,
         newest: Arc<AtomicU64>,
+        newest_edit: Arc<AtomicU64>,
         notify: Notify,
     ) -> Worker {
         Worker {
             settings,
             pace,
             shared,
-            symmetry: SymmetryFinder::start(newest.clone()),
+            symmetry: SymmetryFinder::start(newest_edit.clone()),
             newest,
+            newest_edit,
             notify,
             generation: 0,
             luminaire: None,
@@ -412,8 +424,8 @@ impl Worker {
             }
             if let Some((scene, dir)) = pending.edit.take() {
                 let generation = self.generation;
-                let newest = self.newest.clone();
-                let stale = move || newest.load(Ordering::SeqCst) > generation;
+                let newest_edit = self.newest_edit.clone();
+                let stale = move || newest_edit.load(Ordering::SeqCst) > generation;
                 let previous = self.luminaire.clone();
                 match Luminaire::for_edit(*scene, &dir, &stale, previous.as_deref()) {
                     Ok(Some(l)) => {
@@ -690,7 +702,7 @@ struct SymmetryFinder {
 }
 
 impl SymmetryFinder {
-    fn start(newest: Arc<AtomicU64>) -> SymmetryFinder {
+    fn start(newest_edit: Arc<AtomicU64>) -> SymmetryFinder {
         let (requests, inbox) = channel::<(u64, Arc<Luminaire>)>();
         let thread = std::thread::Builder::new()
             .name("lucerna-symmetry".to_owned())
@@ -705,7 +717,7 @@ impl SymmetryFinder {
                         }
                     }
                     let (generation, luminaire) = request;
-                    if newest.load(Ordering::SeqCst) <= generation {
+                    if newest_edit.load(Ordering::SeqCst) <= generation {
                         luminaire.find_symmetry();
                     }
                 }
