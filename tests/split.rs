@@ -363,7 +363,10 @@ fn bad_parts_and_flags_are_refused_naming_the_file_and_nothing_is_written() {
         "{e}"
     );
     let e = refused(&part(&spot(), "2/3", photons, &parts, &["--c-step", "10"]));
-    assert!(e.contains("the output settings (--c-step 5"), "{e}");
+    assert!(
+        e.contains("the output settings (c_step_deg 5.0 then, 10.0 now)"),
+        "{e}"
+    );
 
     // A truncated part and a newer one.
     ok(&part(&spot(), "3/3", photons, &parts, &[]));
@@ -378,12 +381,12 @@ fn bad_parts_and_flags_are_refused_naming_the_file_and_nothing_is_written() {
     let json = std::fs::read_to_string(p(&parts, 1)).unwrap();
     std::fs::write(
         p(&parts, 1),
-        json.replace("\"version\": 1", "\"version\": 2"),
+        json.replace("\"version\": 2", "\"version\": 3"),
     )
     .unwrap();
     let e = refused(&lucerna(&["merge", s(&parts), "--out", s(&nothing)]));
     assert!(
-        e.contains("format version 2") && e.contains(s(&p(&parts, 1))),
+        e.contains("format version 3") && e.contains(s(&p(&parts, 1))),
         "{e}"
     );
     std::fs::write(p(&parts, 1), json).unwrap();

@@ -6,6 +6,7 @@ use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 
 mod bake;
+mod bake_run;
 mod bench;
 mod convert;
 mod design;
@@ -13,6 +14,7 @@ mod edit;
 mod export_geometry;
 mod filter_bench;
 mod info;
+mod input;
 mod live_bench;
 mod merge;
 mod near_field;
@@ -150,7 +152,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Render(args) => render::render(&args),
         Command::RenderBench(args) => render::render_bench(&args),
         Command::NearFieldEval(args) => near_field::near_field_eval(&args),
-        Command::Info { file, json } if ray_info::is_ray_file(&file) => {
+        Command::Info { file, json } if input::is_ray_file(&file) => {
             let report = ray_info::report(&file)?;
             if json {
                 println!("{}", serde_json::to_string_pretty(&report)?);

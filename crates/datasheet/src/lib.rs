@@ -52,7 +52,7 @@ pub enum DatasheetError {
 }
 
 /// Whether the luminaire is rated as an outdoor one (BUG).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
 pub enum Outdoor {
     /// From its name, catalogue number and keywords (road, street, area,
     /// flood, outdoor, bollard, post top, wall pack).
@@ -62,7 +62,7 @@ pub enum Outdoor {
 }
 
 /// What the sheet shows beyond the file.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct DatasheetOptions {
     /// UGR tables at these spacing-to-height ratios: 0.25 as catalogues
     /// print, 1.0 (CIE 190's standard table) on request.

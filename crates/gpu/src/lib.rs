@@ -11,7 +11,8 @@ pub use checked::{
 
 /// Which processor a job asks for: the one backend request of the
 /// workspace, for the photon tracer, the filter and the room renderer.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum BackendRequest {
     /// The native CPU implementation.
     Cpu,

@@ -424,7 +424,8 @@ fn lamp_set_statement(p: &Photometry) -> String {
 }
 
 /// Which LM-63 edition to write.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum IesVersion {
     Lm63_2002,
     Lm63_2019,

@@ -32,8 +32,6 @@ pub enum SimulationError {
     Request(#[from] crate::export::ExportRequestError),
     #[error("cannot draw {what}: {message}")]
     Picture { what: &'static str, message: String },
-    #[error(transparent)]
-    Part(#[from] crate::part::PartError),
     #[error("the traced map cannot be continued")]
     Continue(#[from] lucerna_tracer::session::ContinueError),
     #[error("the simulation's worker thread has stopped")]

@@ -240,7 +240,7 @@ fn photometry_of(snapshot: &Snapshot, table: &CandelaTable, options: &ExportOpti
 }
 
 /// Which files an export writes; by default every one a bake writes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct ExportFormats {
     /// `STEM.ies` in this LM-63 edition.
     pub ies: Option<IesVersion>,

@@ -10,6 +10,7 @@
 
 mod error;
 pub mod export;
+mod job;
 mod live_filter;
 mod luminaire;
 pub mod part;
@@ -23,10 +24,11 @@ pub use export::{
     DEFAULT_TM25_RAYS, ExportFormats, ExportOptions, ExportRequest, ExportRequestError,
     ExportStage, ExportedFiles, Labels, photometry, write_bake_files,
 };
+pub use job::{BakeJob, BakeJobError, BakeOutput, DEFAULT_BAKE_PHOTONS};
 pub use live_filter::LiveFilter;
 pub use lucerna_gpu::BackendRequest;
 pub use luminaire::Luminaire;
-pub use part::{PartError, PartManifest, PartSpec, PhotonRange};
+pub use part::{PartManifest, PartSpec, PhotonRange};
 pub use run::{Run, bake, prepare_snapshots, snapshot_of_map};
 pub use settings::{FilterChoice, SettingsError, SimulationSettings, StoppingRule, TableGrid};
 pub use snapshot::{FilterSummary, Noise, RunState, Snapshot, StopReason};

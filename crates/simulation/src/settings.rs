@@ -4,9 +4,11 @@ use std::time::Duration;
 
 use lucerna_filter::Threshold;
 use lucerna_gpu::BackendRequest;
+use serde::{Deserialize, Serialize};
 
 /// How the exported map is filtered.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum FilterChoice {
     /// The raw counts (pooled over the symmetry, if asked).
     #[default]
@@ -49,7 +51,7 @@ impl std::str::FromStr for FilterChoice {
 
 /// When tracing stops by itself; the first limit reached wins, and with
 /// none it runs until stopped.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct StoppingRule {
     pub photons: Option<u64>,
     pub time: Option<Duration>,
@@ -58,7 +60,7 @@ pub struct StoppingRule {
 }
 
 /// The C-γ grid of the exported table.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct TableGrid {
     /// C-plane spacing (degrees).
     pub c_step_deg: f64,
@@ -77,7 +79,7 @@ impl Default for TableGrid {
 }
 
 /// Everything a run needs besides the luminaire.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct SimulationSettings {
     /// Texels per cube-face edge of the intensity map.
     pub resolution: u32,

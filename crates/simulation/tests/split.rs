@@ -13,7 +13,7 @@ use lucerna_simulation::part::{
     new_manifest, write_part,
 };
 use lucerna_simulation::{
-    BackendRequest, Luminaire, PartError, PartSpec, Run, SimulationSettings, StoppingRule,
+    BackendRequest, Luminaire, PartSpec, Run, SimulationSettings, StoppingRule,
 };
 
 const PHOTONS: u64 = 200_000;
@@ -72,14 +72,8 @@ fn write(
         parts: spec.count,
         emitter_flux_lm: luminaire.prepared.total_flux_lm,
     };
-    let mut manifest = new_manifest(
-        identity,
-        trace,
-        vec!["--c-step".into(), "5".into()],
-        spec,
-        "cpu",
-        false,
-    );
+    let job = lucerna_simulation::BakeJob::new(scene, dir);
+    let mut manifest = new_manifest(identity, trace, job, spec, "cpu", false);
     let path = dir.join(manifest_file_name("spot", spec));
     write_part(&path, &mut manifest, map).unwrap();
     path
@@ -269,11 +263,22 @@ fn parts_that_do_not_make_one_run_are_refused_naming_the_file() {
     });
     let e = refused(&[parts[0].clone(), copy.clone(), parts[2].clone()]);
     assert!(e.contains("both part 3/3"), "{e}");
-    // A newer format.
-    edit_manifest(&copy, |v| v["version"] = 2.into());
+    // A newer format, and an older one (version 1 stored command-line
+    // flags where version 2 stores the typed bake).
+    edit_manifest(&copy, |v| v["version"] = 3.into());
     let e = refused(&[parts[0].clone(), copy.clone()]);
     assert!(
-        e.contains("format version 2") && e.contains(&copy.display().to_string()),
+        e.contains("format version 3")
+            && e.contains("newer")
+            && e.contains(&copy.display().to_string()),
+        "{e}"
+    );
+    edit_manifest(&copy, |v| v["version"] = 1.into());
+    let e = refused(&[parts[0].clone(), copy.clone()]);
+    assert!(
+        e.contains("format version 1")
+            && e.contains("older")
+            && e.contains("trace that part again"),
         "{e}"
     );
 }
@@ -428,7 +433,7 @@ fn a_counts_file_round_trips_exactly_even_with_counts_beyond_u32() {
     map.photons_absorbed = 11;
     let e = part::decode_counts(&part::encode_counts(&map), Path::new("x.counts"))
         .expect_err("unbalanced");
-    assert!(matches!(e, PartError::Corrupt { .. }), "{e}");
+    assert!(matches!(e, part::ReadPartError::Corrupt { .. }), "{e}");
 }
 
 #[test]
@@ -452,7 +457,8 @@ fn a_flux_of_seventeen_digits_and_hostile_manifests_read_back_exactly_or_are_ref
         emitter_flux_lm: flux,
     };
     let identity = SceneIdentity::of(&scene, &luminaire.scene).unwrap();
-    let mut manifest = new_manifest(identity, trace, Vec::new(), spec, "cpu", false);
+    let job = lucerna_simulation::BakeJob::new(&scene, dir.path());
+    let mut manifest = new_manifest(identity, trace, job, spec, "cpu", false);
     let path = dir.path().join(manifest_file_name("flux", spec));
     write_part(&path, &mut manifest, &map).unwrap();
     let back = part::read_manifest(&path).unwrap();

@@ -1,18 +1,18 @@
-//! `lucerna bake`: trace a luminaire headlessly and write its photometry.
+//! `lucerna bake`'s flags, converted once into a [`BakeJob`], and the one
+//! dispatch between a whole bake, a part and a resume.
 
-use std::path::{Path, PathBuf};
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::path::PathBuf;
 use std::time::Duration;
 
 use anyhow::{Context, Result};
-use indicatif::{ProgressBar, ProgressStyle};
 use lucerna_photometry::{CPlaneSymmetry, IesVersion};
 use lucerna_simulation::{
-    BackendRequest, ExportFormats, ExportOptions, ExportRequest, FilterChoice, Luminaire, Pace,
-    PartSpec, RunState, SettingsError, Simulation, SimulationSettings, Snapshot, StopReason,
-    StoppingRule, TableGrid,
+    BackendRequest, BakeJob, BakeJobError, DEFAULT_BAKE_PHOTONS, ExportFormats, FilterChoice,
+    PartSpec, SettingsError, SimulationSettings, StoppingRule, TableGrid,
 };
+
+use super::bake_run::{self, BakeSummary};
+use super::part_bake;
 
 /// The C-plane symmetry the files declare (the table is averaged over it,
 /// so it holds exactly).
@@ -135,19 +135,19 @@ pub struct BakeArgs {
     #[arg(long)]
     pub rel_error: Option<f64>,
     /// Texels per cube-face edge.
-    #[arg(long, default_value_t = 256)]
+    #[arg(long, default_value_t = SimulationSettings::default().resolution)]
     pub resolution: u32,
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = SimulationSettings::default().seed)]
     pub seed: u32,
     /// cpu, gpu, or auto (a hardware GPU if there is one, else the CPU
     /// tracer: a software adapter runs on the same cores, 5x slower).
     #[arg(long, default_value = "auto")]
     pub backend: BackendRequest,
     /// Surface interactions after which a photon is cut off.
-    #[arg(long, default_value_t = 64)]
+    #[arg(long, default_value_t = SimulationSettings::default().max_bounces)]
     pub max_bounces: u32,
     /// C-plane spacing of the exported table (degrees).
-    #[arg(long, default_value_t = 5.0)]
+    #[arg(long, default_value_t = TableGrid::default().c_step_deg)]
     pub c_step: f64,
     /// γ spacing of the exported table (degrees); by default the coarsest
     /// of 2.5°, 1.25° … 0.078125° whose table holds the map's flux
@@ -223,36 +223,6 @@ pub struct BakeArgs {
     pub resume: Option<PathBuf>,
 }
 
-/// `lucerna bake`'s arguments on their own: to take their defaults, or
-/// to rebuild a checkpoint's bake from the flags it stored.
-#[derive(Debug, clap::Parser)]
-#[command(name = "bake")]
-struct BakeCommand {
-    #[command(flatten)]
-    bake: BakeArgs,
-}
-
-/// Parses `lucerna bake`'s flags (`argv` without the program name).
-pub fn parse_bake_args<I, T>(argv: I) -> Result<BakeArgs>
-where
-    I: IntoIterator<Item = T>,
-    T: Into<std::ffi::OsString> + Clone,
-{
-    use clap::Parser;
-    let argv =
-        std::iter::once(std::ffi::OsString::from("bake")).chain(argv.into_iter().map(Into::into));
-    BakeCommand::try_parse_from(argv)
-        .map(|c| c.bake)
-        .map_err(|e| anyhow::anyhow!("{e}"))
-}
-
-/// A clap value's own name (`quadrant`, `2019`).
-fn value_name<T: clap::ValueEnum>(value: &T) -> String {
-    value
-        .to_possible_value()
-        .map_or_else(String::new, |v| v.get_name().to_owned())
-}
-
 /// "30s", "2m", "1.5h", "500ms", or plain seconds.
 pub fn parse_duration(s: &str) -> Result<Duration, String> {
     let s = s.trim();
@@ -276,23 +246,24 @@ pub fn parse_duration(s: &str) -> Result<Duration, String> {
     Ok(Duration::from_secs_f64(seconds))
 }
 
-/// What the bake wrote.
-#[derive(Debug)]
-pub struct BakeSummary {
-    pub files: Vec<PathBuf>,
-    pub photons: u64,
-    pub seconds: f64,
-    pub interrupted: bool,
-}
-
 impl BakeArgs {
-    /// The simulation these arguments ask for.
-    pub fn settings(&self) -> SimulationSettings {
+    /// The bake these flags ask for, checked, with the flag at fault
+    /// named: the one conversion from the command line to a [`BakeJob`].
+    pub fn job(&self) -> Result<BakeJob> {
+        let scene = self
+            .scene
+            .as_deref()
+            .context("no scene given (lucerna bake SCENE --out DIR)")?;
+        let out = self
+            .out
+            .as_deref()
+            .context("no output folder given (--out DIR)")?;
+        let mut job = BakeJob::new(scene, out);
         let photons = match (self.photons, self.time, self.rel_error) {
-            (None, None, None) => Some(10_000_000),
+            (None, None, None) => Some(DEFAULT_BAKE_PHOTONS),
             (p, _, _) => p,
         };
-        SimulationSettings {
+        job.settings = SimulationSettings {
             resolution: self.resolution,
             seed: self.seed,
             max_bounces: self.max_bounces,
@@ -308,69 +279,25 @@ impl BakeArgs {
                 c_step_deg: self.c_step,
                 gamma_step_deg: self.gamma_step,
             },
+        };
+        if let Some(name) = &self.name {
+            job.output.stem = name.clone();
         }
+        job.output.formats = formats(&self.formats, self.ies_version, self.rays);
+        job.output.symmetrise = self.symmetrise.imposed();
+        job.output.date = self.date.clone();
+        job.output.datasheet = self.sheet.options(String::new());
+        job.validate().map_err(|e| match &e {
+            BakeJobError::Settings(s) => anyhow::anyhow!("{}: {e}", flag_of(s)),
+            BakeJobError::Stem(_) => anyhow::anyhow!("--name: {e}"),
+            _ => anyhow::anyhow!("--formats: {e}"),
+        })?;
+        Ok(job)
     }
-}
-
-/// Describes what the filter did to the exported map.
-pub fn describe_filter(snapshot: &Snapshot) {
-    let Some(f) = &snapshot.filter else { return };
-    eprintln!(
-        "filtered: {}{}, {} of {} texels replaced, renormalised by {:.4}",
-        f.rule,
-        if f.automatic {
-            " (chosen by cross-validation)"
-        } else {
-            ""
-        },
-        f.replaced_texels,
-        snapshot.map.layout.texel_count(),
-        f.renormalisation
-    );
-    if let Some((filtered, raw)) = f.estimated_rmse {
-        eprintln!(
-            "estimated error of the exported map (RMSE per texel / mean, cross-validated): {:.1} % filtered, {:.1} % raw",
-            100.0 * filtered,
-            100.0 * raw
-        );
-    }
-}
-
-/// Writes the files `args` ask for from a final snapshot (all or none),
-/// after saying how the table and filter came out.
-pub fn export(args: &BakeArgs, snapshot: &Snapshot) -> Result<Vec<PathBuf>> {
-    eprintln!("table: {}", snapshot.table_fidelity.summary());
-    for warning in &snapshot.warnings {
-        eprintln!("warning: {warning}");
-    }
-    describe_filter(snapshot);
-    let scene_file = args
-        .scene
-        .as_deref()
-        .and_then(Path::file_name)
-        .map_or(String::new(), |s| s.to_string_lossy().into_owned());
-    let options = ExportOptions {
-        symmetrise: args.symmetrise.imposed(),
-        date: args
-            .date
-            .clone()
-            .unwrap_or_else(|| chrono::Local::now().format("%Y-%m-%d").to_string()),
-        seed: args.seed,
-        scene_file: scene_file.clone(),
-        // The scene's name, manufacturer and [export] keywords.
-        labels: None,
-    };
-    let out = args.out_dir()?;
-    std::fs::create_dir_all(out)
-        .with_context(|| format!("cannot create output directory {}", out.display()))?;
-    let mut request = ExportRequest::new(snapshot, options, out, &args.stem());
-    request.formats = formats(&args.formats, args.ies_version, args.rays);
-    request.datasheet = args.sheet.options(scene_file);
-    Ok(request.write(snapshot)?)
 }
 
 /// The files `--formats` and `--ies-version` ask for.
-pub fn formats(formats: &[FileFormat], version: IesVersionArg, rays: u32) -> ExportFormats {
+fn formats(formats: &[FileFormat], version: IesVersionArg, rays: u32) -> ExportFormats {
     ExportFormats {
         ies: formats.contains(&FileFormat::Ies).then_some(match version {
             IesVersionArg::Lm63_2019 => IesVersion::Lm63_2019,
@@ -382,74 +309,6 @@ pub fn formats(formats: &[FileFormat], version: IesVersionArg, rays: u32) -> Exp
         polar_png: formats.contains(&FileFormat::Polar),
         datasheet: formats.contains(&FileFormat::Datasheet),
         tm25_rays: formats.contains(&FileFormat::Tm25).then_some(rays),
-    }
-}
-
-impl BakeArgs {
-    /// The scene (given unless resuming).
-    pub fn scene_path(&self) -> Result<&Path> {
-        self.scene
-            .as_deref()
-            .context("no scene given (lucerna bake SCENE --out DIR)")
-    }
-
-    pub fn out_dir(&self) -> Result<&Path> {
-        self.out
-            .as_deref()
-            .context("no output folder given (--out DIR)")
-    }
-
-    /// The base name of the files.
-    pub fn stem(&self) -> String {
-        self.name.clone().unwrap_or_else(|| {
-            self.scene
-                .as_deref()
-                .and_then(Path::file_stem)
-                .map_or("luminaire".to_owned(), |s| s.to_string_lossy().into_owned())
-        })
-    }
-
-    /// The flags that shape the files but not the photons (filter,
-    /// pooling, table grid, formats, labels), as `lucerna bake` takes
-    /// them: a part stores them so that a merge writes the files the
-    /// one-machine bake would.
-    pub fn export_args(&self) -> Vec<String> {
-        let filter = match self.filter {
-            FilterChoice::Raw => "none".to_owned(),
-            FilterChoice::Automatic => "auto".to_owned(),
-            FilterChoice::Threshold(t) => t.to_string(),
-        };
-        let join = |v: Vec<String>| v.join(",");
-        let mut args = vec![
-            "--c-step".to_owned(),
-            self.c_step.to_string(),
-            "--symmetrise".to_owned(),
-            value_name(&self.symmetrise),
-            "--symmetry".to_owned(),
-            value_name(&self.symmetry),
-            "--filter".to_owned(),
-            filter,
-            "--formats".to_owned(),
-            join(self.formats.iter().map(value_name).collect()),
-            "--ies-version".to_owned(),
-            value_name(&self.ies_version),
-            "--rays".to_owned(),
-            self.rays.to_string(),
-            "--name".to_owned(),
-            self.stem(),
-            "--ugr-spacing".to_owned(),
-            join(self.sheet.ugr_spacing.iter().map(f64::to_string).collect()),
-            "--outdoor".to_owned(),
-            value_name(&self.sheet.outdoor),
-        ];
-        if let Some(step) = self.gamma_step {
-            args.extend(["--gamma-step".to_owned(), step.to_string()]);
-        }
-        // Without --date each merge states its own day.
-        if let Some(date) = &self.date {
-            args.extend(["--date".to_owned(), date.clone()]);
-        }
-        args
     }
 }
 
@@ -468,121 +327,33 @@ fn flag_of(e: &SettingsError) -> &'static str {
     }
 }
 
-/// Refuses a `--name` that is not a plain file name, before tracing.
-pub fn check_name(args: &BakeArgs) -> Result<()> {
-    if let Some(name) = &args.name
-        && (name.trim().is_empty()
-            || std::path::Path::new(name).file_name() != Some(std::ffi::OsStr::new(name)))
-    {
-        anyhow::bail!("--name: '{name}' is not a plain file name (no folders)");
+/// `lucerna bake`: the one place that tells a whole bake, a part (or a
+/// whole bake with checkpoints) and a resume apart.
+pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
+    if let Some(dir) = &args.resume {
+        let part = args.part.map(|p| p.resolve(args.parts)).transpose()?;
+        return part_bake::resume(dir, part, args.checkpoint);
     }
-    Ok(())
-}
-
-/// Checks the settings, naming the flag at fault.
-pub fn checked_settings(args: &BakeArgs) -> Result<SimulationSettings> {
-    let settings = args.settings();
-    settings
-        .validate()
-        .map_err(|e| anyhow::anyhow!("{}: {e}", flag_of(&e)))?;
-    Ok(settings)
-}
-
-/// Says what symmetry the photons are pooled over.
-pub fn describe_symmetry(luminaire: &Luminaire, settings: &SimulationSettings) {
-    if let Some(why) = &luminaire.find_symmetry().limited_by
-        && settings.pool_symmetry
-    {
-        eprintln!("symmetry: {why}");
+    if args.part.is_none() && args.checkpoint.is_none() && args.parts.is_none() {
+        return bake_run::run_whole(&args.job()?);
     }
-    let symmetry = luminaire.find_symmetry().symmetry;
-    if settings.pool_symmetry && symmetry != lucerna_photometry::AxialSymmetry::None {
-        eprintln!(
-            "symmetry: {symmetry}: each photon counted in its {} images",
-            symmetry.order()
+    let Some(total) = args.photons else {
+        anyhow::bail!(
+            "--part and --checkpoint need --photons TOTAL: a part is a fixed range of the \
+             run's photons, the same on every machine"
+        );
+    };
+    if args.time.is_some() || args.rel_error.is_some() {
+        anyhow::bail!(
+            "--time and --rel-error cannot split a bake: give its photons (--photons TOTAL)"
         );
     }
-}
-
-pub fn bake(args: &BakeArgs) -> Result<BakeSummary> {
-    if args.resume.is_some() {
-        return super::part_bake::resume(args);
-    }
-    if args.part.is_some() || args.checkpoint.is_some() || args.parts.is_some() {
-        return super::part_bake::bake_part(args);
-    }
-    let settings = checked_settings(args)?;
-    // Refused before tracing, not after.
-    check_name(args)?;
-    let out = args.out_dir()?;
-    let luminaire = Luminaire::load(args.scene_path()?)?;
-    describe_symmetry(&luminaire, &settings);
-    std::fs::create_dir_all(out)
-        .with_context(|| format!("cannot create output directory {}", out.display()))?;
-
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = stop.clone();
-        // A second handler cannot be set (tests run bakes in one process):
-        // then Ctrl+C simply ends the process.
-        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst));
-    }
-    // The luminaire loaded above is the one traced (not prepared twice),
-    // in long iterations with a snapshot a second for the progress bar.
-    let simulation = Simulation::start_prepared(Arc::new(luminaire), settings, Pace::BATCH, || {})?;
-    let bar = match settings.stop.photons {
-        Some(n) => ProgressBar::new(n),
-        None => ProgressBar::new_spinner(),
+    let spec = match args.part {
+        Some(choice) => choice.resolve(args.parts)?,
+        None if args.parts.is_some() => anyhow::bail!("--parts N goes with --part auto"),
+        None => PartSpec::WHOLE,
     };
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] {bar:30} {human_pos} photons ({per_sec}, ETA {eta}) {msg}",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
-    let mut seen: Option<Arc<Snapshot>> = None;
-    let mut told_backend = false;
-    let mut asked_to_finish = false;
-    let snapshot = loop {
-        let published = simulation.wait_for_update(seen.as_ref(), Duration::from_millis(200));
-        if let Some((_, e)) = &published.error {
-            bar.abandon();
-            return Err(anyhow::anyhow!("{e}")).context("tracing failed");
-        }
-        if stop.load(Ordering::SeqCst) && !asked_to_finish {
-            simulation.finish();
-            asked_to_finish = true;
-        }
-        let Some(s) = published.snapshot else {
-            if published.gone {
-                anyhow::bail!("the simulation stopped without a result");
-            }
-            continue;
-        };
-        if !told_backend {
-            bar.suspend(|| eprintln!("tracing on the {} ({})", s.backend, s.backend_reason));
-            told_backend = true;
-        }
-        bar.set_position(s.photons);
-        bar.set_message(format!(
-            "{:.2} M rays/s, {:.2} bounces, peak ±{:.2} %, flux ±{:.3} %",
-            s.rays_per_second / 1e6,
-            s.mean_bounces,
-            100.0 * s.noise.peak_relative,
-            100.0 * s.noise.flux_relative
-        ));
-        if matches!(s.state, RunState::Finished(_)) {
-            break s;
-        }
-        seen = Some(s);
-    };
-    bar.finish();
-    let files = export(args, &snapshot)?;
-    Ok(BakeSummary {
-        files,
-        photons: snapshot.photons,
-        // Tracing alone (the final filter and export come after).
-        seconds: snapshot.photons as f64 / snapshot.photons_per_second.max(1e-9),
-        interrupted: snapshot.state == RunState::Finished(StopReason::Requested),
-    })
+    let job = args.job()?;
+    debug_assert_eq!(job.settings.stop.photons, Some(total));
+    part_bake::bake_part(&job, spec, args.part.is_none(), args.checkpoint)
 }

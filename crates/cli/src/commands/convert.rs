@@ -5,7 +5,7 @@ use std::path::Path;
 use anyhow::{Context, Result, bail};
 use lucerna_photometry::{IesVersion, to_latin1, write_ies, write_ldt};
 
-use super::info;
+use super::input;
 
 /// Output format, from the flag or else the output file's extension.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -53,7 +53,7 @@ pub fn convert(
     to: Option<OutFormat>,
     resample_c_deg: Option<f64>,
 ) -> Result<String> {
-    let mut p = info::read(input)?;
+    let mut p = input::read_photometry(input)?;
     let format = out_format(output, to)?;
     for w in p.consistency_warnings() {
         eprintln!("warning: {}: {w}", input.display());

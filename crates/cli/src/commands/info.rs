@@ -4,8 +4,8 @@
 use std::fmt::{self, Write as _};
 use std::path::Path;
 
-use anyhow::{Context, Result};
-use lucerna_photometry::{Figures, Photometry, read_photometry};
+use anyhow::Result;
+use lucerna_photometry::Figures;
 use serde::Serialize;
 
 #[derive(Debug, Serialize)]
@@ -39,24 +39,8 @@ pub struct InfoReport {
     warnings: Vec<String>,
 }
 
-/// Reads an IES or EULUMDAT file, at most `MAX_PROFILE_FILE_BYTES` of it
-/// (a photometric file of megabytes is already absurd; `/dev/zero` is not
-/// read until memory runs out).
-pub fn read(path: &Path) -> Result<Photometry> {
-    if super::ray_info::is_ray_file(path) {
-        let name = path
-            .file_name()
-            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-        return Ok(super::ray_info::read(path)?.far_field_photometry(&name));
-    }
-    let bytes = lucerna_scene::read_limited(path, lucerna_scene::file::MAX_PROFILE_FILE_BYTES)
-        .with_context(|| format!("cannot read {}", path.display()))?;
-    read_photometry(&bytes)
-        .with_context(|| format!("cannot read photometry from {}", path.display()))
-}
-
 pub fn report(path: &Path) -> Result<InfoReport> {
-    let p = read(path)?;
+    let p = super::input::read_photometry(path)?;
     let t = &p.table;
     let c = &t.c_planes_deg;
     let g = &t.gammas_deg;

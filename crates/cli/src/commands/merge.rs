@@ -8,8 +8,8 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use lucerna_simulation::{Luminaire, part, snapshot_of_map};
 
-use super::bake;
-use super::part_bake::{check_scene_unchanged, expand_part_paths, stored_bake_args};
+use super::bake_run;
+use super::part_bake::expand_part_paths;
 
 #[derive(Debug, clap::Args)]
 pub struct MergeArgs {
@@ -48,9 +48,18 @@ pub fn merge(args: &MergeArgs) -> Result<MergeSummary> {
         .unwrap_or_else(|| manifest.scene.path.clone());
     let scene = lucerna_scene::load_scene(&scene_path)
         .with_context(|| format!("the scene of {} cannot be loaded", first.display()))?;
-    check_scene_unchanged(first, manifest, &scene_path, &scene)?;
-    let stored = stored_bake_args(first, manifest, &scene_path, &args.out)?;
-    let settings = bake::checked_settings(&stored)?;
+    manifest.scene.check_unchanged(first, &scene_path, &scene)?;
+    // The bake the parts belong to, written here.
+    let mut job = manifest.job.clone();
+    job.scene = scene_path.clone();
+    job.output.out_dir = args.out.clone();
+    job.validate().with_context(|| {
+        format!(
+            "{}: its stored bake settings are not this Lucerna's",
+            first.display()
+        )
+    })?;
+    let settings = job.settings;
     if merged.backends.len() > 1 {
         eprintln!(
             "note: the parts were traced on several backends ({}): the merged map is a valid \
@@ -59,7 +68,7 @@ pub fn merge(args: &MergeArgs) -> Result<MergeSummary> {
         );
     }
     let luminaire = Luminaire::new(scene, scene_path.parent().unwrap_or(Path::new(".")))?;
-    bake::describe_symmetry(&luminaire, &settings);
+    bake_run::describe_symmetry(&luminaire, &settings);
     let photons = merged.map.photons_emitted;
     eprintln!(
         "merged {} parts: {photons} photons, {:.1} s of tracing in all",
@@ -67,7 +76,7 @@ pub fn merge(args: &MergeArgs) -> Result<MergeSummary> {
         merged.wall_seconds
     );
     let snapshot = snapshot_of_map(Arc::new(luminaire), settings, merged.map)?;
-    let files = bake::export(&stored, &snapshot)?;
+    let files = bake_run::export(&job, &snapshot)?;
     Ok(MergeSummary {
         files,
         parts: paths.len(),

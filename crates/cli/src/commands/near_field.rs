@@ -100,7 +100,7 @@ pub fn near_field_eval(args: &NearFieldArgs) -> Result<()> {
     );
     let points = ground_points(args.pixels);
     for path in &profiles {
-        let phot = super::info::read(path)?;
+        let phot = super::input::read_photometry(path)?;
         let grid = Arc::new(ProfileGrid::from_table(&phot.table));
         let name = stem(path);
         for &h in &HEIGHTS {

@@ -13,14 +13,13 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use lucerna_simulation::part::{
-    self, PartManifest, SceneIdentity, TraceIdentity, manifest_file_name, new_manifest,
+    self, FindPartsError, PartManifest, SceneIdentity, TraceIdentity, manifest_file_name,
+    new_manifest,
 };
-use lucerna_simulation::{
-    BackendRequest, Luminaire, PartError, PartSpec, Run, RunState, StopReason,
-};
+use lucerna_simulation::{BackendRequest, BakeJob, Luminaire, PartSpec, Run, RunState, StopReason};
 use lucerna_tracer::Backend;
 
-use super::bake::{self, BakeArgs, BakeSummary};
+use super::bake_run::{self, BakeSummary};
 
 /// A part stopped by a signal once its final checkpoint is written: the
 /// process exits with [`Interrupted::EXIT_CODE`], which a scheduler's
@@ -44,25 +43,20 @@ pub const DEFAULT_CHECKPOINT_INTERVAL: Duration = Duration::from_secs(5 * 60);
 /// checkpoint comes on time, long enough to cost nothing.
 const ITERATION_TIME: Duration = Duration::from_millis(500);
 
-/// A fresh part (`--part`) or a whole bake with checkpoints
-/// (`--checkpoint`).
-pub fn bake_part(args: &BakeArgs) -> Result<BakeSummary> {
-    let Some(total) = args.photons else {
-        anyhow::bail!(
-            "--part and --checkpoint need --photons TOTAL: a part is a fixed range of the \
-             run's photons, the same on every machine"
-        );
-    };
-    if args.time.is_some() || args.rel_error.is_some() {
-        anyhow::bail!(
-            "--time and --rel-error cannot split a bake: give its photons (--photons TOTAL)"
-        );
-    }
-    let spec = match args.part {
-        Some(choice) => choice.resolve(args.parts)?,
-        None if args.parts.is_some() => anyhow::bail!("--parts N goes with --part auto"),
-        None => PartSpec::WHOLE,
-    };
+/// A fresh part (`--part`, `job`'s photons the whole run's) or a whole
+/// bake with checkpoints (`whole`, `spec` 1/1), checkpointed every
+/// `checkpoint`.
+pub fn bake_part(
+    job: &BakeJob,
+    spec: PartSpec,
+    whole: bool,
+    checkpoint: Option<Duration>,
+) -> Result<BakeSummary> {
+    let total = job
+        .settings
+        .stop
+        .photons
+        .context("a part needs the run's photons")?;
     if total > MAX_PHOTONS {
         anyhow::bail!("--photons {total} is more than a run can trace (2^62)");
     }
@@ -72,17 +66,14 @@ pub fn bake_part(args: &BakeArgs) -> Result<BakeSummary> {
             spec.count
         );
     }
-    bake::check_name(args)?;
-    let mut settings = bake::checked_settings(args)?;
+    let mut settings = job.settings;
     let range = spec.range(total);
     settings.stop.photons = Some(range.len());
-    let scene_path = args.scene_path()?;
-    let out = args.out_dir()?;
-    let stem = args.stem();
-    let manifest_path = out.join(manifest_file_name(&stem, spec));
-    let luminaire = Luminaire::load(scene_path)?;
-    let scene = SceneIdentity::of(scene_path, &luminaire.scene)?;
-    bake::describe_symmetry(&luminaire, &settings);
+    let out = &job.output.out_dir;
+    let manifest_path = out.join(manifest_file_name(&job.output.stem, spec));
+    let luminaire = Luminaire::load(&job.scene)?;
+    let scene = SceneIdentity::of(&job.scene, &luminaire.scene)?;
+    bake_run::describe_symmetry(&luminaire, &settings);
     let trace = TraceIdentity {
         resolution: settings.resolution,
         seed: settings.seed,
@@ -96,6 +87,7 @@ pub fn bake_part(args: &BakeArgs) -> Result<BakeSummary> {
     // resubmitted job), another is refused.
     if manifest_path.exists() {
         let existing = part::read_manifest(&manifest_path)?;
+        let output = existing.job.output_differences(job);
         let differs = if existing.scene.sha256 != scene.sha256 {
             Some(format!(
                 "the scene ({})",
@@ -106,11 +98,14 @@ pub fn bake_part(args: &BakeArgs) -> Result<BakeSummary> {
             ))
         } else if existing.trace != trace {
             Some("the photons asked for (--photons, --resolution, --seed or --max-bounces)".into())
-        } else if existing.export_args != args.export_args() {
+        } else if !output.is_empty() {
             Some(format!(
-                "the output settings ({} then, {} now)",
-                existing.export_args.join(" "),
-                args.export_args().join(" ")
+                "the output settings ({})",
+                output
+                    .iter()
+                    .map(|(what, then, now)| format!("{what} {then} then, {now} now"))
+                    .collect::<Vec<_>>()
+                    .join("; ")
             ))
         } else {
             None
@@ -126,7 +121,7 @@ pub fn bake_part(args: &BakeArgs) -> Result<BakeSummary> {
             "{} holds this bake's part {spec}: going on from it",
             manifest_path.display()
         );
-        return resume_checkpoint(manifest_path, existing, args.checkpoint);
+        return resume_checkpoint(manifest_path, existing, checkpoint);
     }
     let mut run = Run::new(Arc::new(luminaire), settings)?;
     let empty = run.session().map().clone();
@@ -134,43 +129,48 @@ pub fn bake_part(args: &BakeArgs) -> Result<BakeSummary> {
     let manifest = new_manifest(
         scene,
         trace,
-        args.export_args(),
+        job.clone(),
         spec,
         backend_kind(run.backend()),
-        args.part.is_none(),
+        whole,
     );
     std::fs::create_dir_all(out)
         .with_context(|| format!("cannot create output directory {}", out.display()))?;
-    let interval = args.checkpoint.unwrap_or(DEFAULT_CHECKPOINT_INTERVAL);
-    drive(run, manifest, &manifest_path, interval, args)
+    let interval = checkpoint.unwrap_or(DEFAULT_CHECKPOINT_INTERVAL);
+    drive(run, manifest, &manifest_path, interval)
 }
 
-/// `--resume DIR`: the checkpoint there (of `--part`, if given) traced on
+/// `--resume DIR`: the checkpoint there (of `part`, if given) traced on
 /// to its total.
-pub fn resume(args: &BakeArgs) -> Result<BakeSummary> {
-    let dir = args.resume.as_deref().context("no folder to resume")?;
-    let part = args.part.map(|p| p.resolve(args.parts)).transpose()?;
+pub fn resume(
+    dir: &Path,
+    part: Option<PartSpec>,
+    checkpoint: Option<Duration>,
+) -> Result<BakeSummary> {
     let (manifest_path, manifest) = part::find_checkpoint(dir, part)?;
-    resume_checkpoint(manifest_path, manifest, args.checkpoint)
+    resume_checkpoint(manifest_path, manifest, checkpoint)
 }
 
 /// The checkpoint at `manifest_path` traced on to its total, with the
-/// settings it stored, after checking its scene is the same bytes.
+/// job it stored, after checking its scene is the same bytes.
 fn resume_checkpoint(
     manifest_path: PathBuf,
     manifest: PartManifest,
     checkpoint: Option<Duration>,
 ) -> Result<BakeSummary> {
-    let dir = manifest_path
-        .parent()
-        .unwrap_or(Path::new("."))
-        .to_path_buf();
     let scene_path = manifest.scene.path.clone();
     let scene = lucerna_scene::load_scene(&scene_path)
         .with_context(|| format!("the scene of {} cannot be loaded", manifest_path.display()))?;
-    check_scene_unchanged(&manifest_path, &manifest, &scene_path, &scene)?;
-    let stored = stored_bake_args(&manifest_path, &manifest, &scene_path, &dir)?;
-    let mut settings = bake::checked_settings(&stored)?;
+    manifest
+        .scene
+        .check_unchanged(&manifest_path, &scene_path, &scene)?;
+    let mut settings = manifest.job.settings;
+    settings.validate().with_context(|| {
+        format!(
+            "{}: its stored bake settings are not this Lucerna's",
+            manifest_path.display()
+        )
+    })?;
     settings.backend = match manifest.backend_kind.as_str() {
         "gpu" => BackendRequest::Gpu,
         _ => BackendRequest::Cpu,
@@ -204,58 +204,7 @@ fn resume_checkpoint(
     })?;
     run.continue_from(manifest.range.first, traced)?;
     let interval = checkpoint.unwrap_or(DEFAULT_CHECKPOINT_INTERVAL);
-    drive(run, manifest, &manifest_path, interval, &stored)
-}
-
-/// The scene hashed again, compared with the one a part was traced from.
-pub fn check_scene_unchanged(
-    manifest_path: &Path,
-    manifest: &PartManifest,
-    scene_path: &Path,
-    scene: &lucerna_scene::Scene,
-) -> Result<(), PartError> {
-    let now = SceneIdentity::of(scene_path, scene)?;
-    if now.sha256 != manifest.scene.sha256 {
-        return Err(PartError::SceneChanged {
-            path: manifest_path.to_path_buf(),
-            why: manifest
-                .scene
-                .first_difference(&now)
-                .unwrap_or_else(|| "its files differ".to_owned()),
-        });
-    }
-    Ok(())
-}
-
-/// The bake a part belongs to, rebuilt from what its manifest stored:
-/// the photons' settings and the output flags.
-pub fn stored_bake_args(
-    manifest_path: &Path,
-    manifest: &PartManifest,
-    scene: &Path,
-    out: &Path,
-) -> Result<BakeArgs> {
-    let t = &manifest.trace;
-    let mut argv: Vec<std::ffi::OsString> = vec![
-        scene.into(),
-        "--out".into(),
-        out.into(),
-        "--photons".into(),
-        t.photons_total.to_string().into(),
-        "--resolution".into(),
-        t.resolution.to_string().into(),
-        "--seed".into(),
-        t.seed.to_string().into(),
-        "--max-bounces".into(),
-        t.max_bounces.to_string().into(),
-    ];
-    argv.extend(manifest.export_args.iter().map(Into::into));
-    bake::parse_bake_args(argv).with_context(|| {
-        format!(
-            "{}: its stored bake settings are not this Lucerna's",
-            manifest_path.display()
-        )
-    })
+    drive(run, manifest, &manifest_path, interval)
 }
 
 fn backend_kind(backend: &Backend) -> &'static str {
@@ -287,7 +236,6 @@ fn drive(
     mut manifest: PartManifest,
     manifest_path: &Path,
     interval: Duration,
-    args: &BakeArgs,
 ) -> Result<BakeSummary> {
     let stop = stop_flag();
     run.set_iteration_time(ITERATION_TIME);
@@ -384,9 +332,15 @@ fn drive(
             interrupted: false,
         });
     }
-    // A whole bake: its files, then its checkpoint is spent.
+    // A whole bake: its files (where the checkpoint is: a resume may come
+    // from another folder), then its checkpoint is spent.
     let snapshot = run.snapshot(0, RunState::Finished(StopReason::Photons), true);
-    let files = bake::export(args, &snapshot)?;
+    let mut job = manifest.job.clone();
+    job.output.out_dir = manifest_path
+        .parent()
+        .unwrap_or(Path::new("."))
+        .to_path_buf();
+    let files = bake_run::export(&job, &snapshot)?;
     let counts = manifest_path.with_file_name(&manifest.counts.file);
     let _ = std::fs::remove_file(manifest_path);
     let _ = std::fs::remove_file(counts);
@@ -409,13 +363,13 @@ fn describe_interval(d: Duration) -> String {
 
 /// The manifests a merge is given: files as they are, folders for the
 /// parts they hold.
-pub fn expand_part_paths(paths: &[PathBuf]) -> Result<Vec<PathBuf>, PartError> {
+pub fn expand_part_paths(paths: &[PathBuf]) -> Result<Vec<PathBuf>, FindPartsError> {
     let mut out = Vec::new();
     for p in paths {
         if p.is_dir() {
             let found = part::manifests_in(p)?;
             if found.is_empty() {
-                return Err(PartError::NoCheckpoint {
+                return Err(FindPartsError::NoCheckpoint {
                     dir: p.clone(),
                     which: String::new(),
                 });

@@ -5,29 +5,10 @@
 use std::fmt::{self, Write as _};
 use std::path::Path;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use lucerna_photometry::Figures;
-use lucerna_photometry::tm25::{Description, RaySet, read_ray_file};
+use lucerna_photometry::tm25::Description;
 use serde::Serialize;
-
-/// Whether `path` is a TM-25 ray file: its extension, or its first bytes.
-pub fn is_ray_file(path: &Path) -> bool {
-    let by_name = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("tm25ray"));
-    by_name || {
-        let mut magic = [0u8; 4];
-        std::fs::File::open(path)
-            .and_then(|mut f| std::io::Read::read_exact(&mut f, &mut magic))
-            .is_ok()
-            && magic == lucerna_photometry::tm25::MAGIC
-    }
-}
-
-pub fn read(path: &Path) -> Result<RaySet> {
-    read_ray_file(path).with_context(|| format!("cannot read the ray file {}", path.display()))
-}
 
 #[derive(Debug, Serialize)]
 pub struct RayFileReport {
@@ -52,7 +33,7 @@ pub struct RayFileReport {
 }
 
 pub fn report(path: &Path) -> Result<RayFileReport> {
-    let set = read(path)?;
+    let set = super::input::read_rays(path)?;
     let h = &set.header;
     let (lo, hi) = set.extent_mm().unwrap_or_default();
     let name = path

@@ -108,7 +108,7 @@ pub fn load_room_scene(path: &Path, photons: u64) -> Result<(RoomSetup, RoomScen
             bail!("luminaire[{i}] has no profile");
         };
         let phot = match kind {
-            SourceKind::PhotometricFile => super::info::read(&source)?,
+            SourceKind::PhotometricFile => super::input::read_photometry(&source)?,
             SourceKind::LuminaireScene => {
                 eprintln!("baking {} ({photons} photons)", source.display());
                 bake_profile(&source, photons)

@@ -6,7 +6,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use lucerna_datasheet::{Datasheet, DatasheetOptions, Outdoor};
 
-use super::bake::{self, FileFormat};
+use lucerna_simulation::{BakeJob, ExportFormats, SimulationSettings};
+
+use super::bake_run;
 
 /// Whether the BUG rating of outdoor luminaires is shown.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -65,10 +67,10 @@ pub struct ReportArgs {
     #[arg(long, default_value_t = 5_000_000)]
     pub photons: u64,
     /// Scenes only: the RNG seed.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = SimulationSettings::default().seed)]
     pub seed: u32,
     /// Scenes only: texels per cube-face edge.
-    #[arg(long, default_value_t = 256)]
+    #[arg(long, default_value_t = SimulationSettings::default().resolution)]
     pub resolution: u32,
     /// Scenes only: cpu, gpu or auto.
     #[arg(long, default_value = "auto")]
@@ -103,23 +105,22 @@ pub fn report(args: &ReportArgs) -> Result<ReportSummary> {
             .map_or("luminaire".to_owned(), |s| s.to_string_lossy().into_owned())
     });
     if is_scene(&args.input) {
-        // `lucerna bake SCENE --out DIR` with the bake's own defaults
-        // (parsed, so they cannot drift from it), then the report's own
-        // settings, writing only the datasheet.
-        let mut bake_args = bake::parse_bake_args([
-            args.input.as_os_str(),
-            "--out".as_ref(),
-            args.out.as_os_str(),
-        ])?;
-        bake_args.photons = Some(args.photons);
-        bake_args.seed = args.seed;
-        bake_args.resolution = args.resolution;
-        bake_args.backend = args.backend;
-        bake_args.formats = vec![FileFormat::Datasheet];
-        bake_args.name = Some(stem);
-        bake_args.date = args.date.clone();
-        bake_args.sheet = args.sheet.clone();
-        let summary = bake::bake(&bake_args)
+        // `lucerna bake SCENE --out DIR` with the bake's own defaults, then
+        // the report's own settings, writing only the datasheet.
+        let mut job = BakeJob::new(&args.input, &args.out);
+        job.settings.stop.photons = Some(args.photons);
+        job.settings.seed = args.seed;
+        job.settings.resolution = args.resolution;
+        job.settings.backend = args.backend;
+        job.output.formats = ExportFormats {
+            datasheet: true,
+            ..ExportFormats::NONE
+        };
+        job.output.stem = stem;
+        job.output.date = args.date.clone();
+        job.output.datasheet = args.sheet.options(String::new());
+        job.validate()?;
+        let summary = bake_run::run_whole(&job)
             .with_context(|| format!("bake of {} failed", args.input.display()))?;
         let json = if args.json {
             let path = summary
@@ -136,7 +137,7 @@ pub fn report(args: &ReportArgs) -> Result<ReportSummary> {
             json,
         });
     }
-    let photometry = super::info::read(&args.input)?;
+    let photometry = super::input::read_photometry(&args.input)?;
     for w in photometry.consistency_warnings() {
         eprintln!("warning: {}: {w}", args.input.display());
     }

@@ -108,13 +108,14 @@ pub fn split_bench(args: &SplitBenchArgs) -> Result<()> {
         layout.texel_count(),
         args.mean_count
     );
+    let job = lucerna_simulation::BakeJob::new(&scene_path, &dir);
     let mut paths = Vec::new();
     let mut write_seconds = Vec::new();
     let mut bytes = 0u64;
     for k in 1..=args.parts {
         let spec = PartSpec::new(k, args.parts)?;
         let map = synthetic_map(layout, args.mean_count, k, spec.range(total).len(), flux);
-        let mut manifest = new_manifest(scene.clone(), trace, Vec::new(), spec, "cpu", false);
+        let mut manifest = new_manifest(scene.clone(), trace, job.clone(), spec, "cpu", false);
         let path = dir.join(manifest_file_name("bench", spec));
         let t = Instant::now();
         part::write_part(&path, &mut manifest, &map)?;
@@ -158,7 +159,7 @@ pub fn split_bench(args: &SplitBenchArgs) -> Result<()> {
         parts: 1,
         ..trace
     };
-    let mut manifest = new_manifest(scene, trace, Vec::new(), spec, "cpu", false);
+    let mut manifest = new_manifest(scene, trace, job, spec, "cpu", false);
     let path = dir.join(manifest_file_name("bench-256", spec));
     let mut small_seconds = Vec::new();
     for _ in 0..9 {

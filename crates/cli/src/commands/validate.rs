@@ -43,7 +43,7 @@ pub fn report(path: &Path) -> Result<ValidateReport> {
                 e.name,
                 profile.display()
             );
-            super::info::read(&profile)
+            super::input::read_photometry(&profile)
                 .with_context(|| format!("emitter '{}': unusable emission profile", e.name))?;
         }
     }
