@@ -15,6 +15,7 @@ pub mod ldt;
 pub mod limits;
 pub mod noise;
 pub mod photometry;
+pub mod read;
 pub mod resample;
 pub mod symmetry;
 pub mod table;
@@ -30,8 +31,9 @@ pub use ldt::{parse_ldt, to_latin1, write_ldt, write_ldt_with};
 pub use limits::WritePhotometryError;
 pub use photometry::{
     Dimensions, Format, LampSet, LampVariant, Metadata, ParsePhotometryError, Photometry,
-    WriteOptions, read_photometry, sniff,
+    WriteOptions,
 };
+pub use read::{read_photometry, sniff};
 pub use resample::{CellBinning, table_from_cube_map};
 pub use symmetry::{AxialIsometry, AxialSymmetry, TexelSymmetry};
 pub use table::{CPlaneSymmetry, CandelaTable};

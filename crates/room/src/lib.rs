@@ -14,10 +14,12 @@ pub mod ltc;
 pub mod model;
 pub mod polar;
 pub mod profile;
+pub mod radial;
 pub mod reference;
 pub mod render;
 pub mod scene;
 pub mod setup;
+pub mod shading;
 pub mod task;
 pub mod work_plane;
 

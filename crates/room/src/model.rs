@@ -7,8 +7,6 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::work_plane::grid_count;
-
 /// The file format version this build reads and writes.
 pub const ROOM_FORMAT_VERSION: u32 = 1;
 /// Largest room dimension accepted (m): beyond it a unit slip (mm for m)
@@ -461,4 +459,21 @@ pub fn validate(room: &RoomFile) -> Vec<String> {
         ));
     }
     p
+}
+
+/// How many work-plane grid points [`grid_coordinates`] places along one side
+/// (saturating for absurd spacings, so validation can compare it).
+pub fn grid_count(length: f64, border: f64, spacing: f64) -> usize {
+    let span = (length - 2.0 * border).max(0.0);
+    ((span / spacing).round() as usize).max(1)
+}
+
+/// Grid points at the centres of cells of about `spacing_m`, inside the
+/// border band, along one side of the room.
+pub fn grid_coordinates(length: f64, border: f64, spacing: f64) -> Vec<f64> {
+    let span = (length - 2.0 * border).max(0.0);
+    let n = grid_count(length, border, spacing);
+    (0..n)
+        .map(|i| border + (i as f64 + 0.5) * span / n as f64)
+        .collect()
 }

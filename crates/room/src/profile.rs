@@ -45,7 +45,7 @@ pub struct ProfileGrid {
     levels: std::sync::OnceLock<PrefilteredLevels>,
     /// Cumulative radial integrals per C column and hemisphere: what the
     /// polar near-field rule and its exact reference read.
-    pub radial: crate::polar::RadialTables,
+    pub radial: crate::radial::RadialTables,
     /// Spacing of the C-planes where the interpolant bends sharply (the
     /// source table's planes, when it varies strongly in C): the polar
     /// rule cuts its sweep there. 0: smooth enough in C not to.
@@ -196,7 +196,12 @@ impl ProfileGrid {
     }
 
     fn with_radial_tables(mut self) -> ProfileGrid {
-        self.radial = crate::polar::RadialTables::new(&self);
+        self.radial = crate::radial::RadialTables::new(
+            self.c_count,
+            self.gamma_count,
+            self.gamma_step_deg,
+            &self.candela,
+        );
         self
     }
 

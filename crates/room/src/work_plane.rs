@@ -6,6 +6,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 use serde::Serialize;
 
+pub use crate::model::{grid_coordinates, grid_count};
 use crate::render::{Shading, light_illuminance};
 use crate::scene::RoomScene;
 
@@ -26,23 +27,6 @@ pub struct IlluminanceFigures {
     /// Emin / Eavg.
     pub u0: f64,
     pub points: usize,
-}
-
-/// How many grid points [`grid_coordinates`] places along one side
-/// (saturating for absurd spacings, so validation can compare it).
-pub fn grid_count(length: f64, border: f64, spacing: f64) -> usize {
-    let span = (length - 2.0 * border).max(0.0);
-    ((span / spacing).round() as usize).max(1)
-}
-
-/// Grid points at the centres of cells of about `spacing_m`, inside the
-/// border band, along one side of the room.
-pub fn grid_coordinates(length: f64, border: f64, spacing: f64) -> Vec<f64> {
-    let span = (length - 2.0 * border).max(0.0);
-    let n = grid_count(length, border, spacing);
-    (0..n)
-        .map(|i| border + (i as f64 + 0.5) * span / n as f64)
-        .collect()
 }
 
 /// The work-plane points (facing up) of a room.
