@@ -28,7 +28,7 @@ impl Target {
     /// Reads a target file: IES or EULUMDAT by content, else a spec
     /// (TOML). Nothing but a file that reads as one of them is taken.
     pub fn load(path: &Path, absolute: bool) -> Result<Target, DesignError> {
-        let bytes = lucerna_scene::read_limited(path, lucerna_scene::file::MAX_PROFILE_FILE_BYTES)
+        let bytes = lucerna_scene::read_limited(path, lucerna_scene::io::MAX_PROFILE_FILE_BYTES)
             .map_err(|e| DesignError::Target {
                 path: path.display().to_string(),
                 why: e.to_string(),

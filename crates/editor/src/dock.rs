@@ -204,7 +204,7 @@ impl Dock {
         if let Some(dir) = file.parent() {
             let _ = std::fs::create_dir_all(dir);
         }
-        if lucerna_scene::file::write_atomically(file, text.as_bytes()).is_ok() {
+        if lucerna_scene::io::write_atomically(file, text.as_bytes()).is_ok() {
             self.written = Some(text);
         }
     }

@@ -13,8 +13,8 @@ use egui::{
     WidgetInfo, pos2, vec2,
 };
 use lucerna_scene::Interpolation;
+use lucerna_scene::check::MAX_LENGTH_M;
 use lucerna_scene::profile::sample_profile;
-use lucerna_scene::validate::MAX_LENGTH_M;
 
 use crate::modelling::{MIN_PROFILE_POINTS, ProfilePlane, SceneEdit};
 use crate::state::Command;

@@ -15,7 +15,7 @@ pub const MAX_ROOM_M: f64 = 500.0;
 /// Most luminaires in one room after arrays are expanded.
 pub const MAX_LUMINAIRES: usize = 256;
 /// Largest room file read: a room is a few hundred bytes of TOML.
-pub const MAX_ROOM_FILE_BYTES: u64 = 16 * lucerna_scene::file::MIB;
+pub const MAX_ROOM_FILE_BYTES: u64 = 16 * lucerna_scene::io::MIB;
 /// Most work-plane grid points: a 500 m hall at 0.5 m, or an office at
 /// 1 cm. Each point is shaded by every light; beyond this a spacing typo
 /// asks for gigabytes (500 m at 0.01 m is 2.5 billion points).
@@ -274,7 +274,7 @@ pub enum RoomFileError {
 
 /// Reads (at most [`MAX_ROOM_FILE_BYTES`]) and validates a room file.
 pub fn load_room(path: &Path) -> Result<RoomFile, RoomFileError> {
-    let text = lucerna_scene::file::read_limited_text(path, MAX_ROOM_FILE_BYTES)?;
+    let text = lucerna_scene::io::read_limited_text(path, MAX_ROOM_FILE_BYTES)?;
     parse_room(&text, path)
 }
 

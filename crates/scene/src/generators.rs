@@ -1,5 +1,5 @@
-//! What the shape generators share: [`generate`], the dispatch to each
-//! shape's own generator in [`crate::shapes`], and the mesh builders more
+//! What the shape generators share (the dispatch to each shape's own
+//! generator is [`crate::shapes::generate`]): the mesh builders more
 //! than one shape is made of (revolution, planar quads, disks, flat
 //! triangles). Meshes are in the part's local frame (metres).
 
@@ -9,16 +9,6 @@ use glam::{DVec2, DVec3, Vec3};
 
 use crate::mesh::TriangleMesh;
 use crate::profile::{ProfileSample, Strip};
-use crate::shapes::Shape;
-
-/// Builds the mesh of a generated shape. `Shape::Mesh` is not generated
-/// here (see [`crate::obj`]); it yields `None`.
-///
-/// Parameters must have passed [`crate::validate()`]; the generators do not
-/// re-check them.
-pub fn generate(shape: &Shape) -> Option<TriangleMesh> {
-    shape.generator().generate()
-}
 
 /// Radius below which a profile point is taken to lie on the axis.
 fn on_axis(r: f64, scale: f64) -> bool {

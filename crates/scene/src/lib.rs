@@ -5,9 +5,11 @@
 //! Units: metres, lumens, degrees at the file boundary. Luminaire
 //! coordinates are right-handed with z up; the photometric axis points down.
 
+pub mod check;
 pub mod exact;
 pub mod file;
 pub mod generators;
+pub mod io;
 pub mod mesh;
 pub mod model;
 pub mod obj;

@@ -9,7 +9,9 @@ use serde::{Deserialize, Serialize};
 
 /// Shapes have their own module, one file each; the enum is part of the
 /// file format, so it is reachable from here too.
+pub use crate::profile::Interpolation;
 pub use crate::shapes::Shape;
+use crate::shapes::defaults::{is_true, is_zero, yes};
 
 /// The scene-file format version this build reads and writes.
 pub const FORMAT_VERSION: u32 = 1;
@@ -261,47 +263,6 @@ impl Transform {
             glam::DVec3::from_array(self.translate),
         )
     }
-}
-
-/// How a 2D profile is interpolated between its control points.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Interpolation {
-    /// Straight segments between control points.
-    Linear,
-    /// A Catmull-Rom spline through the control points (smooth, editable).
-    #[default]
-    CatmullRom,
-}
-
-// Serde defaults of the file format, shared by the shapes in `crate::shapes`.
-
-/// Default steps around the axis of a surface of revolution (and disks).
-pub(crate) fn default_around() -> u32 {
-    64
-}
-/// Default steps along a generated curve (meridian of a reflector or dome).
-pub(crate) fn default_along() -> u32 {
-    32
-}
-/// Default steps per span between two control points of a profile.
-pub(crate) fn default_per_span() -> u32 {
-    8
-}
-pub(crate) fn yes() -> bool {
-    true
-}
-pub(crate) fn is_false(b: &bool) -> bool {
-    !*b
-}
-pub(crate) fn is_true(b: &bool) -> bool {
-    *b
-}
-pub(crate) fn is_zero(x: &f64) -> bool {
-    *x == 0.0
-}
-pub(crate) fn is_zero_u32(x: &u32) -> bool {
-    *x == 0
 }
 
 /// A piece of the luminaire: a shape, where it is, what it is made of.

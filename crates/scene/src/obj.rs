@@ -14,9 +14,9 @@ use std::path::{Path, PathBuf};
 
 use glam::{DVec3, Vec3};
 
-use crate::file::{MIB, ReadFileError, read_limited_text};
+use crate::check::MAX_PART_TRIANGLES;
+use crate::io::{MIB, ReadFileError, read_limited_text};
 use crate::mesh::TriangleMesh;
-use crate::validate::MAX_PART_TRIANGLES;
 
 /// Largest OBJ file read: about a million triangles with normals.
 pub const MAX_OBJ_FILE_BYTES: u64 = 64 * MIB;

@@ -4,7 +4,18 @@
 use glam::DVec2;
 
 use crate::exact::ProfileCurve;
-use crate::model::Interpolation;
+use serde::{Deserialize, Serialize};
+
+/// How a 2D profile is interpolated between its control points.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Interpolation {
+    /// Straight segments between control points.
+    Linear,
+    /// A Catmull-Rom spline through the control points (smooth, editable).
+    #[default]
+    CatmullRom,
+}
 
 /// A point on a profile with its tangent along increasing parameter.
 #[derive(Debug, Clone, Copy, PartialEq)]

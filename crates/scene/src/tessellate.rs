@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec2;
 
+use crate::check::{MAX_PART_TRIANGLES, MAX_SCENE_TRIANGLES};
 use crate::exact::{ExactSurface, elliptic_arc};
 use crate::generators::revolve;
 use crate::mesh::{MeshDefect, TriangleMesh};
@@ -13,7 +14,6 @@ use crate::model::{EmitterShape, Material, Scene};
 use crate::obj::LoadObjError;
 use crate::profile::sample_curve;
 use crate::shapes::{Cylinder, Disk, Plate, ShapeGenerator, revolution_triangle_count};
-use crate::validate::{MAX_PART_TRIANGLES, MAX_SCENE_TRIANGLES};
 
 /// Name of the implicit material of emitters that name none.
 pub const EMITTER_ABSORBER: &str = "<emitter absorber>";

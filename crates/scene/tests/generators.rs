@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use std::f64::consts::PI;
 
 use glam::DVec3;
-use lucerna_scene::generators::generate;
+use lucerna_scene::shapes::generate;
 use lucerna_scene::shapes::{
     BoxShape, Cylinder, Disk, Dome, Ellipsoid, Extruded, Louvre, Paraboloid, Plate, Revolved,
 };

@@ -6,12 +6,12 @@
 
 use std::path::Path;
 
+use lucerna_scene::check::{MAX_LISTED_PROBLEMS, MAX_PART_TRIANGLES, MAX_SCENE_TRIANGLES};
 use lucerna_scene::file::MAX_SCENE_FILE_BYTES;
 use lucerna_scene::obj::{
     LoadObjError, MAX_MTL_FILE_BYTES, MAX_OBJ_FILE_BYTES, MAX_OBJ_GROUPS, MAX_OBJ_TRIANGLES,
     load_obj,
 };
-use lucerna_scene::validate::{MAX_LISTED_PROBLEMS, MAX_PART_TRIANGLES, MAX_SCENE_TRIANGLES};
 use lucerna_scene::{LoadSceneError, ReadFileError, load_scene, parse_scene, tessellate};
 
 use lucerna_scene::test_support::SMALL_SCENE as GOOD;

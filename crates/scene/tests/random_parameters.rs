@@ -2,7 +2,7 @@
 //! Property test: generators never panic or produce NaN for any parameters
 //! that pass validation.
 
-use lucerna_scene::generators::generate;
+use lucerna_scene::shapes::generate;
 use lucerna_scene::shapes::{Cylinder, Dome, Ellipsoid, Extruded, Louvre, Paraboloid, Revolved};
 use lucerna_scene::{Interpolation, Shape};
 use proptest::prelude::*;

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use lucerna_scene::file::MAX_PROFILE_FILE_BYTES;
+use lucerna_scene::io::MAX_PROFILE_FILE_BYTES;
 use lucerna_scene::{ReadFileError, parse_scene, tessellate};
 use lucerna_tracer::PreparedScene;
 use lucerna_tracer::prepared::PrepareError;

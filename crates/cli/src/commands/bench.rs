@@ -155,7 +155,7 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
                 segments_per_span: along / 3,
                 faceted: false,
             });
-            let mesh = lucerna_scene::generators::generate(&shape).context("a generated mesh")?;
+            let mesh = lucerna_scene::shapes::generate(&shape).context("a generated mesh")?;
             let corners: Vec<[glam::Vec3; 3]> = mesh
                 .triangles
                 .iter()

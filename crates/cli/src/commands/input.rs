@@ -17,7 +17,7 @@ pub fn read_photometry(path: &Path) -> Result<Photometry> {
             .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
         return Ok(read_rays(path)?.far_field_photometry(&name));
     }
-    let bytes = lucerna_scene::read_limited(path, lucerna_scene::file::MAX_PROFILE_FILE_BYTES)
+    let bytes = lucerna_scene::read_limited(path, lucerna_scene::io::MAX_PROFILE_FILE_BYTES)
         .with_context(|| format!("cannot read {}", path.display()))?;
     lucerna_photometry::read_photometry(&bytes)
         .with_context(|| format!("cannot read photometry from {}", path.display()))

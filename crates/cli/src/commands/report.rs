@@ -151,7 +151,7 @@ pub fn report(args: &ReportArgs) -> Result<ReportSummary> {
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create output directory {}", args.out.display()))?;
     let files = rendered.files(&sheet, &args.out, &format!("{stem}_datasheet"));
-    lucerna_scene::file::write_all_atomically(&files)
+    lucerna_scene::io::write_all_atomically(&files)
         .map_err(|(path, e)| anyhow::anyhow!("cannot write {}: {e}", path.display()))?;
     Ok(ReportSummary {
         files: files.into_iter().map(|(p, _)| p).collect(),

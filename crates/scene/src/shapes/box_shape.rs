@@ -5,10 +5,10 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::ShapeGenerator;
+use crate::check::{Checker, FieldPath, MAX_LENGTH_M};
 use crate::exact::ExactSurface;
 use crate::generators::{oriented_corners, oriented_quad};
 use crate::mesh::TriangleMesh;
-use crate::validate::{Checker, FieldPath, MAX_LENGTH_M};
 
 /// Axis-aligned box centred at the origin, outward normals (`type = "box"`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -17,7 +17,7 @@ pub struct BoxShape {
     /// Extent along x, y, z (m).
     pub size: [f64; 3],
     /// Leave out the −z face (a housing open towards the light exit).
-    #[serde(default, skip_serializing_if = "crate::model::is_false")]
+    #[serde(default, skip_serializing_if = "crate::shapes::defaults::is_false")]
     pub open_bottom: bool,
 }
 

@@ -4,11 +4,11 @@ use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 
 use super::ShapeGenerator;
+use crate::check::{Checker, FieldPath};
 use crate::exact::{ExactSurface, ProfileCurve};
 use crate::generators::{disk, revolve};
 use crate::mesh::TriangleMesh;
 use crate::profile::sample_curve;
-use crate::validate::{Checker, FieldPath};
 
 /// Cylinder about z, centred at the origin, outward normals.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -20,17 +20,17 @@ pub struct Cylinder {
     pub height: f64,
     /// Close the top (z = height / 2) with a disk.
     #[serde(
-        default = "crate::model::yes",
-        skip_serializing_if = "crate::model::is_true"
+        default = "crate::shapes::defaults::yes",
+        skip_serializing_if = "crate::shapes::defaults::is_true"
     )]
     pub cap_top: bool,
     /// Close the bottom (z = −height / 2) with a disk.
     #[serde(
-        default = "crate::model::yes",
-        skip_serializing_if = "crate::model::is_true"
+        default = "crate::shapes::defaults::yes",
+        skip_serializing_if = "crate::shapes::defaults::is_true"
     )]
     pub cap_bottom: bool,
-    #[serde(default = "crate::model::default_around")]
+    #[serde(default = "crate::shapes::defaults::default_around")]
     pub segments_around: u32,
 }
 

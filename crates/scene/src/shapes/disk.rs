@@ -4,10 +4,10 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::ShapeGenerator;
+use crate::check::{Checker, FieldPath};
 use crate::exact::ExactSurface;
 use crate::generators::disk;
 use crate::mesh::TriangleMesh;
-use crate::validate::{Checker, FieldPath};
 
 /// Circular flat disk in the z = 0 plane, centred, normal −z.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -15,7 +15,7 @@ use crate::validate::{Checker, FieldPath};
 pub struct Disk {
     /// Radius (m).
     pub radius: f64,
-    #[serde(default = "crate::model::default_around")]
+    #[serde(default = "crate::shapes::defaults::default_around")]
     pub segments_around: u32,
 }
 

@@ -4,11 +4,11 @@ use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
 use super::ShapeGenerator;
+use crate::check::{Checker, FieldPath};
 use crate::exact::{ExactSurface, elliptic_arc};
 use crate::generators::{revolution_triangle_count, revolve};
 use crate::mesh::TriangleMesh;
 use crate::profile::sample_curve;
-use crate::validate::{Checker, FieldPath};
 
 /// Spherical cap (bell, diffuser dome): pole at z = `height`, rim in the
 /// z = 0 plane, normals towards the sphere's centre.
@@ -19,10 +19,10 @@ pub struct Dome {
     pub radius: f64,
     /// From the rim's plane up to the pole (m), at most 2 × `radius`.
     pub height: f64,
-    #[serde(default = "crate::model::default_around")]
+    #[serde(default = "crate::shapes::defaults::default_around")]
     pub segments_around: u32,
     /// Segments from the pole to the rim.
-    #[serde(default = "crate::model::default_along")]
+    #[serde(default = "crate::shapes::defaults::default_along")]
     pub segments_along: u32,
 }
 

@@ -4,11 +4,11 @@ use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
 use super::ShapeGenerator;
+use crate::check::{Checker, FieldPath};
 use crate::exact::{ExactSurface, elliptic_arc};
 use crate::generators::{revolution_triangle_count, revolve};
 use crate::mesh::TriangleMesh;
 use crate::profile::sample_curve;
-use crate::validate::{Checker, FieldPath};
 
 /// Ellipsoidal reflector section: near focus at the origin, far focus at
 /// (0, 0, −`focal_distance`), vertex `vertex_distance` above the near
@@ -23,15 +23,15 @@ pub struct Ellipsoid {
     /// Depth of the cut plane below the near focus (m); negative cuts above it.
     pub cut_below_focus: f64,
     /// Diameter of the hole around the vertex (m); 0 closes it.
-    #[serde(default, skip_serializing_if = "crate::model::is_zero")]
+    #[serde(default, skip_serializing_if = "crate::shapes::defaults::is_zero")]
     pub neck_diameter: f64,
-    #[serde(default = "crate::model::default_around")]
+    #[serde(default = "crate::shapes::defaults::default_around")]
     pub segments_around: u32,
     /// Segments from the neck to the cut plane.
-    #[serde(default = "crate::model::default_along")]
+    #[serde(default = "crate::shapes::defaults::default_along")]
     pub segments_along: u32,
     /// Flat facets instead of a smooth surface.
-    #[serde(default, skip_serializing_if = "crate::model::is_false")]
+    #[serde(default, skip_serializing_if = "crate::shapes::defaults::is_false")]
     pub faceted: bool,
 }
 

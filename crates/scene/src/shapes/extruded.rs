@@ -4,12 +4,12 @@ use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 
 use super::ShapeGenerator;
+use crate::check::{Checker, FieldPath};
 use crate::exact::ExactSurface;
 use crate::generators::{profile_normal, push_flat, repaired};
 use crate::mesh::TriangleMesh;
-use crate::model::Interpolation;
+use crate::profile::Interpolation;
 use crate::profile::{Strip, exact_profile, sample_profile};
-use crate::validate::{Checker, FieldPath};
 
 /// A profile `[x, z]` extruded along y over `length` (centred), for
 /// linear reflectors and troughs; end caps close the profile's chord.
@@ -23,12 +23,12 @@ pub struct Extruded {
     #[serde(default)]
     pub interpolation: Interpolation,
     /// Segments per span between two control points.
-    #[serde(default = "crate::model::default_per_span")]
+    #[serde(default = "crate::shapes::defaults::default_per_span")]
     pub segments_per_span: u32,
     /// Close both ends with the polygon of the profile and its chord.
     #[serde(
-        default = "crate::model::yes",
-        skip_serializing_if = "crate::model::is_true"
+        default = "crate::shapes::defaults::yes",
+        skip_serializing_if = "crate::shapes::defaults::is_true"
     )]
     pub end_caps: bool,
 }

@@ -4,10 +4,10 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::ShapeGenerator;
+use crate::check::{Checker, FieldPath, MAX_SEGMENTS};
 use crate::exact::ExactSurface;
 use crate::generators::{oriented_corners, oriented_quad};
 use crate::mesh::TriangleMesh;
-use crate::validate::{Checker, FieldPath, MAX_SEGMENTS};
 
 /// Parallel thin blades along y, spaced along x, hanging from z = 0 down
 /// to −`blade_height`, each tilted by `tilt_deg` about its own long axis;
@@ -23,13 +23,13 @@ pub struct Louvre {
     /// Extent of each blade along y (m).
     pub blade_length: f64,
     /// Tilt of each blade about its long axis (degrees, within ±89).
-    #[serde(default, skip_serializing_if = "crate::model::is_zero")]
+    #[serde(default, skip_serializing_if = "crate::shapes::defaults::is_zero")]
     pub tilt_deg: f64,
     /// Cross blades spanning between the outer blades; 0 for none.
-    #[serde(default, skip_serializing_if = "crate::model::is_zero_u32")]
+    #[serde(default, skip_serializing_if = "crate::shapes::defaults::is_zero_u32")]
     pub cross_blade_count: u32,
     /// Centre-to-centre distance of the cross blades along y (m).
-    #[serde(default, skip_serializing_if = "crate::model::is_zero")]
+    #[serde(default, skip_serializing_if = "crate::shapes::defaults::is_zero")]
     pub cross_spacing: f64,
 }
 

@@ -6,9 +6,9 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use super::{LoadShapeFileError, ShapeGenerator, ShapeSurface};
+use crate::check::{Checker, FieldPath};
 use crate::mesh::TriangleMesh;
 use crate::obj::{assigned_material, load_obj};
-use crate::validate::{Checker, FieldPath};
 
 /// Wavefront OBJ mesh, path relative to the scene file. Materials are
 /// assigned per OBJ object/group name (or its `usemtl` name) through

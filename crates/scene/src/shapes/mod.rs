@@ -31,14 +31,15 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use crate::check::{Checker, FieldPath};
 use crate::exact::ExactSurface;
 pub use crate::generators::revolution_triangle_count;
 use crate::mesh::TriangleMesh;
 use crate::obj::LoadObjError;
-use crate::validate::{Checker, FieldPath};
 
 mod box_shape;
 mod cylinder;
+pub(crate) mod defaults;
 mod disk;
 mod dome;
 mod ellipsoid;
@@ -168,4 +169,13 @@ impl Shape {
     pub fn kind(&self) -> &'static str {
         self.generator().kind()
     }
+}
+
+/// Builds the mesh of a generated shape. `Shape::Mesh` is not generated
+/// here (see [`crate::obj`]); it yields `None`.
+///
+/// Parameters must have passed [`crate::validate()`]; the generators do not
+/// re-check them.
+pub fn generate(shape: &Shape) -> Option<TriangleMesh> {
+    shape.generator().generate()
 }

@@ -4,11 +4,11 @@ use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
 use super::ShapeGenerator;
+use crate::check::{Checker, FieldPath};
 use crate::exact::{ExactSurface, parabola};
 use crate::generators::{revolution_triangle_count, revolve};
 use crate::mesh::TriangleMesh;
 use crate::profile::sample_curve;
-use crate::validate::{Checker, FieldPath};
 
 /// Paraboloid reflector with its focus at the origin, opening downwards
 /// (−z): vertex at z = f, `r² = 4 f (f − z)`. `neck_diameter` cuts a hole
@@ -21,16 +21,16 @@ pub struct Paraboloid {
     /// Diameter of the rim (m).
     pub aperture_diameter: f64,
     /// Diameter of the hole around the vertex (m); 0 closes it.
-    #[serde(default, skip_serializing_if = "crate::model::is_zero")]
+    #[serde(default, skip_serializing_if = "crate::shapes::defaults::is_zero")]
     pub neck_diameter: f64,
-    #[serde(default = "crate::model::default_around")]
+    #[serde(default = "crate::shapes::defaults::default_around")]
     pub segments_around: u32,
     /// Segments from the neck to the rim.
-    #[serde(default = "crate::model::default_along")]
+    #[serde(default = "crate::shapes::defaults::default_along")]
     pub segments_along: u32,
     /// Flat facets (`segments_around` × `segments_along`) instead of a
     /// smooth surface.
-    #[serde(default, skip_serializing_if = "crate::model::is_false")]
+    #[serde(default, skip_serializing_if = "crate::shapes::defaults::is_false")]
     pub faceted: bool,
 }
 

@@ -4,10 +4,10 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::ShapeGenerator;
+use crate::check::{Checker, FieldPath};
 use crate::exact::ExactSurface;
 use crate::generators::quad;
 use crate::mesh::TriangleMesh;
-use crate::validate::{Checker, FieldPath};
 
 /// Rectangular flat plate in the z = 0 plane, centred, normal −z.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

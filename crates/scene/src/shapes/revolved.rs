@@ -3,12 +3,12 @@
 use serde::{Deserialize, Serialize};
 
 use super::ShapeGenerator;
+use crate::check::{Checker, FieldPath};
 use crate::exact::ExactSurface;
 use crate::generators::{revolution_triangle_count, revolve};
 use crate::mesh::TriangleMesh;
-use crate::model::Interpolation;
+use crate::profile::Interpolation;
 use crate::profile::{exact_profile, sample_profile};
-use crate::validate::{Checker, FieldPath};
 
 /// A profile `[r, z]` (metres, r ≥ 0) revolved about the z axis.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -18,13 +18,13 @@ pub struct Revolved {
     pub profile: Vec<[f64; 2]>,
     #[serde(default)]
     pub interpolation: Interpolation,
-    #[serde(default = "crate::model::default_around")]
+    #[serde(default = "crate::shapes::defaults::default_around")]
     pub segments_around: u32,
     /// Segments per span between two control points.
-    #[serde(default = "crate::model::default_per_span")]
+    #[serde(default = "crate::shapes::defaults::default_per_span")]
     pub segments_per_span: u32,
     /// Flat facets instead of a smooth surface.
-    #[serde(default, skip_serializing_if = "crate::model::is_false")]
+    #[serde(default, skip_serializing_if = "crate::shapes::defaults::is_false")]
     pub faceted: bool,
 }
 

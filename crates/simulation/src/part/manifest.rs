@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use lucerna_photometry::IntensityMap;
-use lucerna_scene::file::write_atomically;
+use lucerna_scene::io::write_atomically;
 use serde::{Deserialize, Serialize};
 
 use super::counts::{CountsFile, decode_counts, encode_counts};
@@ -141,7 +141,7 @@ pub fn write_part(
 /// Reads and checks a manifest (not yet its counts).
 pub fn read_manifest(path: &Path) -> Result<PartManifest, ReadPartError> {
     let text =
-        lucerna_scene::file::read_limited_text(path, 1 << 20).map_err(|e| ReadPartError::Io {
+        lucerna_scene::io::read_limited_text(path, 1 << 20).map_err(|e| ReadPartError::Io {
             path: path.to_path_buf(),
             source: std::io::Error::other(e.to_string()),
         })?;
