@@ -291,13 +291,6 @@ fn crate_circles(crate_dir: &Path) -> Vec<String> {
         .collect()
 }
 
-/// Circles not yet broken (issue 36), as `crate: modules`: a circle not
-/// listed, or one grown beyond its listing, fails; so does a listed one
-/// that is gone, so that the list only shrinks.
-const NOT_YET_BROKEN: &[&str] = &[
-    "editor: command, dialogs, dock, document, files, profile_editor, profile_pane, room_view, state, viewport, views",
-];
-
 #[test]
 fn no_crate_has_an_import_circle_between_its_modules() {
     let crates = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
@@ -315,32 +308,12 @@ fn no_crate_has_an_import_circle_between_its_modules() {
             found.push(format!("{name}: {circle}"));
         }
     }
-    let heads: Vec<&str> = found
-        .iter()
-        .map(|c| c.lines().next().unwrap_or(""))
-        .collect();
-    let new: Vec<&String> = found
-        .iter()
-        .zip(&heads)
-        .filter(|(_, h)| !NOT_YET_BROKEN.contains(h))
-        .map(|(c, _)| c)
-        .collect();
     assert!(
-        new.is_empty(),
-        "{} new import circle(s) between modules:\n{}",
-        new.len(),
-        new.iter()
-            .map(|c| c.as_str())
-            .collect::<Vec<_>>()
-            .join("\n")
-    );
-    let gone: Vec<&&str> = NOT_YET_BROKEN
-        .iter()
-        .filter(|k| !heads.contains(k))
-        .collect();
-    assert!(
-        gone.is_empty(),
-        "broken since listed, take them off NOT_YET_BROKEN: {gone:?}"
+        found.is_empty(),
+        "{} import circle(s) between modules (move the type both sides use \
+         into a module of its own):\n{}",
+        found.len(),
+        found.join("\n")
     );
 }
 

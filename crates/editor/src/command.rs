@@ -72,7 +72,7 @@ pub enum Command {
     /// Traces the current scene again from zero photons.
     Restart,
     /// Brings a pane of the dock to the front.
-    ShowPane(crate::dock::Pane),
+    ShowPane(crate::pane::Pane),
     /// A change to the preview room (room_state.rs).
     Room(crate::room_state::RoomCommand),
 }

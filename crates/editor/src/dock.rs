@@ -7,91 +7,13 @@ use std::path::PathBuf;
 
 use egui::Ui;
 use egui_tiles::{Container, Linear, LinearDir, Shares, Tile, TileId, Tiles, Tree};
-use serde::{Deserialize, Serialize};
 
+pub use crate::pane::Pane;
+use crate::pane::View;
 use crate::profile_pane::{ProfilePane, profile_pane_ui};
-use crate::state::{EditorState, View};
+use crate::state::EditorState;
 use crate::viewport::{Viewport, viewport_ui};
 use crate::views::{ViewsState, photometric_view_ui};
-
-/// One pane of the dock.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum Pane {
-    /// The 3D view of the luminaire.
-    Luminaire,
-    /// The selected part's profile, large.
-    Profile,
-    /// A photometric view.
-    View(ViewPane),
-}
-
-/// The photometric views as panes (serialised by name, so a layout file
-/// outlives the enum's order).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum ViewPane {
-    Polar,
-    Cartesian,
-    Isocandela,
-    CubeMap,
-    Figures,
-    Room,
-}
-
-impl ViewPane {
-    fn of(view: View) -> ViewPane {
-        match view {
-            View::Polar => ViewPane::Polar,
-            View::Cartesian => ViewPane::Cartesian,
-            View::Isocandela => ViewPane::Isocandela,
-            View::CubeMap => ViewPane::CubeMap,
-            View::Figures => ViewPane::Figures,
-            View::Room => ViewPane::Room,
-        }
-    }
-
-    fn view(self) -> View {
-        match self {
-            ViewPane::Polar => View::Polar,
-            ViewPane::Cartesian => View::Cartesian,
-            ViewPane::Isocandela => View::Isocandela,
-            ViewPane::CubeMap => View::CubeMap,
-            ViewPane::Figures => View::Figures,
-            ViewPane::Room => View::Room,
-        }
-    }
-}
-
-impl Pane {
-    /// Every pane, in menu order.
-    pub const ALL: [Pane; 8] = [
-        Pane::Luminaire,
-        Pane::Profile,
-        Pane::View(ViewPane::Polar),
-        Pane::View(ViewPane::Cartesian),
-        Pane::View(ViewPane::Isocandela),
-        Pane::View(ViewPane::CubeMap),
-        Pane::View(ViewPane::Figures),
-        Pane::View(ViewPane::Room),
-    ];
-
-    /// Its tab's title (also the tab button's accessible name).
-    pub fn title(self) -> &'static str {
-        match self {
-            Pane::Luminaire => "3D view",
-            Pane::Profile => "Profile",
-            Pane::View(ViewPane::Polar) => "Polar",
-            Pane::View(ViewPane::Cartesian) => "Cartesian",
-            Pane::View(ViewPane::Isocandela) => "Isocandela",
-            Pane::View(ViewPane::CubeMap) => "Cube map",
-            Pane::View(ViewPane::Figures) => "Figures",
-            Pane::View(ViewPane::Room) => "Room",
-        }
-    }
-
-    pub fn of_view(view: View) -> Pane {
-        Pane::View(ViewPane::of(view))
-    }
-}
 
 /// The tree of panes and where it is kept.
 #[derive(Debug)]
@@ -111,7 +33,7 @@ fn default_tree() -> Tree<Pane> {
     let left = vec![
         tiles.insert_pane(Pane::Luminaire),
         tiles.insert_pane(Pane::Profile),
-        tiles.insert_pane(Pane::View(ViewPane::Room)),
+        tiles.insert_pane(Pane::View(View::Room)),
     ];
     let left = tiles.insert_tab_tile(left);
     let right: Vec<TileId> = Pane::ALL[2..7]
@@ -164,7 +86,7 @@ impl Dock {
             .active_tiles()
             .into_iter()
             .find_map(|id| match self.tree.tiles.get(id) {
-                Some(Tile::Pane(Pane::View(v))) => Some(v.view()),
+                Some(Tile::Pane(Pane::View(v))) => Some(*v),
                 _ => None,
             })
     }
@@ -241,7 +163,7 @@ impl egui_tiles::Behavior<Pane> for Behavior<'_> {
             .show(ui, |ui| match *pane {
                 Pane::Luminaire => viewport_ui(ui, self.state, self.viewport),
                 Pane::Profile => profile_pane_ui(ui, self.state, self.profile),
-                Pane::View(v) => photometric_view_ui(ui, self.state, self.views, v.view()),
+                Pane::View(v) => photometric_view_ui(ui, self.state, self.views, v),
             });
         egui_tiles::UiResponse::None
     }

@@ -1,110 +1,24 @@
-//! File handling apart from drawing: a new scene, the unsaved-changes
-//! question shared by New, Open and Quit, recent files, autosave and
-//! recovery, OBJ import, dropped files, file dialogs and the theme.
-//! `state.rs` calls in here at a few points (commands, frame start and
-//! end, open and save); the rest of the editor does not know about it.
+//! The editor's file commands apart from drawing: a new scene, the
+//! unsaved-changes question shared by New, Open and Quit, recent files,
+//! autosave and recovery, imports, dropped files, file dialogs and the
+//! theme, acting on [`crate::file_state::FileState`]. `state.rs` calls in
+//! here at a few points (commands, frame start and end, open and save).
 
-use std::path::{Component, Path, PathBuf};
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use lucerna_scene::obj::{LoadObjError, load_obj};
-use lucerna_scene::shapes::{Mesh, Paraboloid};
+use lucerna_scene::shapes::Paraboloid;
 use lucerna_scene::{
-    Emission, Emitter, EmitterShape, FORMAT_VERSION, Material, Part, Scene, Shape, TessellateError,
-    Transform, tessellate,
+    Emission, Emitter, EmitterShape, FORMAT_VERSION, Material, Part, Scene, Shape, Transform,
 };
 
 use crate::command::DialogKind;
-use crate::config::{EditorConfig, EditorPaths, ThemeChoice};
-use crate::dialogs::Dialogs;
+use crate::config::{EditorPaths, ThemeChoice};
 use crate::error_text::error_chain;
-use crate::modelling::unique_name;
-use crate::recovery::{RecoveryOffer, read_recovery, remove_recovery, write_recovery};
+use crate::file_state::PendingAction;
+use crate::imports::{mesh_part, ray_file_emitter};
+use crate::recovery::{RecoveryOffer, remove_recovery, write_recovery};
 use crate::state::{Command, EditorState, Selection};
-
-/// How often unsaved changes are written to the recovery file.
-pub const DEFAULT_AUTOSAVE_INTERVAL: Duration = Duration::from_secs(20);
-
-/// What waits for the user to drop unsaved changes.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum PendingAction {
-    New,
-    Open(PathBuf),
-    Quit,
-}
-
-/// The file-handling part of [`EditorState`].
-#[derive(Debug)]
-pub(crate) struct FileState {
-    /// The scene file being edited (`None`: a new scene not yet saved).
-    pub path: Option<PathBuf>,
-    /// The scene as last loaded or saved, for the unsaved-changes marker.
-    pub saved: Option<Scene>,
-    /// The last file error (load, save, import, dialog), shown until the
-    /// next success.
-    pub file_error: Option<String>,
-    pub paths: EditorPaths,
-    pub config: EditorConfig,
-    pub pending: Option<PendingAction>,
-    /// Unsaved changes of an earlier session, offered until answered;
-    /// nothing is autosaved meanwhile, so the offer is never overwritten.
-    pub recovery: Option<RecoveryOffer>,
-    pub autosave_interval: Duration,
-    last_autosave: Option<Instant>,
-    /// What the recovery file holds now (`None`: no recovery file).
-    autosaved: Option<Scene>,
-    /// A structural edit asks for a write at once.
-    pub autosave_now: bool,
-    pub dialogs: Dialogs,
-    /// A message that is not an error (an import's units, a settings file
-    /// that could not be read).
-    pub notice: Option<String>,
-    theme_applied: bool,
-    /// Quitting was confirmed: a close request is let through.
-    pub quitting: bool,
-}
-
-impl FileState {
-    pub fn new(paths: EditorPaths) -> Self {
-        let native_dialogs = paths.native_dialogs;
-        let mut notice = None;
-        let config = EditorConfig::load(&paths).unwrap_or_else(|e| {
-            notice = Some(format!("{}; using the defaults", error_chain(&e)));
-            EditorConfig::default()
-        });
-        let recovery = match paths.config_dir.as_deref().map(read_recovery) {
-            Some(Ok(offer)) => offer,
-            Some(Err(e)) => {
-                notice = Some(error_chain(&e));
-                None
-            }
-            None => None,
-        };
-        FileState {
-            path: None,
-            saved: None,
-            file_error: None,
-            paths,
-            config,
-            pending: None,
-            recovery,
-            autosave_interval: DEFAULT_AUTOSAVE_INTERVAL,
-            last_autosave: None,
-            autosaved: None,
-            autosave_now: false,
-            dialogs: Dialogs::new(native_dialogs),
-            notice,
-            theme_applied: false,
-            quitting: false,
-        }
-    }
-
-    fn save_config(&mut self) {
-        if let Err(e) = self.config.save(&self.paths) {
-            self.notice = Some(error_chain(&e));
-        }
-    }
-}
 
 /// The scene "New" starts from: an LED of 1000 lm at the focus of a small
 /// mirror paraboloid, facing it, and a white paint for added parts; it
@@ -154,250 +68,6 @@ pub fn starter_scene() -> Scene {
         Material::Lambertian { albedo: 0.8 },
     );
     scene
-}
-
-/// Why an OBJ file could not be imported.
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum ImportMeshError {
-    #[error("cannot import {path}")]
-    Load {
-        path: PathBuf,
-        #[source]
-        source: Box<LoadObjError>,
-    },
-    #[error("cannot import {path}")]
-    Unusable {
-        path: PathBuf,
-        #[source]
-        source: Box<TessellateError>,
-    },
-    #[error("cannot import {path}: scene files store paths as UTF-8")]
-    NotUtf8 { path: PathBuf },
-}
-
-/// Extent (m) above which an OBJ file is taken to be in millimetres: CAD
-/// exports usually are, and no luminaire part is this large.
-const MILLIMETRE_GUESS_M: f32 = 5.0;
-
-/// A mesh part for the OBJ file at `obj` (relative paths from the working
-/// directory), checked by tessellating it alone. The file's path is
-/// stored relative to the scene's folder where the scene has one.
-pub fn mesh_part(
-    scene: &Scene,
-    scene_path: Option<&Path>,
-    obj: &Path,
-) -> Result<(Part, Option<String>), ImportMeshError> {
-    let absolute = std::path::absolute(obj).unwrap_or_else(|_| obj.to_path_buf());
-    let groups = load_obj(&absolute).map_err(|source| ImportMeshError::Load {
-        path: obj.to_owned(),
-        source: Box::new(source),
-    })?;
-    let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
-    for p in groups.iter().flat_map(|g| &g.mesh.positions) {
-        for (k, x) in [p.x, p.y, p.z].into_iter().enumerate() {
-            lo[k] = lo[k].min(x);
-            hi[k] = hi[k].max(x);
-        }
-    }
-    let extent = (0..3).map(|k| hi[k] - lo[k]).fold(0.0_f32, f32::max);
-    let (scale, notice) = if extent > MILLIMETRE_GUESS_M {
-        (
-            0.001,
-            Some(format!(
-                "{} is {extent:.0} units across: read as millimetres (scale 0.001)",
-                obj.display()
-            )),
-        )
-    } else {
-        (1.0, None)
-    };
-    let scene_dir = scene_path.map(folder_of);
-    let stored_text =
-        stored_path(scene_path, absolute).ok_or_else(|| ImportMeshError::NotUtf8 {
-            path: obj.to_owned(),
-        })?;
-    let stem = obj
-        .file_stem()
-        .map_or_else(|| "mesh".to_owned(), |s| s.to_string_lossy().into_owned());
-    let mut alone = scene.clone();
-    if alone.materials.is_empty() {
-        alone.materials.insert(
-            "white_paint".to_owned(),
-            Material::Lambertian { albedo: 0.8 },
-        );
-    }
-    let material = alone.materials.keys().next().cloned().unwrap_or_default();
-    let part = Part {
-        name: unique_name(&stem, |n| scene.parts.iter().any(|p| p.name == n)),
-        shape: Shape::Mesh(Mesh {
-            path: stored_text,
-            group_materials: Default::default(),
-        }),
-        material,
-        enabled: true,
-        transform: Transform {
-            scale: [scale; 3],
-            ..Transform::default()
-        },
-    };
-    alone.parts = vec![part.clone()];
-    alone.emitters.clear();
-    alone.opening = None;
-    let dir = scene_dir.map_or_else(|| PathBuf::from("."), Path::to_path_buf);
-    tessellate(&alone, &dir).map_err(|source| ImportMeshError::Unusable {
-        path: obj.to_owned(),
-        source: Box::new(source),
-    })?;
-    Ok((part, notice))
-}
-
-/// Why a ray file cannot be added as an emitter.
-#[derive(Debug, thiserror::Error)]
-pub enum RayFileEmitterError {
-    #[error("cannot add {path} as an emitter")]
-    Read {
-        path: PathBuf,
-        #[source]
-        source: Box<lucerna_photometry::tm25::ReadRayFileError>,
-    },
-    #[error("the path {path} is not UTF-8, which a scene file cannot hold")]
-    NotUtf8 { path: PathBuf },
-}
-
-/// An emitter for the TM-25 ray file at `file` (relative paths from the
-/// working directory), read and checked first: named after the file,
-/// at the origin, with the file's own luminous flux (declared, else its
-/// rays' sum). The path is stored relative to the scene's folder where
-/// the scene has one.
-pub fn ray_file_emitter(
-    scene: &Scene,
-    scene_path: Option<&Path>,
-    file: &Path,
-) -> Result<Emitter, RayFileEmitterError> {
-    let absolute = std::path::absolute(file).unwrap_or_else(|_| file.to_path_buf());
-    let rays = lucerna_photometry::tm25::read_ray_file(&absolute).map_err(|source| {
-        RayFileEmitterError::Read {
-            path: file.to_owned(),
-            source: Box::new(source),
-        }
-    })?;
-    let flux_lm = rays
-        .header
-        .luminous_flux_lm
-        .map_or_else(|| rays.total_luminous_flux_lm(), f64::from);
-    let path = stored_path(scene_path, absolute).ok_or_else(|| RayFileEmitterError::NotUtf8 {
-        path: file.to_owned(),
-    })?;
-    let stem = file.file_stem().map_or_else(
-        || "ray file".to_owned(),
-        |s| s.to_string_lossy().into_owned(),
-    );
-    Ok(Emitter {
-        name: unique_name(&stem, |n| scene.emitters.iter().any(|e| e.name == n)),
-        shape: EmitterShape::RayFile { path },
-        flux_lm,
-        emission: Emission::Lambertian,
-        material: None,
-        enabled: true,
-        transform: Transform::default(),
-    })
-}
-
-/// How a scene at `scene_path` refers to the file at `absolute`: relative
-/// to the scene's folder where it has one; None where the path is not
-/// UTF-8 (a scene file cannot hold it).
-fn stored_path(scene_path: Option<&Path>, absolute: PathBuf) -> Option<String> {
-    let stored = scene_path
-        .map(folder_of)
-        .and_then(|dir| relative_path(dir, &absolute))
-        .unwrap_or(absolute);
-    stored.to_str().map(str::to_owned)
-}
-
-/// The folder a file is in: "." for a bare file name, whose parent is "".
-fn folder_of(path: &Path) -> &Path {
-    match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    }
-}
-
-/// `file` relative to `dir` (both made canonical), through `..` where
-/// needed; `None` when they share no more than the root, where an
-/// absolute path says more.
-fn relative_path(dir: &Path, file: &Path) -> Option<PathBuf> {
-    let dir = std::fs::canonicalize(dir).ok()?;
-    let file = std::fs::canonicalize(file).ok()?;
-    let d: Vec<Component<'_>> = dir.components().collect();
-    let f: Vec<Component<'_>> = file.components().collect();
-    let common = d.iter().zip(&f).take_while(|(a, b)| a == b).count();
-    if common <= 1 {
-        return None;
-    }
-    let mut relative = PathBuf::new();
-    for _ in common..d.len() {
-        relative.push("..");
-    }
-    for c in &f[common..] {
-        relative.push(c);
-    }
-    Some(relative)
-}
-
-/// The scene with its relative file paths (OBJ meshes, emitter profiles)
-/// rewritten to name the same files from `new_path`'s folder; `None` when
-/// nothing changes. Missing files are left as written. The undo history
-/// keeps the old paths: undoing across a "Save as" to another folder gives
-/// paths the simulation reports as missing, and redo brings them back.
-pub(crate) fn rebased_for(scene: &Scene, scene_dir: &Path, new_path: &Path) -> Option<Scene> {
-    let to_dir = folder_of(new_path);
-    let scene_dir = if scene_dir.as_os_str().is_empty() {
-        Path::new(".")
-    } else {
-        scene_dir
-    };
-    let same_dir = match (
-        std::fs::canonicalize(scene_dir),
-        std::fs::canonicalize(to_dir),
-    ) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => false,
-    };
-    if same_dir {
-        return None;
-    }
-    let mut out = scene.clone();
-    let mut changed = false;
-    let mut rebase = |path: &mut String| {
-        let old = Path::new(path.as_str());
-        if old.is_absolute() {
-            return;
-        }
-        let target = scene_dir.join(old);
-        if !target.exists() {
-            return;
-        }
-        let new = relative_path(to_dir, &target)
-            .unwrap_or_else(|| std::fs::canonicalize(&target).unwrap_or(target));
-        if let Some(text) = new.to_str()
-            && text != path
-        {
-            *path = text.to_owned();
-            changed = true;
-        }
-    };
-    for part in &mut out.parts {
-        if let Shape::Mesh(mesh) = &mut part.shape {
-            rebase(&mut mesh.path);
-        }
-    }
-    for emitter in &mut out.emitters {
-        if let Emission::Profile(file) = &mut emitter.emission {
-            rebase(file);
-        }
-    }
-    changed.then_some(out)
 }
 
 /// What a file dropped on the window asks for, by its extension.
@@ -736,21 +406,7 @@ mod tests {
     fn the_starter_scene_validates() {
         assert_eq!(lucerna_scene::validate(&starter_scene()), vec![]);
         let dir = tempfile::tempdir().unwrap();
-        tessellate(&starter_scene(), dir.path()).unwrap();
-    }
-
-    #[test]
-    fn relative_paths_go_up_where_needed() {
-        let dir = tempfile::tempdir().unwrap();
-        let a = dir.path().join("a/luminaires");
-        let m = dir.path().join("a/meshes");
-        std::fs::create_dir_all(&a).unwrap();
-        std::fs::create_dir_all(&m).unwrap();
-        std::fs::write(m.join("x.obj"), "").unwrap();
-        assert_eq!(
-            relative_path(&a, &m.join("x.obj")),
-            Some(PathBuf::from("../meshes/x.obj"))
-        );
+        lucerna_scene::tessellate(&starter_scene(), dir.path()).unwrap();
     }
 
     #[test]

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Duration;
 
-use clap::{Parser, ValueEnum};
+use clap::Parser;
 use lucerna_editor::{RunOptions, View};
 
 /// The Lucerna editor: model a luminaire, watch its light distribution
@@ -17,8 +17,8 @@ struct Args {
     /// The scene file to open.
     scene: Option<PathBuf>,
     /// The photometric view shown first.
-    #[arg(long, value_enum, default_value_t = FirstView::Polar)]
-    view: FirstView,
+    #[arg(long, value_enum, default_value_t = View::Polar)]
+    view: View,
     /// Run the frame-time benchmark for SECONDS (a scripted edit every
     /// 2 s), print its figures and close.
     #[arg(long, value_name = "SECONDS", value_parser = seconds, conflicts_with = "benchmark_drag")]
@@ -39,16 +39,6 @@ struct Args {
     benchmark_drag: Option<Duration>,
 }
 
-#[derive(Debug, Clone, Copy, ValueEnum)]
-enum FirstView {
-    Polar,
-    Cartesian,
-    Isocandela,
-    Cube,
-    Figures,
-    Room,
-}
-
 fn seconds(s: &str) -> Result<Duration, String> {
     s.parse::<f64>()
         .ok()
@@ -64,14 +54,7 @@ fn main() -> ExitCode {
     });
     let options = RunOptions {
         scene: args.scene,
-        view: match args.view {
-            FirstView::Polar => View::Polar,
-            FirstView::Cartesian => View::Cartesian,
-            FirstView::Isocandela => View::Isocandela,
-            FirstView::Cube => View::CubeMap,
-            FirstView::Figures => View::Figures,
-            FirstView::Room => View::Room,
-        },
+        view: args.view,
         benchmark: args.benchmark,
         continuous: args.continuous,
         export_into: export_into.clone(),

@@ -8,7 +8,7 @@ use egui::Ui;
 use crate::command::{Command, Selection};
 use crate::config::ThemeChoice;
 use crate::dock::{Dock, Pane};
-use crate::files::PendingAction;
+use crate::file_state::PendingAction;
 use crate::modelling::SceneEdit;
 use crate::state::EditorState;
 use crate::ui_command::UiCommand;

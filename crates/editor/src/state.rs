@@ -16,27 +16,12 @@ pub use crate::command::{Command, Selection};
 use crate::config::EditorPaths;
 use crate::document::Document;
 use crate::error_text::error_chain;
-use crate::files::FileState;
+use crate::file_state::FileState;
 use crate::live_run::LiveRun;
 pub use crate::modelling::{NewPart, SceneEdit};
 use crate::modelling::{new_part, unique_name};
+pub use crate::pane::View;
 use crate::room_state::RoomLive;
-
-/// Which view the central panel shows.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum View {
-    #[default]
-    Polar,
-    /// I(γ) per C-plane, linear or log.
-    Cartesian,
-    /// The C-γ map with lines of equal intensity.
-    Isocandela,
-    CubeMap,
-    /// Every figure with its noise, copyable as text.
-    Figures,
-    /// The preview room lit by the current distribution.
-    Room,
-}
 
 /// Everything the editor knows; the panels draw it and queue commands.
 pub struct EditorState {
@@ -54,7 +39,7 @@ pub struct EditorState {
     /// edits it makes are a drag's.
     pub(crate) scripted_pointer: bool,
     /// A pane the window should bring to the front (a panel asked).
-    pub(crate) pane_request: Option<crate::dock::Pane>,
+    pub(crate) pane_request: Option<crate::pane::Pane>,
     commands: Vec<Command>,
     /// The context the simulation's worker asks to repaint; known from the
     /// first frame on.
@@ -242,7 +227,7 @@ impl EditorState {
     fn apply(&mut self, command: Command) {
         match command {
             Command::Open(path) if self.is_dirty() => {
-                self.files.pending = Some(crate::files::PendingAction::Open(path));
+                self.files.pending = Some(crate::file_state::PendingAction::Open(path));
             }
             Command::Open(path) | Command::OpenDiscarding(path) => {
                 self.files.pending = None;
@@ -379,7 +364,7 @@ impl EditorState {
         };
         // Saved elsewhere, relative mesh and profile paths keep naming the
         // same files (files.rs).
-        let rebased = crate::files::rebased_for(scene, &self.scene_dir(), &path);
+        let rebased = crate::scene_paths::rebased_for(scene, &self.scene_dir(), &path);
         let scene = rebased.as_ref().unwrap_or(scene);
         match save_scene(scene, &path) {
             Ok(()) => {

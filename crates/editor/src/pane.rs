@@ -1,0 +1,66 @@
+//! The views and panes the editor can show: the one list of them that
+//! the state, the dock, the menus and the command line share.
+
+use serde::{Deserialize, Serialize};
+
+/// Which view the central panel shows.
+/// Serialised by name, so a dock layout file outlives the enum's order;
+/// `lucerna-editor --view` names them too.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
+pub enum View {
+    #[default]
+    Polar,
+    /// I(γ) per C-plane, linear or log.
+    Cartesian,
+    /// The C-γ map with lines of equal intensity.
+    Isocandela,
+    #[value(name = "cube")]
+    CubeMap,
+    /// Every figure with its noise, copyable as text.
+    Figures,
+    /// The preview room lit by the current distribution.
+    Room,
+}
+
+/// One pane of the dock.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Pane {
+    /// The 3D view of the luminaire.
+    Luminaire,
+    /// The selected part's profile, large.
+    Profile,
+    /// A photometric view.
+    View(View),
+}
+
+impl Pane {
+    /// Every pane, in menu order.
+    pub const ALL: [Pane; 8] = [
+        Pane::Luminaire,
+        Pane::Profile,
+        Pane::View(View::Polar),
+        Pane::View(View::Cartesian),
+        Pane::View(View::Isocandela),
+        Pane::View(View::CubeMap),
+        Pane::View(View::Figures),
+        Pane::View(View::Room),
+    ];
+
+    /// Its tab's title (also the tab button's accessible name).
+    pub fn title(self) -> &'static str {
+        match self {
+            Pane::Luminaire => "3D view",
+            Pane::Profile => "Profile",
+            Pane::View(View::Polar) => "Polar",
+            Pane::View(View::Cartesian) => "Cartesian",
+            Pane::View(View::Isocandela) => "Isocandela",
+            Pane::View(View::CubeMap) => "Cube map",
+            Pane::View(View::Figures) => "Figures",
+            Pane::View(View::Room) => "Room",
+        }
+    }
+
+    pub fn of_view(view: View) -> Pane {
+        Pane::View(view)
+    }
+}
