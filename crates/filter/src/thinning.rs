@@ -2,6 +2,8 @@
 //! automatic mode's cross-validation trains and scores on, drawn from
 //! counter-based random bits so a map always splits the same way.
 
+use rand_xoshiro::SplitMix64;
+use rand_xoshiro::rand_core::{RngCore, SeedableRng};
 use rayon::prelude::*;
 
 /// Splits photon counts into `folds` independent parts: each photon goes
@@ -33,17 +35,11 @@ pub fn thinned_folds(counts: &[u64], folds: usize) -> Vec<Vec<u64>> {
         .collect()
 }
 
-/// SplitMix64: the thinning's counter-based random bits.
-fn splitmix64(mut x: u64) -> u64 {
-    x = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    x ^ (x >> 31)
-}
-
-/// Uniform in [0, 1) from `key`.
+/// Uniform in [0, 1) from `key`: the first output of SplitMix64 (the
+/// workspace's, rand_xoshiro's) seeded with it, so the thinning's random
+/// bits are counter-based.
 fn unit(key: u64) -> f64 {
-    (splitmix64(key) >> 11) as f64 / (1u64 << 53) as f64
+    (SplitMix64::seed_from_u64(key).next_u64() >> 11) as f64 / (1u64 << 53) as f64
 }
 
 /// A Binomial(n, p) draw, random bits from `key`.

@@ -3,7 +3,7 @@
 //! the angle between its normal and the ground's is π/2, 5π/8, 3π/4, 7π/8
 //! or π, the ground seen over a 5 × 5 region centred below the light. The
 //! shading rules' illuminance images are compared with the exact
-//! quadrature of eq. 1 (`polar::exact_illuminance`), or with Monte Carlo
+//! quadrature of eq. 1 (`reference::exact_illuminance`), or with Monte Carlo
 //! (MIS of area and profile sampling, `reference::mis_illuminance`); the
 //! five orientations are stitched into one image per height, as in the
 //! paper's Figure 10. The ground is sampled corner to corner (101 points
@@ -16,8 +16,8 @@ use rayon::prelude::*;
 
 use crate::cubature::{CubatureRule, illuminance_with, point_illuminance};
 use crate::light::{Opening, PlacedLight};
-use crate::polar::exact_illuminance;
 use crate::profile::ProfileGrid;
+use crate::reference::exact_illuminance;
 use crate::reference::{ProfileDirectionSampler, mis_illuminance, monte_carlo_illuminance};
 
 pub const HEIGHTS: [f64; 3] = [0.1, 1.0, 2.5];
@@ -29,7 +29,7 @@ pub const REGION: f64 = 5.0;
 /// The ground truth an evaluation compares with.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Reference {
-    /// `polar::exact_illuminance` to this relative accuracy.
+    /// `reference::exact_illuminance` to this relative accuracy.
     Exact { relative: f64 },
     /// MIS Monte Carlo with this many samples per technique and point.
     MonteCarlo { samples: usize },

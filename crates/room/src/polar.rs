@@ -1,7 +1,8 @@
 //! The polygonal-light integral (Luksch et al. 2020, eq. 1–3, with the
 //! radiance substitution L = I / (A cos θ)) in polar coordinates around
 //! the receiver's foot point on the opening's plane: the near-field rule
-//! of the preview room and its exact reference.
+//! of the preview room (its exact reference, which sweeps the same
+//! triangles, is in [`crate::reference`]).
 //!
 //! In luminaire coordinates the opening lies in z = 0. A receiver at
 //! height h from that plane has its foot point F there; a point of the
@@ -21,7 +22,7 @@
 //! Gauss–Legendre nodes per piece of the sweep, pieces cut at vertices and
 //! at the profile's kinked C-planes ([`illuminance`]); the reference
 //! integrates the same triangles adaptively, with exact cell integrals
-//! ([`exact_illuminance`]).
+//! ([`crate::reference::exact_illuminance`]).
 
 use glam::{DVec2, DVec3};
 use smallvec::SmallVec;
@@ -79,11 +80,11 @@ const GAUSS4: [(f64, f64); 4] = [
 
 /// A receiver seen in the opening's frame.
 #[derive(Debug, Clone)]
-struct PolarSetup {
+pub(crate) struct PolarSetup {
     /// The horizon-clipped opening, relative to the foot point (m).
-    polygon: SmallVec<[DVec2; 16]>,
+    pub(crate) polygon: SmallVec<[DVec2; 16]>,
     /// Distance from the opening's plane (m), at least the plane epsilon.
-    height: f64,
+    pub(crate) height: f64,
     /// In front of the opening (the emitting side).
     front: bool,
     /// The receiver's unit normal in luminaire coordinates.
@@ -101,7 +102,7 @@ impl PolarSetup {
 /// (normal n, room coordinates). In the opening's plane (closer than
 /// `IN_PLANE` × size) the receiver takes the front-side limit, as the
 /// shader does.
-fn setup(light: &PlacedLight, x: DVec3, n: DVec3) -> Option<PolarSetup> {
+pub(crate) fn setup(light: &PlacedLight, x: DVec3, n: DVec3) -> Option<PolarSetup> {
     let to_luminaire = light.rotation.transpose();
     let xl = to_luminaire * (x - light.position);
     let normal = to_luminaire * n;
@@ -247,7 +248,7 @@ fn radial(
 impl PolarSetup {
     /// Whether the foot point is inside the clipped opening (or on its
     /// boundary).
-    fn foot_inside(&self) -> bool {
+    pub(crate) fn foot_inside(&self) -> bool {
         // Convex: inside when the foot point is on one side of every edge.
         let m = self.polygon.len();
         let (mut positive, mut negative) = (false, false);
@@ -263,7 +264,7 @@ impl PolarSetup {
     /// each with whether its vertex is soft: between two consecutive ones
     /// every ray enters and leaves the opening through the same edges. The whole circle (first + 2π last) when the
     /// foot point is inside, else the span between the two tangent vertices.
-    fn sweep(&self, inside: bool) -> SmallVec<[(f64, bool); 18]> {
+    pub(crate) fn sweep(&self, inside: bool) -> SmallVec<[(f64, bool); 18]> {
         let pi = std::f64::consts::PI;
         let m = self.polygon.len();
         // A soft vertex turns the boundary by under 35° (a disk's 12-gon):
@@ -326,7 +327,13 @@ impl PolarSetup {
     /// J(φ): the radial integral over the part of the ray along φ inside
     /// the opening, both ends read in the same C column (so that the part
     /// between a foot point outside and the opening cancels exactly).
-    fn ray_integral(&self, grid: &ProfileGrid, phi: f64, inside: bool, how: Partial) -> f64 {
+    pub(crate) fn ray_integral(
+        &self,
+        grid: &ProfileGrid,
+        phi: f64,
+        inside: bool,
+        how: Partial,
+    ) -> f64 {
         let (sin_phi, cos_phi) = phi.sin_cos();
         let dir = DVec2::new(cos_phi, sin_phi);
         let Some((rho_in, rho_out)) = self.span(dir, inside) else {
@@ -500,165 +507,4 @@ pub fn illuminance_with_nodes(
         cosine_solid_angle: cosine_solid_angle(&s),
     };
     (result, count)
-}
-
-/// Gauss–Kronrod 7–15 on [−1, 1]: Kronrod nodes (positive half, the last
-/// is 0), Kronrod weights, and the Gauss weights of every other node.
-const KRONROD_NODES: [f64; 8] = [
-    0.991_455_371_120_812_6,
-    0.949_107_912_342_758_5,
-    0.864_864_423_359_769_1,
-    0.741_531_185_599_394_4,
-    0.586_087_235_467_691_1,
-    0.405_845_151_377_397_2,
-    0.207_784_955_007_898_5,
-    0.0,
-];
-const KRONROD_WEIGHTS: [f64; 8] = [
-    0.022_935_322_010_529_2,
-    0.063_092_092_629_978_6,
-    0.104_790_010_322_250_2,
-    0.140_653_259_715_525_9,
-    0.169_004_726_639_267_9,
-    0.190_350_578_064_785_4,
-    0.204_432_940_075_298_9,
-    0.209_482_141_084_728,
-];
-/// Gauss weights of Kronrod nodes 1, 3, 5 and 7 (0-based).
-const GAUSS7_WEIGHTS: [f64; 4] = [
-    0.129_484_966_168_869_7,
-    0.279_705_391_489_276_7,
-    0.381_830_050_505_118_9,
-    0.417_959_183_673_469_4,
-];
-
-/// (Kronrod estimate, |Kronrod − Gauss|) of ∫ f over [a, b].
-pub fn gauss_kronrod(f: &mut impl FnMut(f64) -> f64, a: f64, b: f64) -> (f64, f64) {
-    let centre = 0.5 * (a + b);
-    let half = 0.5 * (b - a);
-    let mid = f(centre);
-    let mut kronrod = KRONROD_WEIGHTS[7] * mid;
-    let mut gauss = GAUSS7_WEIGHTS[3] * mid;
-    for i in 0..7 {
-        let pair = f(centre - half * KRONROD_NODES[i]) + f(centre + half * KRONROD_NODES[i]);
-        kronrod += KRONROD_WEIGHTS[i] * pair;
-        if i % 2 == 1 {
-            gauss += GAUSS7_WEIGHTS[i / 2] * pair;
-        }
-    }
-    (kronrod * half, ((kronrod - gauss) * half).abs())
-}
-
-/// Most bisections of one adaptive integral.
-const MAX_BISECTIONS: usize = 2000;
-
-/// Adaptive Gauss–Kronrod: bisects until each piece's error estimate is
-/// below its share (by length) of the absolute `tolerance` for [a, b], or
-/// at rounding, 40 levels deep or `MAX_BISECTIONS` done.
-pub fn adaptive(f: &mut impl FnMut(f64) -> f64, a: f64, b: f64, tolerance: f64) -> f64 {
-    let mut total = 0.0;
-    let mut stack = vec![(a, b, 0u32)];
-    let length = (b - a).abs().max(1e-300);
-    let mut bisections = 0;
-    while let Some((lo, hi, depth)) = stack.pop() {
-        let (value, error) = gauss_kronrod(f, lo, hi);
-        // Rounding bounds what bisection can win; a budget bounds its cost.
-        let settled = error <= tolerance * (hi - lo).abs() / length
-            || error <= 1e-13 * value.abs()
-            || depth >= 40
-            || bisections >= MAX_BISECTIONS;
-        if settled {
-            total += value;
-        } else {
-            bisections += 1;
-            let mid = 0.5 * (lo + hi);
-            stack.push((lo, mid, depth + 1));
-            stack.push((mid, hi, depth + 1));
-        }
-    }
-    total
-}
-
-/// The directions in (lo, hi) where the integrand has a kink: where the
-/// ray's C-plane crosses a grid column, and where the ray's end on an
-/// edge's line crosses a γ node (ρ = h tan θⱼ). Between them, and the
-/// sweep's vertex directions, it is analytic.
-fn kinks(grid: &ProfileGrid, s: &PolarSetup, lo: f64, hi: f64) -> Vec<f64> {
-    let pi = std::f64::consts::PI;
-    let mut out = Vec::new();
-    if grid.c_count > 1 {
-        // C = φ + π: columns at φ = k·step − π.
-        let step = grid.c_step_deg.to_radians();
-        for k in ((lo + pi) / step).floor() as i64..=((hi + pi) / step).ceil() as i64 {
-            out.push(k as f64 * step - pi);
-        }
-    }
-    let m = s.polygon.len();
-    let half = (grid.gamma_count - 1) / 2;
-    let step = grid.gamma_step_deg.to_radians();
-    for i in 0..m {
-        let a = s.polygon[i];
-        let edge = s.polygon[(i + 1) % m] - a;
-        let length2 = edge.length_squared();
-        if length2 == 0.0 {
-            continue;
-        }
-        let foot = a - edge * (a.dot(edge) / length2);
-        let d = foot.length();
-        let normal_angle = foot.y.atan2(foot.x);
-        for j in 1..half {
-            let rho = s.height * (j as f64 * step).tan();
-            if rho > d {
-                let spread = (d / rho).acos();
-                for phi in [normal_angle - spread, normal_angle + spread] {
-                    for turn in [-2.0 * pi, 0.0, 2.0 * pi] {
-                        out.push(phi + turn);
-                    }
-                }
-            }
-        }
-    }
-    out.retain(|&p| p > lo && p < hi);
-    out.sort_by(f64::total_cmp);
-    out
-}
-
-/// Exact illuminance (lx) of receiver x (normal n) for the profile grid's
-/// bilinear interpolant, to about `relative` (1e-9 is cheap): the sweep
-/// integrated in φ by Gauss–Kronrod between the integrand's kinks,
-/// bisected where its error estimate asks, with exact radial integrals.
-/// Receivers in the opening's plane take the front-side limit.
-pub fn exact_illuminance(light: &PlacedLight, x: DVec3, n: DVec3, relative: f64) -> f64 {
-    if light.opening == Opening::Point {
-        return point_illuminance(light, x, n).lux;
-    }
-    let Some(s) = setup(light, x, n) else {
-        return 0.0;
-    };
-    let grid = &light.profile;
-    let inside = s.foot_inside();
-    let sweep = s.sweep(inside);
-    let (Some(&(first, _)), Some(&(last, _))) = (sweep.first(), sweep.last()) else {
-        return 0.0;
-    };
-    let mut cuts: Vec<f64> = sweep.iter().map(|&(a, _)| a).collect();
-    cuts.extend(kinks(grid, &s, first, last));
-    cuts.sort_by(f64::total_cmp);
-    cuts.dedup();
-    let mut f = |phi: f64| s.ray_integral(grid, phi, inside, Partial::Exact);
-    let first_pass: Vec<(f64, f64)> = cuts
-        .windows(2)
-        .map(|w| gauss_kronrod(&mut f, w[0], w[1]))
-        .collect();
-    let scale: f64 = first_pass.iter().map(|(v, _)| v.abs()).sum();
-    let tolerance = relative * scale / first_pass.len().max(1) as f64;
-    let mut sum = 0.0;
-    for (w, &(value, error)) in cuts.windows(2).zip(&first_pass) {
-        sum += if error <= tolerance {
-            value
-        } else {
-            adaptive(&mut f, w[0], w[1], tolerance)
-        };
-    }
-    (sum / light.opening.area_m2()).max(0.0)
 }

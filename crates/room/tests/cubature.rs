@@ -65,7 +65,7 @@ fn lambertian_rectangle_matches_the_exact_form_factor_within_two_percent() {
     let l = light(lambertian(i0), opening, DVec3::new(0.2, -0.1, 3.0), tilt);
     let radiance = i0 / opening.area_m2();
     let polygon = l.world_polygon();
-    let mut rng = SplitMix(7);
+    let mut rng = SplitMix::new(7);
     let mut worst = 0.0f64;
     let mut worst_paper = 0.0f64;
     let mut tested = 0;
@@ -127,7 +127,7 @@ fn far_field_matches_the_inverse_square_law_within_one_percent() {
             DMat3::from_rotation_x(0.2),
         );
         let size = l.size_m();
-        let mut rng = SplitMix(11);
+        let mut rng = SplitMix::new(11);
         let (mut worst_point, mut worst_mc, mut tested) = (0.0f64, 0.0f64, 0);
         for _ in 0..600 {
             let d = rng.unit_vector();
@@ -180,7 +180,7 @@ fn no_nan_or_negative_anywhere() {
             DVec3::new(0.0, 0.0, 2.0),
             DMat3::IDENTITY,
         );
-        let mut rng = SplitMix(3);
+        let mut rng = SplitMix::new(3);
         let probe = |x: DVec3, n: DVec3| {
             let r = illuminance(&l, x, n);
             assert!(

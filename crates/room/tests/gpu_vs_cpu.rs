@@ -55,7 +55,7 @@ fn wgsl_illuminance_matches_the_cpu_at_random_points() {
     let renderer = GpuRoomRenderer::new(ctx).unwrap();
     let scene = scene();
     let uploaded = renderer.upload(&scene).unwrap();
-    let mut rng = SplitMix(42);
+    let mut rng = SplitMix::new(42);
     let mut points = Vec::new();
     for _ in 0..3000 {
         let x = DVec3::new(

@@ -32,7 +32,7 @@ fn ggx_cos(l: DVec3, v: DVec3, roughness: f64, f0: f64) -> f64 {
 /// Brute force: ∫ L f cos dω over a planar polygon (uniform area samples,
 /// dω = |cos θ_A| dA / r²).
 fn brute_force(polygon: &[DVec3], v: DVec3, roughness: f64, f0: f64, radiance: f64) -> f64 {
-    let mut rng = SplitMix(9);
+    let mut rng = SplitMix::new(9);
     let normal = (polygon[1] - polygon[0])
         .cross(polygon[2] - polygon[0])
         .normalize();
@@ -84,7 +84,7 @@ fn hemisphere_light_gives_the_directional_albedo() {
         let v = view(theta);
         let ltc = specular_radiance(&polygon, DVec3::ZERO, DVec3::Z, v, roughness, 0.04, 1.0);
         // Analytic-free reference: integrate over the hemisphere.
-        let mut rng = SplitMix(3);
+        let mut rng = SplitMix::new(3);
         let n = 400_000;
         let mut s = 0.0;
         for _ in 0..n {

@@ -1,5 +1,5 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
-//! The exact near-field reference (`polar::exact_illuminance`) against
+//! The exact near-field reference (`reference::exact_illuminance`) against
 //! closed forms and Monte Carlo, and the preview room's polar rule
 //! against the reference.
 
@@ -10,10 +10,11 @@ use glam::{DMat3, DVec3};
 use lucerna_photometry::read_photometry;
 use lucerna_room::cubature::{point_illuminance, triangle_solid_angle};
 use lucerna_room::evaluation::evaluation_light;
-use lucerna_room::polar::{adaptive, exact_illuminance, gauss_kronrod, illuminance};
+use lucerna_room::polar::illuminance;
 use lucerna_room::reference::{
     ProfileDirectionSampler, mis_illuminance, uniform_polygon_illuminance,
 };
+use lucerna_room::reference::{adaptive, exact_illuminance, gauss_kronrod};
 use lucerna_room::{Opening, PlacedLight, ProfileGrid};
 
 fn light(profile: ProfileGrid, opening: Opening, position: DVec3, rotation: DMat3) -> PlacedLight {
