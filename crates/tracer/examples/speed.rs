@@ -8,7 +8,7 @@
 use glam::Vec3A;
 use lucerna_tracer::bvh::CpuTraversal;
 use lucerna_tracer::rng::PhotonRng;
-use lucerna_tracer::{Fate, cpu, wide_traversal};
+use lucerna_tracer::{Fate, cpu, cpu_features};
 
 fn main() {
     let path = std::path::PathBuf::from(std::env::args().nth(1).expect("scene path"));
@@ -22,7 +22,7 @@ fn main() {
         (0..3u32)
             .map(|rep| {
                 let start = std::time::Instant::now();
-                let escaped = wide_traversal::with_best_features(|| {
+                let escaped = cpu_features::with_best_features(|| {
                     (0..photons)
                         .filter(|&k| {
                             let mut rng = PhotonRng::new(1, rep, k);
@@ -67,7 +67,7 @@ fn main() {
     for traversal in [CpuTraversal::best(), CpuTraversal::Scalar] {
         p.bvh.traversal = traversal;
         let start = std::time::Instant::now();
-        let hits = wide_traversal::with_best_features(|| {
+        let hits = cpu_features::with_best_features(|| {
             rays.iter()
                 .filter(|&&(o, d)| p.bvh.intersect(o, d, f32::INFINITY).is_some())
                 .count()

@@ -94,14 +94,14 @@ pub enum CpuTraversal {
     /// and it lost hits on rays through shared edges.)
     Scalar,
     /// The float eight-wide BVH in AVX2 ([`crate::wide_bvh`]); only where
-    /// [`crate::wide_traversal::available`].
+    /// [`crate::cpu_features::available`].
     Avx2,
 }
 
 impl CpuTraversal {
     /// The fastest traversal this CPU runs.
     pub fn best() -> CpuTraversal {
-        if crate::wide_traversal::available() {
+        if crate::cpu_features::available() {
             CpuTraversal::Avx2
         } else {
             CpuTraversal::Scalar
@@ -301,7 +301,12 @@ impl Bvh {
     /// AVX2 where it is, else by the BVH2.
     #[inline]
     pub fn intersect(&self, origin: Vec3A, dir: Vec3A, t_max: f32) -> Option<Hit> {
-        self.closest(origin, dir, t_max, crate::wide_bvh::Surfaces::ForPhotons)
+        self.closest(
+            origin,
+            dir,
+            t_max,
+            crate::wide_traversal::Surfaces::ForPhotons,
+        )
     }
 
     /// [`Bvh::intersect`] of two rays, their traversals interleaved where
@@ -311,17 +316,17 @@ impl Bvh {
         if !self.triangles.is_empty()
             && self.traversal == CpuTraversal::Avx2
             && let Some(wide) = &self.wide
-            && crate::wide_traversal::available()
+            && crate::cpu_features::available()
         {
             let rays = rays.map(|(o, d)| (o * self.scale, d));
             // SAFETY: the CPU has the features, checked just above.
             #[allow(unsafe_code)]
             let hits = unsafe {
-                crate::wide_bvh::closest_hit_pair(
+                crate::wide_traversal::closest_hit_pair(
                     wide,
                     rays,
                     t_max * self.scale,
-                    crate::wide_bvh::Surfaces::ForPhotons,
+                    crate::wide_traversal::Surfaces::ForPhotons,
                 )
             };
             return hits.map(|h| {
@@ -341,7 +346,7 @@ impl Bvh {
     /// [`Bvh::intersect`] of every surface, pass-through ones too (what a
     /// click in the 3D view picks).
     pub fn intersect_any_surface(&self, origin: Vec3A, dir: Vec3A, t_max: f32) -> Option<Hit> {
-        self.closest(origin, dir, t_max, crate::wide_bvh::Surfaces::All)
+        self.closest(origin, dir, t_max, crate::wide_traversal::Surfaces::All)
     }
 
     #[inline(always)]
@@ -350,21 +355,21 @@ impl Bvh {
         origin: Vec3A,
         dir: Vec3A,
         t_max: f32,
-        surfaces: crate::wide_bvh::Surfaces,
+        surfaces: crate::wide_traversal::Surfaces,
     ) -> Option<Hit> {
         if self.triangles.is_empty() {
             return None;
         }
         if self.traversal == CpuTraversal::Avx2
             && let Some(wide) = &self.wide
-            && crate::wide_traversal::available()
+            && crate::cpu_features::available()
         {
             let origin = origin * self.scale;
             // SAFETY: the CPU has the features, checked just above (a
             // cached atomic load).
             #[allow(unsafe_code)]
             let hit = unsafe {
-                crate::wide_bvh::closest_hit(wide, origin, dir, t_max * self.scale, surfaces)
+                crate::wide_traversal::closest_hit(wide, origin, dir, t_max * self.scale, surfaces)
             }?;
             return Some(Hit {
                 t: hit.t / self.scale,
@@ -382,7 +387,12 @@ impl Bvh {
     /// GPU layout: the same stack traversal as the WGSL kernel (nearer
     /// child first).
     pub fn intersect_bvh2(&self, origin: Vec3A, dir: Vec3A, t_max: f32) -> Option<Hit> {
-        self.bvh2_closest(origin, dir, t_max, crate::wide_bvh::Surfaces::ForPhotons)
+        self.bvh2_closest(
+            origin,
+            dir,
+            t_max,
+            crate::wide_traversal::Surfaces::ForPhotons,
+        )
     }
 
     fn bvh2_closest(
@@ -390,7 +400,7 @@ impl Bvh {
         origin: Vec3A,
         dir: Vec3A,
         t_max: f32,
-        surfaces: crate::wide_bvh::Surfaces,
+        surfaces: crate::wide_traversal::Surfaces,
     ) -> Option<Hit> {
         if self.triangles.is_empty() {
             return None;
@@ -423,7 +433,7 @@ impl Bvh {
             if n.count > 0 {
                 for slot in n.first..n.first + n.count {
                     let i = leaf_triangles[slot as usize];
-                    if surfaces == crate::wide_bvh::Surfaces::ForPhotons
+                    if surfaces == crate::wide_traversal::Surfaces::ForPhotons
                         && self.tags[i as usize] & PASS_THROUGH_TAG != 0
                     {
                         continue;

@@ -82,7 +82,7 @@ fn facing(n: Vec3A, d: Vec3A) -> Vec3A {
 
 /// Traces one photon; returns its fate, the bounces it survived and the
 /// rays it cast. Inlined into the batch loop so that loop's AVX2 build
-/// ([`crate::wide_traversal::with_best_features`]) covers it.
+/// ([`crate::cpu_features::with_best_features`]) covers it.
 #[inline(always)]
 pub fn trace_photon(
     scene: &PreparedScene,
@@ -513,7 +513,7 @@ pub fn trace_batch_into_unless(
                 }
             };
             if scene.bvh.traversal == crate::bvh::CpuTraversal::Avx2 {
-                crate::wide_traversal::with_best_features(work);
+                crate::cpu_features::with_best_features(work);
             } else {
                 work();
             }
@@ -652,14 +652,14 @@ fn count_escapes(counts: &mut [u32], texels: &[u32]) {
     const AHEAD: usize = 16;
     for &t in texels.iter().take(AHEAD) {
         if let Some(c) = counts.get(t as usize) {
-            crate::wide_traversal::prefetch(c);
+            crate::cpu_features::prefetch(c);
         }
     }
     for (i, &t) in texels.iter().enumerate() {
         if let Some(&ahead) = texels.get(i + AHEAD)
             && let Some(c) = counts.get(ahead as usize)
         {
-            crate::wide_traversal::prefetch(c);
+            crate::cpu_features::prefetch(c);
         }
         counts[t as usize] += 1;
     }

@@ -5,6 +5,10 @@
 
 pub mod bvh;
 pub mod cpu;
+// reason: `#[target_feature]` functions and a prefetch intrinsic, called
+// only after run-time feature detection.
+#[allow(unsafe_code)]
+pub mod cpu_features;
 pub mod gpu;
 pub mod paths;
 pub mod prepared;
@@ -13,9 +17,6 @@ pub mod sampling;
 pub mod session;
 pub mod symmetry;
 pub mod triangle;
-// reason: SIMD intrinsics and `#[target_feature]` functions, called only
-// after run-time feature detection.
-#[allow(unsafe_code)]
 pub mod wide_bvh;
 // reason: SIMD intrinsics and `#[target_feature]` functions, called only
 // after run-time feature detection.
