@@ -3,13 +3,13 @@
 
 use std::path::PathBuf;
 
-use crate::benchmark::Benchmark;
+use crate::actions::Windows;
+use crate::benchmarks::{BenchmarkOptions, Benchmarks};
 use crate::dock::{Dock, Pane};
-use crate::drag_benchmark::DragBenchmark;
 use crate::export_dialog::export_dialog_ui;
-use crate::menu_bar::{
-    Windows, about_window_ui, has_notices, menu_bar_ui, notices_ui, shortcuts_window_ui,
-};
+use crate::help_windows::{about_window_ui, shortcuts_window_ui};
+use crate::menu_bar::menu_bar_ui;
+use crate::notices::{has_notices, notices_ui};
 use crate::profile_pane::ProfilePane;
 use crate::scene_panel::scene_panel_ui;
 use crate::simulation_panel::simulation_panel_ui;
@@ -30,8 +30,7 @@ pub struct EditorApp {
     dock: Dock,
     profile: ProfilePane,
     examples: Vec<PathBuf>,
-    benchmark: Option<Benchmark>,
-    drag_benchmark: Option<DragBenchmark>,
+    benchmark: Option<Benchmarks>,
 }
 
 impl EditorApp {
@@ -58,7 +57,6 @@ impl EditorApp {
             profile: ProfilePane::default(),
             examples: examples(),
             benchmark: None,
-            drag_benchmark: None,
         }
     }
 
@@ -85,35 +83,15 @@ impl EditorApp {
         Self::with_gpu_target(state, target)
     }
 
-    /// Measures frames and scripted edits for `duration`, then closes.
-    /// With `export_into`, exports follow one another into that folder
-    /// instead of edits.
-    pub fn with_benchmark(
-        mut self,
-        duration: std::time::Duration,
-        continuous: bool,
-        export_into: Option<std::path::PathBuf>,
-    ) -> Self {
-        let mut benchmark = Benchmark::new(duration);
-        benchmark.continuous = continuous;
-        benchmark.export_into = export_into;
-        self.benchmark = Some(benchmark);
-        self
-    }
-
-    /// Drags the main part's main parameter for `drag`, measured
-    /// ([`DragBenchmark`]), then closes.
-    pub fn with_drag_benchmark(mut self, drag: std::time::Duration) -> Self {
-        self.drag_benchmark = Some(DragBenchmark::new(drag));
+    /// Runs `options`' benchmark in this window, then closes.
+    pub fn with_benchmark(mut self, options: BenchmarkOptions) -> Self {
+        self.benchmark = Some(Benchmarks::new(options));
         self
     }
 
     /// The benchmark's figures, if one ran.
     pub fn benchmark_report(&self) -> Option<String> {
-        self.benchmark
-            .as_ref()
-            .map(Benchmark::report)
-            .or_else(|| self.drag_benchmark.as_ref().map(DragBenchmark::report))
+        self.benchmark.as_ref().map(Benchmarks::report)
     }
 
     pub fn viewport(&self) -> &Viewport {
@@ -131,7 +109,7 @@ impl EditorApp {
 
     /// Carries out a menu item, as its click or shortcut would.
     pub fn run_command(&mut self, command: UiCommand) {
-        crate::menu_bar::run(command, &mut self.state, &mut self.windows, &mut self.dock);
+        crate::actions::run(command, &mut self.state, &mut self.windows, &mut self.dock);
     }
 
     /// One frame of the whole editor; the eframe app and the tests both
@@ -141,7 +119,9 @@ impl EditorApp {
         let frame_start = std::time::Instant::now();
         self.state.begin_frame(&ctx);
         let before = self.state.doc.scene.clone();
-        self.benchmarks_begin_frame(&ctx, frame_start);
+        if let Some(b) = &mut self.benchmark {
+            b.begin_frame(&mut self.state, &mut self.windows.export, &ctx, frame_start);
+        }
         if let Some(command) = UiCommand::pressed(&ctx) {
             self.run_command(command);
         }
@@ -198,39 +178,6 @@ impl EditorApp {
         self.dock.save_if_changed();
         if let Some(b) = &mut self.benchmark {
             b.end_frame(frame_start.elapsed());
-        }
-    }
-
-    fn benchmarks_begin_frame(&mut self, ctx: &egui::Context, frame_start: std::time::Instant) {
-        if let Some(b) = &mut self.benchmark {
-            // Whether last frame's export still runs, before the next starts.
-            let running = self.windows.export.is_exporting();
-            let started = b.export_into.as_ref().is_some_and(|dir| {
-                self.windows
-                    .export
-                    .start_benchmark_export(&self.state, dir, ctx)
-            });
-            b.begin_frame(&mut self.state, frame_start, running, started);
-            if b.is_finished() {
-                // Its nudges are no one's unsaved changes: no question,
-                // no recovery file left behind.
-                self.state.push(crate::state::Command::QuitDiscarding);
-            } else if b.continuous {
-                ctx.request_repaint();
-            } else {
-                // Frames come as in use; the next edit is due within 2 s.
-                ctx.request_repaint_after(std::time::Duration::from_millis(250));
-            }
-        }
-        if let Some(b) = &mut self.drag_benchmark {
-            b.begin_frame(&mut self.state, frame_start);
-            if b.is_finished() {
-                self.state.push(crate::state::Command::QuitDiscarding);
-            } else {
-                // A dragging hand moves the pointer every frame.
-                ctx.request_repaint();
-            }
-            self.state.scripted_pointer = b.holds_pointer();
         }
     }
 }

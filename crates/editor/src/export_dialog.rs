@@ -13,19 +13,16 @@
 //! time meanwhile, and the result when it ends.
 
 use std::path::{Path, PathBuf};
-use std::sync::mpsc::{Receiver, TryRecvError, channel};
-use std::sync::{Arc, Mutex, PoisonError};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use egui::Ui;
 use lucerna_photometry::{CPlaneSymmetry, IesVersion};
 use lucerna_simulation::{
-    ExportFormats, ExportOptions, ExportRequest, ExportStage, FilterChoice, Labels, Snapshot,
-    TableGrid,
+    ExportFormats, ExportOptions, ExportRequest, FilterChoice, Labels, TableGrid,
 };
 
 use crate::command::DialogKind;
-use crate::error_text::error_chain;
+use crate::export_job::{ExportJob, current_snapshot};
 use crate::state::{Command, EditorState};
 use crate::widgets::{flag, labelled, length_mm, number};
 
@@ -105,63 +102,6 @@ pub struct ExportDialog {
     result: Option<Result<Vec<PathBuf>, String>>,
     /// The export running now.
     job: Option<ExportJob>,
-}
-
-/// An export on its own thread: its stage as it goes, its result at the
-/// end.
-#[derive(Debug)]
-pub struct ExportJob {
-    started: Instant,
-    stage: Arc<Mutex<ExportStage>>,
-    done: Receiver<Result<Vec<PathBuf>, String>>,
-}
-
-impl ExportJob {
-    /// Starts writing `request` of `snapshot`; `repaint` is called at each
-    /// stage and at the end.
-    fn start(
-        request: ExportRequest,
-        snapshot: Arc<Snapshot>,
-        repaint: impl Fn() + Send + 'static,
-    ) -> Result<ExportJob, String> {
-        let stage = Arc::new(Mutex::new(ExportStage::Tabulating));
-        let (send, done) = channel();
-        let reported = stage.clone();
-        std::thread::Builder::new()
-            .name("lucerna-export".to_owned())
-            .spawn(move || {
-                let report = |s: ExportStage| {
-                    *reported.lock().unwrap_or_else(PoisonError::into_inner) = s;
-                    repaint();
-                };
-                let result = request
-                    .write_reporting(&snapshot, &report)
-                    .map_err(|e| error_chain(&e));
-                let _ = send.send(result);
-                repaint();
-            })
-            .map_err(|e| format!("cannot start the export: {e}"))?;
-        Ok(ExportJob {
-            started: Instant::now(),
-            stage,
-            done,
-        })
-    }
-
-    fn stage(&self) -> ExportStage {
-        *self.stage.lock().unwrap_or_else(PoisonError::into_inner)
-    }
-
-    /// The result, once the job has ended.
-    fn finished(&self) -> Option<Result<Vec<PathBuf>, String>> {
-        match self.done.try_recv() {
-            Ok(result) => Some(result),
-            Err(TryRecvError::Empty) => None,
-            Err(TryRecvError::Disconnected) => {
-                Some(Err("the export stopped without a result".to_owned()))
-            }
-        }
-    }
 }
 
 impl ExportDialog {
@@ -640,32 +580,6 @@ fn describe_opening(d: lucerna_photometry::Dimensions) -> String {
             mm(d.width_m)
         )
     }
-}
-
-/// The snapshot to export, if it shows the scene as edited now.
-fn current_snapshot(state: &EditorState) -> Result<&Arc<Snapshot>, String> {
-    if !state.problems().is_empty() {
-        return Err(
-            "the scene has problems (see the scene panel); the result shown is of an earlier version"
-                .to_owned(),
-        );
-    }
-    let snapshot = state
-        .snapshot()
-        .ok_or("nothing has been traced yet".to_owned())?;
-    let current = state
-        .simulation()
-        .is_some_and(|sim| sim.generation() == snapshot.generation);
-    if !current || state.is_coarse_preview() {
-        return Err(
-            "the simulation is restarting after an edit: export once it shows the current scene"
-                .to_owned(),
-        );
-    }
-    if snapshot.photons == 0 || snapshot.map.photons_escaped() == 0 {
-        return Err("no photon has left the luminaire yet".to_owned());
-    }
-    Ok(snapshot)
 }
 
 /// Starts writing the chosen files of the current snapshot on their own

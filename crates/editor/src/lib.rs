@@ -5,24 +5,27 @@
 //! file of `_ui` functions that edit scene fields in place and queue
 //! everything else as [`Command`]s, applied once per frame.
 
+mod actions;
 mod app;
-mod benchmark;
+mod benchmarks;
 mod colour;
 mod command;
 mod config;
 mod dialogs;
 pub mod dock;
 mod document;
-pub mod drag_benchmark;
 mod error_text;
 mod export_dialog;
+mod export_job;
 mod file_state;
 mod files;
 mod geometry_dialog;
+mod help_windows;
 mod imports;
 mod live_run;
 mod menu_bar;
 mod modelling;
+mod notices;
 mod pacer;
 mod pane;
 mod profile_editor;
@@ -47,6 +50,7 @@ mod widgets;
 use std::path::PathBuf;
 
 pub use app::EditorApp;
+pub use benchmarks::{BenchmarkOptions, DragTarget};
 pub use command::DialogKind;
 pub use config::{EditorPaths, MAX_RECENT, ThemeChoice};
 pub use file_state::PendingAction;
@@ -133,17 +137,8 @@ pub struct RunOptions {
     pub scene: Option<PathBuf>,
     /// The photometric view shown first.
     pub view: View,
-    /// Run under measurement for this long, then print the figures and
-    /// close.
-    pub benchmark: Option<std::time::Duration>,
-    /// In a benchmark, repaint every frame (as while dragging).
-    pub continuous: bool,
-    /// In a benchmark, export into this folder again and again instead of
-    /// editing.
-    pub export_into: Option<PathBuf>,
-    /// Run the drag benchmark, dragging for this long, then print the
-    /// figures and close.
-    pub drag_benchmark: Option<std::time::Duration>,
+    /// Run a benchmark, then print its figures and close.
+    pub benchmark: Option<BenchmarkOptions>,
 }
 
 /// Opens the editor's window and runs until it closes.
@@ -166,21 +161,15 @@ pub fn run(options: RunOptions) -> Result<(), RunEditorError> {
     };
     let mut state = EditorState::with_paths(options.scene, settings, EditorPaths::user());
     state.view = options.view;
-    let (benchmark, continuous, export_into, drag) = (
-        options.benchmark,
-        options.continuous,
-        options.export_into,
-        options.drag_benchmark,
-    );
+    let benchmark = options.benchmark;
     eframe::run_native(
         "Lucerna editor",
         native,
         Box::new(move |cc| {
             let app = EditorApp::from_creation(cc, state);
-            Ok(Box::new(match (benchmark, drag) {
-                (Some(d), _) => app.with_benchmark(d, continuous, export_into),
-                (None, Some(d)) => app.with_drag_benchmark(d),
-                (None, None) => app,
+            Ok(Box::new(match benchmark {
+                Some(options) => app.with_benchmark(options),
+                None => app,
             }))
         }),
     )

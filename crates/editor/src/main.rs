@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::Parser;
-use lucerna_editor::{RunOptions, View};
+use lucerna_editor::{BenchmarkOptions, RunOptions, View};
 
 /// The Lucerna editor: model a luminaire, watch its light distribution
 /// converge, see a room lit by it, export IES and EULUMDAT files.
@@ -55,10 +55,15 @@ fn main() -> ExitCode {
     let options = RunOptions {
         scene: args.scene,
         view: args.view,
-        benchmark: args.benchmark,
-        continuous: args.continuous,
-        export_into: export_into.clone(),
-        drag_benchmark: args.benchmark_drag,
+        benchmark: match (args.benchmark, args.benchmark_drag) {
+            (Some(duration), _) => Some(BenchmarkOptions::Frames {
+                duration,
+                continuous: args.continuous,
+                export_into: export_into.clone(),
+            }),
+            (None, Some(duration)) => Some(BenchmarkOptions::Drag { duration }),
+            (None, None) => None,
+        },
     };
     let result = lucerna_editor::run(options);
     if let Some(dir) = export_into {

@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use lucerna_editor::{EditorApp, EditorState, Selection};
+use lucerna_editor::{BenchmarkOptions, EditorApp, EditorState, Selection};
 use lucerna_simulation::{SimulationSettings, StoppingRule};
 
 fn example() -> PathBuf {
@@ -160,7 +160,11 @@ fn the_benchmark_mode_times_each_scripted_edit() {
         .with_size([1366.0, 900.0])
         .build_ui_state(
             |ui, app: &mut EditorApp| app.ui(ui),
-            EditorApp::new(state).with_benchmark(Duration::from_secs_f64(4.5), true, None),
+            EditorApp::new(state).with_benchmark(BenchmarkOptions::Frames {
+                duration: Duration::from_secs_f64(4.5),
+                continuous: true,
+                export_into: None,
+            }),
         );
     wait_for_snapshot(&mut h, |_| true);
     let original = h.state().state.scene().unwrap().parts[0].transform.clone();
@@ -225,11 +229,11 @@ fn the_benchmark_export_mode_exports_without_editing_and_times_those_frames() {
         .with_size([1366.0, 900.0])
         .build_ui_state(
             |ui, app: &mut EditorApp| app.ui(ui),
-            EditorApp::new(state).with_benchmark(
-                Duration::from_secs(600),
-                true,
-                Some(out.path().to_path_buf()),
-            ),
+            EditorApp::new(state).with_benchmark(BenchmarkOptions::Frames {
+                duration: Duration::from_secs(600),
+                continuous: true,
+                export_into: Some(out.path().to_path_buf()),
+            }),
         );
     wait_for_snapshot(&mut h, |_| true);
     let original = h.state().state.scene().unwrap().clone();

@@ -21,6 +21,7 @@ use std::time::{Duration, Instant};
 
 use lucerna_scene::{Scene, Shape};
 
+use super::Quantiles;
 use crate::state::EditorState;
 
 /// Settling time between the first preview and the drag.
@@ -350,14 +351,8 @@ impl DragBenchmark {
     pub fn report(&self) -> String {
         let ms = |d: Duration| d.as_secs_f64() * 1e3;
         let quantiles = |v: &[Duration]| {
-            let mut v: Vec<f64> = v.iter().copied().map(ms).collect();
-            v.sort_by(f64::total_cmp);
-            let at = |q: f64| {
-                v.get(((v.len() as f64 - 1.0) * q).round() as usize)
-                    .copied()
-                    .unwrap_or(f64::NAN)
-            };
-            (at(0.5), at(0.95), v.len())
+            let q = Quantiles::of(v);
+            (q.median_ms, q.p95_ms, q.count)
         };
         let (age_median, age_p95, frames) = quantiles(&self.ages);
         let (lag_median, lag_p95, lag_frames) = quantiles(&self.lags);

@@ -15,6 +15,7 @@
 
 use std::time::{Duration, Instant};
 
+use super::Quantiles;
 use crate::state::EditorState;
 
 /// Time between scripted edits: long enough for the run to settle.
@@ -24,7 +25,7 @@ const NUDGE_M: f64 = 0.0005;
 
 /// A running benchmark of the editor's frames.
 #[derive(Debug)]
-pub struct Benchmark {
+pub struct FrameBenchmark {
     duration: Duration,
     /// Repaint every frame, as while the user drags: the frame interval
     /// is then the time a frame takes.
@@ -60,9 +61,9 @@ pub struct Benchmark {
     frame_during_export: bool,
 }
 
-impl Benchmark {
+impl FrameBenchmark {
     pub fn new(duration: Duration) -> Self {
-        Benchmark {
+        FrameBenchmark {
             duration,
             continuous: false,
             started: None,
@@ -185,19 +186,10 @@ impl Benchmark {
     pub fn report(&self) -> String {
         let ms = |d: Duration| d.as_secs_f64() * 1e3;
         let stats = |v: &[Duration]| {
-            let mut v: Vec<f64> = v.iter().copied().map(ms).collect();
-            v.sort_by(f64::total_cmp);
-            let at = |q: f64| {
-                v.get(((v.len() as f64 - 1.0) * q).round() as usize)
-                    .copied()
-                    .unwrap_or(f64::NAN)
-            };
+            let q = Quantiles::of(v);
             format!(
                 "median {:.1} ms, p95 {:.1} ms, max {:.1} ms over {}",
-                at(0.5),
-                at(0.95),
-                at(1.0),
-                v.len()
+                q.median_ms, q.p95_ms, q.max_ms, q.count
             )
         };
         let mut pps = self.photons_per_second.clone();
