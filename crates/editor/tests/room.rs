@@ -504,10 +504,15 @@ fn the_room_tab_with_a_converged_example_matches_its_snapshot() {
         egui::pos2(0.0, status.min.y),
         egui::pos2(4000.0, status.max.y),
     ));
-    for row in ["Iteration", "Photons/s"] {
-        let label = h.get_by_label(row).rect();
-        let wide = egui::Rect::from_min_max(label.min, egui::pos2(1366.0, label.max.y));
-        h.mask(wide);
+    // Wall time and the machine: photons/s, the iteration reached, the
+    // tracer's thread count, the room picture's time and the adapter's
+    // name (llvmpipe here, another elsewhere).
+    for row in ["Iteration", "Photons/s", "Backend"] {
+        let rects: Vec<egui::Rect> = h.get_all_by_label(row).map(|n| n.rect()).collect();
+        for label in rects {
+            let wide = egui::Rect::from_min_max(label.min, egui::pos2(1366.0, label.max.y));
+            h.mask(wide);
+        }
     }
     let status = h.get_by_label_contains(&fine).rect();
     h.mask(egui::Rect::from_min_max(

@@ -4,7 +4,7 @@
 //! after read-back, exactly as in the CPU reference.
 
 use bytemuck::{Pod, Zeroable};
-use lucerna_gpu::{GpuContext, GpuError};
+use lucerna_gpu::{Binding, ComputeProgram, GpuContext, GpuError, readback_buffer};
 use lucerna_photometry::{AxialSymmetry, CubeMapLayout, TexelSymmetry};
 use wgpu::util::DeviceExt;
 
@@ -62,66 +62,20 @@ impl GpuFilter {
         // shaders/filter.wgsl binds four storage buffers.
         ctx.require_storage_buffers(4, "filter")?;
         let device = &ctx.device;
-        let module = lucerna_gpu::create_shader_module(
+        // One explicit layout shared by the three entry points.
+        let program = ComputeProgram::new(
             device,
-            wgpu::ShaderModuleDescriptor {
-                label: Some("filter.wgsl"),
-                source: wgpu::ShaderSource::Wgsl(lucerna_gpu::shaders::filter().into()),
-            },
-        )?;
-        let entry = |binding: u32, ty: wgpu::BindingType| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty,
-            count: None,
-        };
-        let storage_entry = |binding: u32, read_only: bool| {
-            entry(
-                binding,
-                wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Storage { read_only },
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-            )
-        };
-        // One explicit layout shared by the three entry points (derived
-        // layouts of different pipelines are not interchangeable).
-        let bind_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("filter bindings"),
-            entries: &[
-                entry(
-                    0,
-                    wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                ),
-                storage_entry(1, false),
-                storage_entry(2, true),
-                storage_entry(3, false),
-                storage_entry(4, false),
+            "filter.wgsl",
+            lucerna_gpu::shaders::filter(),
+            &[
+                Binding::Uniform,
+                Binding::READ_WRITE,
+                Binding::READ,
+                Binding::READ_WRITE,
+                Binding::READ_WRITE,
             ],
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("filter"),
-            bind_group_layouts: &[Some(&bind_layout)],
-            immediate_size: 0,
-        });
-        let pipeline = |entry: &str| {
-            lucerna_gpu::create_compute_pipeline(
-                device,
-                &wgpu::ComputePipelineDescriptor {
-                    label: Some(entry),
-                    layout: Some(&pipeline_layout),
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    cache: None,
-                },
-            )
-        };
+        )?;
+        let pipeline = |entry: &str| program.pipeline(device, entry);
         let resolutions = pyramid_resolutions(layout.resolution);
         let mut offsets = Vec::with_capacity(resolutions.len());
         let mut total = 0u32;
@@ -156,14 +110,7 @@ impl GpuFilter {
             contents: bytemuck::cast_slice(&omega),
             usage: wgpu::BufferUsages::STORAGE,
         });
-        let readback = |label: &str, size: u64| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            })
-        };
+        let readback = |label: &str, size: u64| readback_buffer(device, label, size);
         let pull = pipeline("pull")?;
         let top = pipeline("top")?;
         let push = pipeline("push")?;
@@ -183,7 +130,7 @@ impl GpuFilter {
             .map(|p| {
                 device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("filter level"),
-                    layout: &bind_layout,
+                    layout: &program.bind_layout,
                     entries: &[
                         wgpu::BindGroupEntry {
                             binding: 0,

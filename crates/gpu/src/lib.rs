@@ -1,13 +1,17 @@
 //! GPU access for Lucerna's kernels: adapter and device selection, the
-//! WGSL shaders composed from `shaders/`, and shader-module and pipeline
-//! creation that returns the device's errors instead of panicking.
+//! WGSL shaders composed from `shaders/`, shader-module and pipeline
+//! creation that returns the device's errors instead of panicking, and the
+//! set-up every compute kernel shares (`ComputeProgram`, read-back
+//! buffers).
 
 mod checked;
+mod compute;
 pub mod shaders;
 
 pub use checked::{
     CreatePipelineError, CreateShaderModuleError, create_compute_pipeline, create_shader_module,
 };
+pub use compute::{Binding, ComputeProgram, readback_buffer};
 
 /// Which processor a job asks for: the one backend request of the
 /// workspace, for the photon tracer, the filter and the room renderer.

@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 
 use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
-use lucerna_gpu::{GpuContext, GpuError};
+use lucerna_gpu::{Binding, ComputeProgram, GpuContext, GpuError, readback_buffer};
 use wgpu::util::DeviceExt;
 
 use crate::light::PlacedLight;
@@ -82,56 +82,23 @@ impl GpuRoomRenderer {
         // shaders/room.wgsl binds seven storage buffers.
         ctx.require_storage_buffers(7, "room renderer")?;
         let device = &ctx.device;
-        let module = lucerna_gpu::create_shader_module(
-            device,
-            wgpu::ShaderModuleDescriptor {
-                label: Some("room.wgsl"),
-                source: wgpu::ShaderSource::Wgsl(lucerna_gpu::shaders::room().into()),
-            },
-        )?;
-        let entry = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty,
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
-        let read = wgpu::BufferBindingType::Storage { read_only: true };
         // One explicit layout for both entry points.
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("room bindings"),
-            entries: &[
-                entry(0, wgpu::BufferBindingType::Uniform),
-                entry(1, read),
-                entry(2, read),
-                entry(3, read),
-                entry(4, wgpu::BufferBindingType::Storage { read_only: false }),
-                entry(5, read),
-                entry(6, read),
-                entry(7, read),
+        let program = ComputeProgram::new(
+            device,
+            "room.wgsl",
+            lucerna_gpu::shaders::room(),
+            &[
+                Binding::Uniform,
+                Binding::READ,
+                Binding::READ,
+                Binding::READ,
+                Binding::READ_WRITE,
+                Binding::READ,
+                Binding::READ,
+                Binding::READ,
             ],
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("room"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = |name: &str| {
-            lucerna_gpu::create_compute_pipeline(
-                device,
-                &wgpu::ComputePipelineDescriptor {
-                    label: Some(name),
-                    layout: Some(&pipeline_layout),
-                    module: &module,
-                    entry_point: Some(name),
-                    compilation_options: Default::default(),
-                    cache: None,
-                },
-            )
-        };
+        )?;
+        let pipeline = |name: &str| program.pipeline(device, name);
         let render = pipeline("render")?;
         let points = pipeline("shade_points")?;
         let table: Vec<f32> = ggx_table().entries.iter().flatten().copied().collect();
@@ -142,7 +109,7 @@ impl GpuRoomRenderer {
         });
         Ok(GpuRoomRenderer {
             ctx,
-            layout,
+            layout: program.bind_layout,
             render,
             points,
             ltc,
@@ -304,12 +271,7 @@ impl GpuRoomRenderer {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("room readback"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let readback = readback_buffer(device, "room readback", size);
         let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("room"),
             layout: &self.layout,

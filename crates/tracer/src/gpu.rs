@@ -197,14 +197,7 @@ impl GpuTracer {
                 mapped_at_creation: false,
             })
         };
-        let readback = |label: &str, size: u64| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            })
-        };
+        let readback = |label: &str, size: u64| lucerna_gpu::readback_buffer(device, label, size);
         let counts = counter("counts", 4 * texels);
         let tallies = counter("tallies", 16);
         let counts_readback = readback("counts readback", 4 * texels);
