@@ -41,7 +41,8 @@ pub fn wgpu_editor_with(
 }
 
 /// Masks the figures that follow wall time (iterations, photons/s, the
-/// status bar), then hides the cursor.
+/// status bar) or the machine (the tracer's threads), then hides the
+/// cursor.
 pub fn mask_time_dependent(h: &mut Harness<'_, EditorApp>) {
     // The status bar: photons and photons/s follow wall time.
     let status = h.get_by_label_contains(" M photons/s").rect();
@@ -49,10 +50,13 @@ pub fn mask_time_dependent(h: &mut Harness<'_, EditorApp>) {
         egui::pos2(0.0, status.min.y),
         egui::pos2(4000.0, status.max.y),
     ));
-    for row in ["Iteration", "Photons/s"] {
-        let label = h.get_by_label(row).rect();
-        let wide = egui::Rect::from_min_max(label.min, egui::pos2(4000.0, label.max.y));
-        h.mask(wide);
+    // And the machine: the tracer's thread count in the Backend rows.
+    for row in ["Iteration", "Photons/s", "Backend"] {
+        let rects: Vec<egui::Rect> = h.get_all_by_label(row).map(|n| n.rect()).collect();
+        for label in rects {
+            let wide = egui::Rect::from_min_max(label.min, egui::pos2(4000.0, label.max.y));
+            h.mask(wide);
+        }
     }
     h.remove_cursor();
     h.run_steps(2);
