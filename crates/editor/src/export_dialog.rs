@@ -391,21 +391,7 @@ fn dialog_ui(ui: &mut Ui, state: &mut EditorState, dialog: &mut ExportDialog) {
         // The elapsed time moves on between the job's own repaints.
         ui.ctx().request_repaint_after(Duration::from_millis(200));
     }
-    match &dialog.result {
-        Some(Ok(files)) => {
-            ui.label(format!("Wrote {} files:", files.len()));
-            for f in files {
-                ui.label(f.display().to_string());
-            }
-        }
-        Some(Err(e)) => {
-            ui.colored_label(
-                ui.visuals().error_fg_color,
-                format!("Export failed, nothing written: {e}"),
-            );
-        }
-        None => {}
-    }
+    crate::widgets::export_result_ui(ui, dialog.result.as_ref());
 }
 
 /// A single-line text field with a hint shown while it is empty.

@@ -199,21 +199,7 @@ fn dialog_ui(ui: &mut Ui, state: &mut EditorState, dialog: &mut GeometryDialog) 
             ui.label("Exporting geometry…");
         });
     }
-    match &dialog.result {
-        Some(Ok(files)) => {
-            ui.label(format!("Wrote {} files:", files.len()));
-            for f in files {
-                ui.label(f.display().to_string());
-            }
-        }
-        Some(Err(e)) => {
-            ui.colored_label(
-                ui.visuals().error_fg_color,
-                format!("Export failed, nothing written: {e}"),
-            );
-        }
-        None => {}
-    }
+    crate::widgets::export_result_ui(ui, dialog.result.as_ref());
 }
 
 /// An error with its causes, as the command line prints it.

@@ -106,3 +106,26 @@ pub fn labelled(ui: &mut Ui, label: &str, widget: impl FnOnce(&mut Ui) -> Respon
     })
     .inner
 }
+
+/// What an export wrote, or why it wrote nothing: the export dialogs'
+/// last line.
+pub fn export_result_ui(
+    ui: &mut egui::Ui,
+    result: Option<&Result<Vec<std::path::PathBuf>, String>>,
+) {
+    match result {
+        Some(Ok(files)) => {
+            ui.label(format!("Wrote {} files:", files.len()));
+            for f in files {
+                ui.label(f.display().to_string());
+            }
+        }
+        Some(Err(e)) => {
+            ui.colored_label(
+                ui.visuals().error_fg_color,
+                format!("Export failed, nothing written: {e}"),
+            );
+        }
+        None => {}
+    }
+}
