@@ -7,7 +7,7 @@ use lucerna_pictures::isocandela::{isolines, lit_gamma_range};
 use lucerna_pictures::scale::round_step;
 
 use crate::cone::ConeDiagram;
-use crate::svg::{Anchor, C0_COLOUR, C90_COLOUR, GRID, INK, MUTED, RULE, Svg};
+use crate::svg::{Anchor, C0_COLOUR, C90_COLOUR, GRID, INK, MUTED, RULE, Rgb, Svg};
 
 /// A box on the page (pt).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -58,13 +58,13 @@ fn curve_angles(table: &CandelaTable, limit_deg: f64) -> Vec<f64> {
 
 /// Legend of the two planes at (x, y).
 fn plane_legend(svg: &mut Svg, x: f64, y: f64) {
-    svg.polyline(&[[x, y - 3.0], [x + 16.0, y - 3.0]], C0_COLOUR, 1.4, "");
+    svg.polyline(&[[x, y - 3.0], [x + 16.0, y - 3.0]], C0_COLOUR, 1.4, &[]);
     svg.text(x + 20.0, y, 7.5, Anchor::Start, INK, "C0 – C180");
     svg.polyline(
         &[[x + 72.0, y - 3.0], [x + 88.0, y - 3.0]],
         C90_COLOUR,
         1.4,
-        "4 2",
+        &[4.0, 2.0],
     );
     svg.text(x + 92.0, y, 7.5, Anchor::Start, INK, "C90 – C270");
 }
@@ -126,7 +126,10 @@ pub fn polar(svg: &mut Svg, frame: Frame, table: &CandelaTable) {
         );
     }
     let angles = curve_angles(table, 180.0);
-    for (c, colour, dash) in [(0.0, C0_COLOUR, ""), (90.0, C90_COLOUR, "4 2")] {
+    for (c, colour, dash) in [
+        (0.0, C0_COLOUR, &[][..]),
+        (90.0, C90_COLOUR, &[4.0, 2.0][..]),
+    ] {
         let points: Vec<[f64; 2]> = angles
             .iter()
             .map(|&t| at(t, plane_value(table, c, t)))
@@ -184,7 +187,10 @@ pub fn cartesian(svg: &mut Svg, frame: Frame, table: &CandelaTable, limit_deg: f
     svg.line(left, bottom, right, bottom, RULE, 0.7);
     svg.line(left, top_y, left, bottom, RULE, 0.7);
     let angles = curve_angles(table, limit_deg);
-    for (c, colour, dash) in [(0.0, C0_COLOUR, ""), (90.0, C90_COLOUR, "4 2")] {
+    for (c, colour, dash) in [
+        (0.0, C0_COLOUR, &[][..]),
+        (90.0, C90_COLOUR, &[4.0, 2.0][..]),
+    ] {
         let points: Vec<[f64; 2]> = angles
             .iter()
             .map(|&t| [x_of(t), y_of(plane_value(table, c, t))])
@@ -204,8 +210,13 @@ pub fn cartesian(svg: &mut Svg, frame: Frame, table: &CandelaTable, limit_deg: f
 }
 
 /// The levels' colours, from the outermost (5 %) to the peak.
-const LEVEL_COLOURS: [&str; 6] = [
-    "#6a3d9a", "#1f78b4", "#33a02c", "#e6ab02", "#e6550d", "#b2182b",
+const LEVEL_COLOURS: [Rgb; 6] = [
+    Rgb(0x6a3d9a),
+    Rgb(0x1f78b4),
+    Rgb(0x33a02c),
+    Rgb(0xe6ab02),
+    Rgb(0xe6550d),
+    Rgb(0xb2182b),
 ];
 
 /// The isocandela chart: lines of equal intensity at fractions of the
@@ -256,7 +267,7 @@ pub fn isocandela(svg: &mut Svg, frame: Frame, table: &CandelaTable) {
         let colour = LEVEL_COLOURS[i.min(LEVEL_COLOURS.len() - 1)];
         for polyline in &line.polylines {
             let points: Vec<[f64; 2]> = polyline.iter().map(|p| at(p[0], p[1])).collect();
-            svg.polyline(&points, colour, 1.0, "");
+            svg.polyline(&points, colour, 1.0, &[]);
         }
     }
     // Legend: level, cd/klm.
@@ -265,7 +276,7 @@ pub fn isocandela(svg: &mut Svg, frame: Frame, table: &CandelaTable) {
     for (i, line) in lines.iter().enumerate() {
         let colour = LEVEL_COLOURS[i.min(LEVEL_COLOURS.len() - 1)];
         let x = frame.x + i as f64 * per;
-        svg.polyline(&[[x, y - 3.0], [x + 10.0, y - 3.0]], colour, 1.6, "");
+        svg.polyline(&[[x, y - 3.0], [x + 10.0, y - 3.0]], colour, 1.6, &[]);
         svg.text(
             x + 13.0,
             y,
@@ -306,7 +317,7 @@ pub fn cone(svg: &mut Svg, frame: Frame, cone: &ConeDiagram) {
             [apex[0] - half_w, apex[1] + depth],
             [apex[0] + half_w, apex[1] + depth],
         ],
-        "#f7d774",
+        Rgb(0xf7d774),
         0.55,
     );
     svg.line(

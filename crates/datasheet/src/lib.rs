@@ -45,8 +45,6 @@ pub enum DatasheetError {
     NoLight,
     #[error("UGR spacing-to-height ratio {0} is not one of 0.25, 0.5 or 1 (the method's arrays)")]
     Spacing(f64),
-    #[error("cannot lay out the datasheet's page: {0}")]
-    Svg(String),
     #[error("cannot write the PDF: {0}")]
     Pdf(String),
 }
@@ -307,9 +305,10 @@ impl Datasheet {
 
     /// The sheet's pages (SVG), the HTML that shows them and the PDF.
     pub fn render(&self) -> Result<RenderedDatasheet, DatasheetError> {
-        let pages = pages::pages(self);
+        let drawn = pages::pages(self);
         let title = format!("{} – photometric datasheet", self.luminaire.name);
-        let pdf = pdf::pdf_of_pages(&pages, &title)?;
+        let pdf = pdf::pdf_of_pages(&drawn, &title)?;
+        let pages: Vec<String> = drawn.iter().map(svg::Svg::page).collect();
         let html = pages::html(&pages, &title);
         Ok(RenderedDatasheet { pages, html, pdf })
     }

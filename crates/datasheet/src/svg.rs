@@ -83,21 +83,96 @@ impl Anchor {
             Anchor::End => "end",
         }
     }
+
+    /// The share of the text's width that lies before its anchor.
+    pub fn offset_fraction(self) -> f64 {
+        match self {
+            Anchor::Start => 0.0,
+            Anchor::Middle => 0.5,
+            Anchor::End => 1.0,
+        }
+    }
+}
+
+/// An sRGB colour, 8 bits a channel (`Rgb(0x1a1a1a)`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Rgb(pub u32);
+
+impl Rgb {
+    /// The channels in 0..=1, as PDF sets them.
+    pub fn unit(self) -> [f32; 3] {
+        [16, 8, 0].map(|shift| ((self.0 >> shift) & 0xff) as f32 / 255.0)
+    }
+}
+
+impl std::fmt::Display for Rgb {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "#{:06x}", self.0 & 0xff_ffff)
+    }
 }
 
 /// Colours of the sheet: ink, the two main planes, grid and rules.
-pub const INK: &str = "#1a1a1a";
-pub const MUTED: &str = "#5f6368";
-pub const GRID: &str = "#c8ccd0";
-pub const RULE: &str = "#8a9096";
-pub const C0_COLOUR: &str = "#1f5fbf";
-pub const C90_COLOUR: &str = "#c0392b";
-pub const ACCENT: &str = "#e8eef7";
+pub const INK: Rgb = Rgb(0x1a1a1a);
+pub const MUTED: Rgb = Rgb(0x5f6368);
+pub const GRID: Rgb = Rgb(0xc8ccd0);
+pub const RULE: Rgb = Rgb(0x8a9096);
+pub const C0_COLOUR: Rgb = Rgb(0x1f5fbf);
+pub const C90_COLOUR: Rgb = Rgb(0xc0392b);
+pub const ACCENT: Rgb = Rgb(0xe8eef7);
+/// The shading behind table headers and highlighted rows.
+pub const SHADE: Rgb = Rgb(0xf4f6f8);
 
-/// SVG elements of one page (or one figure), in points.
+/// One thing drawn on a page, in points from the page's top-left corner
+/// (y down, as SVG has it). The SVG and the PDF are both written from
+/// these, so the two cannot drift.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Element {
+    /// Text on its baseline at (x, y).
+    Text {
+        x: f64,
+        y: f64,
+        size: f64,
+        anchor: Anchor,
+        fill: Rgb,
+        text: String,
+    },
+    /// An open polyline (a line is one of two points); `dash` in points,
+    /// empty for a solid line.
+    Polyline {
+        points: Vec<[f64; 2]>,
+        stroke: Rgb,
+        width: f64,
+        dash: Vec<f64>,
+    },
+    /// A filled rectangle with a 0.5 pt outline.
+    Rect {
+        x: f64,
+        y: f64,
+        w: f64,
+        h: f64,
+        fill: Rgb,
+        stroke: Rgb,
+    },
+    /// A circle's outline.
+    Circle {
+        cx: f64,
+        cy: f64,
+        r: f64,
+        stroke: Rgb,
+        width: f64,
+    },
+    /// A filled closed polygon, no outline.
+    Polygon {
+        points: Vec<[f64; 2]>,
+        fill: Rgb,
+        opacity: f64,
+    },
+}
+
+/// The elements of one page (or one figure), in points.
 #[derive(Debug, Default, Clone)]
 pub struct Svg {
-    body: String,
+    elements: Vec<Element>,
 }
 
 impl Svg {
@@ -105,95 +180,76 @@ impl Svg {
         Svg::default()
     }
 
+    /// What is drawn, in order.
+    pub fn elements(&self) -> &[Element] {
+        &self.elements
+    }
+
     /// Text at (x, y) on its baseline.
-    pub fn text(&mut self, x: f64, y: f64, size: f64, anchor: Anchor, fill: &str, text: &str) {
-        let _ = writeln!(
-            self.body,
-            r#"<text x="{x:.2}" y="{y:.2}" font-size="{size:.2}" text-anchor="{}" fill="{fill}">{}</text>"#,
-            anchor.svg(),
-            escape(text)
-        );
+    pub fn text(&mut self, x: f64, y: f64, size: f64, anchor: Anchor, fill: Rgb, text: &str) {
+        self.elements.push(Element::Text {
+            x,
+            y,
+            size,
+            anchor,
+            fill,
+            text: text.to_owned(),
+        });
     }
 
-    /// Text rotated about its anchor by `degrees` (an axis label).
-    pub fn text_rotated(
-        &mut self,
-        x: f64,
-        y: f64,
-        size: f64,
-        degrees: f64,
-        fill: &str,
-        text: &str,
-    ) {
-        let _ = writeln!(
-            self.body,
-            r#"<text x="{x:.2}" y="{y:.2}" font-size="{size:.2}" text-anchor="middle" fill="{fill}" transform="rotate({degrees:.1} {x:.2} {y:.2})">{}</text>"#,
-            escape(text)
-        );
+    pub fn line(&mut self, x0: f64, y0: f64, x1: f64, y1: f64, stroke: Rgb, width: f64) {
+        self.polyline(&[[x0, y0], [x1, y1]], stroke, width, &[]);
     }
 
-    pub fn line(&mut self, x0: f64, y0: f64, x1: f64, y1: f64, stroke: &str, width: f64) {
-        let _ = writeln!(
-            self.body,
-            r#"<line x1="{x0:.2}" y1="{y0:.2}" x2="{x1:.2}" y2="{y1:.2}" stroke="{stroke}" stroke-width="{width:.2}"/>"#
-        );
-    }
-
-    /// A polyline through `points`; `dash` like "4 2" or empty.
-    pub fn polyline(&mut self, points: &[[f64; 2]], stroke: &str, width: f64, dash: &str) {
+    /// A polyline through `points`; `dash` like `&[4.0, 2.0]` or empty.
+    pub fn polyline(&mut self, points: &[[f64; 2]], stroke: Rgb, width: f64, dash: &[f64]) {
         if points.len() < 2 {
             return;
         }
-        let mut d = String::new();
-        for (i, p) in points.iter().enumerate() {
-            let _ = write!(
-                d,
-                "{}{:.2} {:.2}",
-                if i == 0 { "M" } else { " L" },
-                p[0],
-                p[1]
-            );
-        }
-        let dash = if dash.is_empty() {
-            String::new()
-        } else {
-            format!(r#" stroke-dasharray="{dash}""#)
-        };
-        let _ = writeln!(
-            self.body,
-            r#"<path d="{d}" fill="none" stroke="{stroke}" stroke-width="{width:.2}" stroke-linejoin="round"{dash}/>"#
-        );
+        self.elements.push(Element::Polyline {
+            points: points.to_vec(),
+            stroke,
+            width,
+            dash: dash.to_vec(),
+        });
     }
 
-    pub fn rect(&mut self, x: f64, y: f64, w: f64, h: f64, fill: &str, stroke: &str) {
-        let _ = writeln!(
-            self.body,
-            r#"<rect x="{x:.2}" y="{y:.2}" width="{w:.2}" height="{h:.2}" fill="{fill}" stroke="{stroke}" stroke-width="0.5"/>"#
-        );
+    pub fn rect(&mut self, x: f64, y: f64, w: f64, h: f64, fill: Rgb, stroke: Rgb) {
+        self.elements.push(Element::Rect {
+            x,
+            y,
+            w,
+            h,
+            fill,
+            stroke,
+        });
     }
 
-    pub fn circle(&mut self, cx: f64, cy: f64, r: f64, stroke: &str, width: f64) {
-        let _ = writeln!(
-            self.body,
-            r#"<circle cx="{cx:.2}" cy="{cy:.2}" r="{r:.2}" fill="none" stroke="{stroke}" stroke-width="{width:.2}"/>"#
-        );
+    pub fn circle(&mut self, cx: f64, cy: f64, r: f64, stroke: Rgb, width: f64) {
+        self.elements.push(Element::Circle {
+            cx,
+            cy,
+            r,
+            stroke,
+            width,
+        });
     }
 
     /// A filled closed polygon.
-    pub fn polygon(&mut self, points: &[[f64; 2]], fill: &str, opacity: f64) {
-        let pts: Vec<String> = points
-            .iter()
-            .map(|p| format!("{:.2},{:.2}", p[0], p[1]))
-            .collect();
-        let _ = writeln!(
-            self.body,
-            r#"<polygon points="{}" fill="{fill}" fill-opacity="{opacity:.2}" stroke="none"/>"#,
-            pts.join(" ")
-        );
+    pub fn polygon(&mut self, points: &[[f64; 2]], fill: Rgb, opacity: f64) {
+        self.elements.push(Element::Polygon {
+            points: points.to_vec(),
+            fill,
+            opacity,
+        });
     }
 
     /// The page as a standalone SVG document of A4 size in points.
     pub fn page(&self) -> String {
+        let mut body = String::new();
+        for element in &self.elements {
+            write_element(&mut body, element);
+        }
         format!(
             concat!(
                 r#"<svg xmlns="http://www.w3.org/2000/svg" class="page" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="{font}">"#,
@@ -204,9 +260,90 @@ impl Svg {
             w = PAGE_WIDTH_PT,
             h = PAGE_HEIGHT_PT,
             font = FONT_FAMILY,
-            body = self.body
+            body = body
         )
     }
+}
+
+fn write_element(body: &mut String, element: &Element) {
+    let _ = match element {
+        Element::Text {
+            x,
+            y,
+            size,
+            anchor,
+            fill,
+            text,
+        } => writeln!(
+            body,
+            r#"<text x="{x:.2}" y="{y:.2}" font-size="{size:.2}" text-anchor="{}" fill="{fill}">{}</text>"#,
+            anchor.svg(),
+            escape(text)
+        ),
+        Element::Polyline {
+            points,
+            stroke,
+            width,
+            dash,
+        } => {
+            let mut d = String::new();
+            for (i, p) in points.iter().enumerate() {
+                let _ = write!(
+                    d,
+                    "{}{:.2} {:.2}",
+                    if i == 0 { "M" } else { " L" },
+                    p[0],
+                    p[1]
+                );
+            }
+            let dash = if dash.is_empty() {
+                String::new()
+            } else {
+                let lengths: Vec<String> = dash.iter().map(|l| format!("{l}")).collect();
+                format!(r#" stroke-dasharray="{}""#, lengths.join(" "))
+            };
+            writeln!(
+                body,
+                r#"<path d="{d}" fill="none" stroke="{stroke}" stroke-width="{width:.2}" stroke-linejoin="round"{dash}/>"#
+            )
+        }
+        Element::Rect {
+            x,
+            y,
+            w,
+            h,
+            fill,
+            stroke,
+        } => writeln!(
+            body,
+            r#"<rect x="{x:.2}" y="{y:.2}" width="{w:.2}" height="{h:.2}" fill="{fill}" stroke="{stroke}" stroke-width="0.5"/>"#
+        ),
+        Element::Circle {
+            cx,
+            cy,
+            r,
+            stroke,
+            width,
+        } => writeln!(
+            body,
+            r#"<circle cx="{cx:.2}" cy="{cy:.2}" r="{r:.2}" fill="none" stroke="{stroke}" stroke-width="{width:.2}"/>"#
+        ),
+        Element::Polygon {
+            points,
+            fill,
+            opacity,
+        } => {
+            let pts: Vec<String> = points
+                .iter()
+                .map(|p| format!("{:.2},{:.2}", p[0], p[1]))
+                .collect();
+            writeln!(
+                body,
+                r#"<polygon points="{}" fill="{fill}" fill-opacity="{opacity:.2}" stroke="none"/>"#,
+                pts.join(" ")
+            )
+        }
+    };
 }
 
 #[cfg(test)]

@@ -68,6 +68,29 @@ pub fn text_width_em(text: &str) -> f32 {
     )
 }
 
+/// The bundled font, parsed (`None` only if the file were broken, which
+/// a test rules out).
+pub fn font() -> Option<&'static FontRef<'static>> {
+    FONT.as_ref().ok()
+}
+
+/// `text`'s glyphs in the bundled font, each with its pen position in ems
+/// (advances plus kerning, as `text_width_em` measures): for writers that
+/// place glyphs themselves, like the datasheet's PDF.
+pub fn glyph_run_em(text: &str) -> Vec<(GlyphId, f32)> {
+    let Ok(font) = &*FONT else {
+        return Vec::new();
+    };
+    let em = font.units_per_em().unwrap_or(2048.0);
+    let mut run = Vec::with_capacity(text.len());
+    layout(
+        &font.as_scaled(PxScale::from(font.height_unscaled() / em)),
+        text,
+        |id, x| run.push((id, x)),
+    );
+    run
+}
+
 /// `text` cut short with an ellipsis until `fits` takes it (empty if
 /// nothing does).
 pub fn cut_with_ellipsis(text: &str, fits: impl Fn(&str) -> bool) -> String {

@@ -25,7 +25,7 @@ fn narrow(sheet: &Datasheet) -> Option<f64> {
 }
 
 /// The page of diagrams: cartesian, isocandela, cone, luminance, BUG.
-pub(super) fn diagrams_page(sheet: &Datasheet, pages: usize) -> String {
+pub(super) fn diagrams_page(sheet: &Datasheet, pages: usize) -> Svg {
     let mut svg = Svg::new();
     header(&mut svg, sheet, 2, pages);
     let col = 0.5 * (CONTENT_W - 16.0);
@@ -211,5 +211,5 @@ pub(super) fn diagrams_page(sheet: &Datasheet, pages: usize) -> String {
             paragraph(&mut svg, MARGIN, yb, CONTENT_W, 7.5, MUTED, omitted);
         }
     }
-    svg.page()
+    svg
 }

@@ -3,7 +3,7 @@
 use super::layout::*;
 use crate::Datasheet;
 use crate::section::Section;
-use crate::svg::{Anchor, INK, MUTED, RULE, Svg};
+use crate::svg::{Anchor, INK, MUTED, RULE, Rgb, SHADE, Svg};
 use crate::ugr::UgrTable;
 
 /// One UGR table (CIE 190) at one spacing, with its room rows and the
@@ -75,7 +75,7 @@ fn ugr_block(svg: &mut Svg, y: f64, t: &UgrTable) -> f64 {
                 yy - size - 2.0,
                 x0 + room_w + 10.0 * cell + gap,
                 yy - size - 2.0,
-                "#dde1e5",
+                Rgb(0xdde1e5),
                 0.4,
             );
         }
@@ -85,8 +85,8 @@ fn ugr_block(svg: &mut Svg, y: f64, t: &UgrTable) -> f64 {
                 yy - size - 1.5,
                 room_w + 10.0 * cell + gap,
                 size * 1.45,
-                "#f4f6f8",
-                "#f4f6f8",
+                SHADE,
+                SHADE,
             );
         }
         svg.text(
@@ -123,7 +123,7 @@ fn ugr_block(svg: &mut Svg, y: f64, t: &UgrTable) -> f64 {
 }
 
 /// The page of UGR tables, one per spacing asked for.
-pub(super) fn glare_page(sheet: &Datasheet, pages: usize) -> String {
+pub(super) fn glare_page(sheet: &Datasheet, pages: usize) -> Svg {
     let mut svg = Svg::new();
     header(&mut svg, sheet, 3, pages);
     let mut y = 88.0;
@@ -176,5 +176,5 @@ pub(super) fn glare_page(sheet: &Datasheet, pages: usize) -> String {
             }
         }
     }
-    svg.page()
+    svg
 }

@@ -3,7 +3,8 @@
 
 use crate::Datasheet;
 use crate::svg::{
-    ACCENT, Anchor, INK, MUTED, PAGE_HEIGHT_PT, PAGE_WIDTH_PT, RULE, Svg, fitted, wrapped,
+    ACCENT, Anchor, INK, MUTED, PAGE_HEIGHT_PT, PAGE_WIDTH_PT, RULE, Rgb, SHADE, Svg, fitted,
+    wrapped,
 };
 
 pub(super) const MARGIN: f64 = 40.0;
@@ -112,7 +113,7 @@ pub(super) fn paragraph(
     mut y: f64,
     w: f64,
     size: f64,
-    fill: &str,
+    fill: Rgb,
     text: &str,
 ) -> f64 {
     for line in wrapped(text, size, w) {
@@ -155,7 +156,7 @@ pub(super) fn table(
     let total: f64 = widths.iter().sum();
     for (r, row) in rows.iter().enumerate() {
         if r >= header && (r - header) % 2 == 1 {
-            svg.rect(x, y - size - 1.5, total, size * 1.45, "#f4f6f8", "#f4f6f8");
+            svg.rect(x, y - size - 1.5, total, size * 1.45, SHADE, SHADE);
         }
         let mut cx = x;
         for (c, cell) in row.iter().enumerate() {

@@ -13,9 +13,10 @@ mod photometric_data;
 use base64::Engine as _;
 
 use crate::Datasheet;
+use crate::svg::Svg;
 
-/// The sheet's pages as standalone SVG documents.
-pub fn pages(sheet: &Datasheet) -> Vec<String> {
+/// The sheet's pages, drawn (`Svg::page` gives each as an SVG document).
+pub fn pages(sheet: &Datasheet) -> Vec<Svg> {
     let n = 3;
     vec![
         photometric_data::photometric_data_page(sheet, n),

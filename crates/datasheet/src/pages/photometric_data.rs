@@ -8,7 +8,7 @@ use crate::luminaire::describe_dimensions;
 use crate::svg::{MUTED, Svg};
 
 /// The page of data: luminaire, polar diagram, figures, zonal lumens.
-pub(super) fn photometric_data_page(sheet: &Datasheet, pages: usize) -> String {
+pub(super) fn photometric_data_page(sheet: &Datasheet, pages: usize) -> Svg {
     let mut svg = Svg::new();
     header(&mut svg, sheet, 1, pages);
     let l = &sheet.luminaire;
@@ -221,5 +221,5 @@ pub(super) fn photometric_data_page(sheet: &Datasheet, pages: usize) -> String {
             y = paragraph(&mut svg, MARGIN, y, CONTENT_W, 7.5, MUTED, note) + 2.0;
         }
     }
-    svg.page()
+    svg
 }
