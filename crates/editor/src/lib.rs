@@ -155,11 +155,11 @@ pub fn run(options: RunOptions) -> Result<(), RunEditorError> {
         ..eframe::NativeOptions::default()
     };
     tracer_threads_at_low_priority();
-    let settings = lucerna_simulation::SimulationSettings {
-        resolution: 64,
-        ..lucerna_simulation::SimulationSettings::default()
-    };
-    let mut state = EditorState::with_paths(options.scene, settings, EditorPaths::user());
+    let mut state = EditorState::with_paths(
+        options.scene,
+        live_run::editor_settings(),
+        EditorPaths::user(),
+    );
     state.view = options.view;
     let benchmark = options.benchmark;
     eframe::run_native(

@@ -411,7 +411,8 @@ fn a_drag_is_one_undo_step() {
 /// on the released value at the chosen resolution.
 #[test]
 fn a_drag_previews_live_and_ends_on_the_released_value() {
-    let mut h = editor(Some(example()));
+    // Chosen finer than the preview, so that the drag switches to it.
+    let mut h = editor_at(Some(example()), 128);
     wait_for(&mut h, "the first run", |s| {
         s.generation == 0 && s.photons > 0
     });
@@ -456,7 +457,7 @@ fn a_drag_previews_live_and_ends_on_the_released_value() {
     h.step();
     let released = h.state().state.scene().cloned().expect("a scene");
     let last = wait_for(&mut h, "the released value at full resolution", |s| {
-        s.map.layout.resolution == 64 && s.luminaire.scene == released && s.photons > 0
+        s.map.layout.resolution == 128 && s.luminaire.scene == released && s.photons > 0
     });
     assert!(last.generation > *during.last().unwrap());
     assert!(!h.state().state.is_coarse_preview());

@@ -618,8 +618,8 @@ fn backend_and_bounce_limit_reach_the_simulation() {
 
 #[test]
 fn a_drag_previews_at_a_coarse_resolution_then_returns_to_the_chosen_one() {
-    let mut h = editor_with(settings(64, Some(PHOTONS)));
-    wait_for(&mut h, "the first run", |s| s.map.layout.resolution == 64);
+    let mut h = editor_with(settings(128, Some(PHOTONS)));
+    wait_for(&mut h, "the first run", |s| s.map.layout.resolution == 128);
     click(&mut h, "Part reflector (paraboloid)");
     let start = h.get_by_label("Focal length").rect().center();
     h.event(Event::PointerMoved(start));
@@ -633,21 +633,21 @@ fn a_drag_previews_at_a_coarse_resolution_then_returns_to_the_chosen_one() {
         h.step();
     }
     assert!(state(&h).is_coarse_preview());
-    assert_eq!(state(&h).settings().resolution, 64);
+    assert_eq!(state(&h).settings().resolution, 128);
     let sim = state(&h).simulation().unwrap();
-    assert_eq!(sim.settings().resolution, 32);
+    assert_eq!(sim.settings().resolution, 64);
     let g = sim.generation();
     // The pointer is still down: the preview is coarse.
     let during = wait_for(&mut h, "a preview snapshot", |s| s.generation == g);
-    assert_eq!(during.map.layout.resolution, 32);
+    assert_eq!(during.map.layout.resolution, 64);
     h.event(button(pos, PointerButton::Primary, false));
     steps(&mut h, 2);
     assert!(!state(&h).is_coarse_preview());
     let sim = state(&h).simulation().unwrap();
-    assert_eq!(sim.settings().resolution, 64);
+    assert_eq!(sim.settings().resolution, 128);
     let g = sim.generation();
     let after = wait_for(&mut h, "the snapshot after the drag", |s| s.generation == g);
-    assert_eq!(after.map.layout.resolution, 64);
+    assert_eq!(after.map.layout.resolution, 128);
     // The scene of the drag is what runs at the chosen resolution.
     let f = match &state(&h).scene().unwrap().parts[0].shape {
         Shape::Paraboloid(p) => p.focal_length,

@@ -572,6 +572,25 @@ impl CellFlux {
         &self.c_planes_deg
     }
 
+    /// The cells pooled over C: every C-plane of a γ band takes the mean
+    /// of the band's whole ring (its flux and solid angle shared out
+    /// evenly), so each plane carries all the ring's photons and the
+    /// square texels leave no pattern around C. Exact for a luminaire
+    /// whose light is the same in every C-plane; the ring's flux is kept.
+    pub(crate) fn pooled_over_c(mut self) -> CellFlux {
+        let planes = self.c_planes_deg.len();
+        let bands = self.band_edges_deg.len() - 1;
+        for band in 0..bands {
+            let ring = |v: &[f64]| (0..planes).map(|i| v[i * bands + band]).sum::<f64>();
+            let (flux, omega) = (ring(&self.flux_lm), ring(&self.solid_angle_sr));
+            for i in 0..planes {
+                self.flux_lm[i * bands + band] = flux / planes as f64;
+                self.solid_angle_sr[i * bands + band] = omega / planes as f64;
+            }
+        }
+        self
+    }
+
     /// The cells of `c_planes_deg` × the bands between `band_edges_deg`
     /// of a map, in one streaming pass without stored shares (maps too
     /// fine for a [`CellBinning`]).

@@ -24,6 +24,19 @@ pub enum GammaGrid {
     Automatic(FidelityTargets),
 }
 
+/// Whether a table's C-planes share their photons.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum CPooling {
+    /// Each cell from its own texels: any luminaire.
+    #[default]
+    Separate,
+    /// Every C-plane the mean of its γ band's whole ring, for a luminaire
+    /// whose light is the same in every C-plane (the scene's
+    /// `rotationally_symmetric`): all of a ring's photons behind each
+    /// value, and no square-texel pattern in the isocandela lines.
+    Rotational,
+}
+
 /// A table and how faithfully it carries its map.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ResampledTable {
@@ -55,6 +68,7 @@ impl TableResampler {
         c_planes_deg: &[f64],
         gammas: GammaGrid,
         noise: Option<PhotonNoise>,
+        pooling: CPooling,
     ) -> ResampledTable {
         let (edges, targets) = match gammas {
             GammaGrid::Step(step, targets) => (
@@ -75,6 +89,10 @@ impl TableResampler {
         let cells = match &self.binning {
             Some(b) if layout.resolution <= MAX_STORED_RESOLUTION => b.integrate(candela_per_texel),
             _ => CellFlux::streamed(layout, candela_per_texel, c_planes_deg, &edges),
+        };
+        let cells = match pooling {
+            CPooling::Separate => cells,
+            CPooling::Rotational => cells.pooled_over_c(),
         };
         let (table, fidelity) = match gammas {
             GammaGrid::Step(step, _) => {

@@ -13,7 +13,7 @@ use lucerna_photometry::cubemap::CubeFace;
 use lucerna_photometry::fidelity::{CONE_HALF_ANGLES_DEG, FidelityTargets};
 use lucerna_photometry::gamma_grid::{LATTICE_STEP_DEG, PhotonNoise};
 use lucerna_photometry::table::{angles, uniform_c_planes};
-use lucerna_photometry::tabulate::{GammaGrid, MAX_AUTOMATIC_GAMMAS, TableResampler};
+use lucerna_photometry::tabulate::{CPooling, GammaGrid, MAX_AUTOMATIC_GAMMAS, TableResampler};
 
 const PEAK_CD: f64 = 1e5;
 const FLOOR_CD: f64 = 1.0;
@@ -81,7 +81,14 @@ fn a_4_degree_beam_is_carried_within_the_targets_of_its_truth() {
     let c_planes = uniform_c_planes(5.0);
     let mut resampler = TableResampler::new();
     let targets = FidelityTargets::default();
-    let auto = resampler.table(layout, &map, &c_planes, GammaGrid::Automatic(targets), None);
+    let auto = resampler.table(
+        layout,
+        &map,
+        &c_planes,
+        GammaGrid::Automatic(targets),
+        None,
+        CPooling::Separate,
+    );
     let f = &auto.fidelity;
     eprintln!("{}", f.summary());
     assert!(f.holds(), "{:?}", f.shortfalls());
@@ -142,6 +149,7 @@ fn a_4_degree_beam_is_carried_within_the_targets_of_its_truth() {
         &c_planes,
         GammaGrid::Step(1.25, targets),
         None,
+        CPooling::Separate,
     );
     let exact = exact_cone_flux(beam, 2.0);
     let coarse_cone = coarse.table.flux_between_lm(0.0, 2.0);
@@ -162,6 +170,7 @@ fn a_fixed_grid_that_loses_the_beam_is_warned_about_with_the_numbers() {
         &c_planes,
         GammaGrid::Step(5.0, FidelityTargets::default()),
         None,
+        CPooling::Separate,
     );
     let shortfalls = table.fidelity.shortfalls();
     eprintln!("{shortfalls:#?}");
@@ -192,6 +201,7 @@ fn a_1_degree_beam_gets_the_finest_grid_and_keeps_its_angles() {
         &uniform_c_planes(5.0),
         GammaGrid::Automatic(FidelityTargets::default()),
         None,
+        CPooling::Separate,
     );
     let f = &auto.fidelity;
     eprintln!("{}\n{:#?}", f.summary(), f.shortfalls());
@@ -278,8 +288,16 @@ fn a_noisy_beam_gets_no_finer_a_grid_than_its_photons_justify() {
         lm_per_photon,
         pooled_images: 1.0,
     };
-    let told = TableResampler::new().table(layout, &map, &c_planes, grid, Some(noise));
-    let blind = TableResampler::new().table(layout, &map, &c_planes, grid, None);
+    let told = TableResampler::new().table(
+        layout,
+        &map,
+        &c_planes,
+        grid,
+        Some(noise),
+        CPooling::Separate,
+    );
+    let blind =
+        TableResampler::new().table(layout, &map, &c_planes, grid, None, CPooling::Separate);
     let (n_told, n_blind) = (told.table.gammas_deg.len(), blind.table.gammas_deg.len());
     eprintln!(
         "told the noise: {}\nblind: {}",

@@ -9,7 +9,7 @@ use lucerna_photometry::resample::{
     CellBinning, gamma_cell_edges, histopolated, table_from_cube_map,
 };
 use lucerna_photometry::table::{angles, uniform_c_planes, uniform_gammas};
-use lucerna_photometry::tabulate::{GammaGrid, TableResampler};
+use lucerna_photometry::tabulate::{CPooling, GammaGrid, TableResampler};
 use lucerna_photometry::{CandelaTable, CubeMapLayout};
 
 /// The cell integral by brute force (the definition).
@@ -162,7 +162,7 @@ fn the_automatic_grid_refines_until_the_beam_holds() {
     assert!((coarse.flux_lm() / flux - 1.0).abs() > 0.005);
     let mut resampler = TableResampler::new();
     let grid = GammaGrid::Automatic(FidelityTargets::default());
-    let table = resampler.table(layout, &candela, &c_planes, grid, None);
+    let table = resampler.table(layout, &candela, &c_planes, grid, None, CPooling::Separate);
     eprintln!("{}", table.fidelity.summary());
     // A beam 3.5 texels wide: its tent reconstruction near the pole keeps
     // the flux to 0.2 % (the targets hold from about 6 texels up).
@@ -179,6 +179,66 @@ fn the_automatic_grid_refines_until_the_beam_holds() {
         "{g:?}"
     );
     // A second map of the same layout reuses the binning: same answer.
-    let again = resampler.table(layout, &candela, &c_planes, grid, None);
+    let again = resampler.table(layout, &candela, &c_planes, grid, None, CPooling::Separate);
     assert_eq!(again, table);
+}
+
+#[test]
+fn a_round_beam_pooled_over_c_has_no_square_pattern() {
+    // A 3.6° beam on 64² faces, whose texels near the pole span 1.4°: each
+    // C-plane's own texels put its 10 % edge at a different γ, with the
+    // square texels' 90° period; pooled over C every plane carries the
+    // ring's mean, so the edge is the same all round, and the flux stays.
+    let layout = CubeMapLayout::new(64);
+    let sigma_deg = 3.6 / (2.0 * (2.0 * 2f64.ln()).sqrt());
+    let candela: Vec<f64> = (0..layout.texel_count())
+        .map(|t| {
+            let (_, g) = angles(layout.texel_centre_direction(t));
+            1.7e5 * (-0.5 * (g.to_degrees() / sigma_deg).powi(2)).exp()
+        })
+        .collect();
+    let c_planes = uniform_c_planes(5.0);
+    let grid = GammaGrid::Step(0.25, FidelityTargets::default());
+    let mut resampler = TableResampler::new();
+    let separate = resampler.table(layout, &candela, &c_planes, grid, None, CPooling::Separate);
+    let pooled = resampler.table(
+        layout,
+        &candela,
+        &c_planes,
+        grid,
+        None,
+        CPooling::Rotational,
+    );
+    let field = |t: &CandelaTable| -> Vec<f64> {
+        (0..36)
+            .map(|k| {
+                lucerna_photometry::figures::spread_angle(t, 5.0 * k as f64, 0.1).expect("edge")
+            })
+            .collect()
+    };
+    let swing = |v: &[f64]| {
+        v.iter().copied().fold(f64::MIN, f64::max) - v.iter().copied().fold(f64::MAX, f64::min)
+    };
+    let (separate_field, pooled_field) = (field(&separate.table), field(&pooled.table));
+    // The pattern pooling removes is there to remove.
+    assert!(swing(&separate_field) > 0.2, "{separate_field:?}");
+    assert!(swing(&pooled_field) < 1e-9, "{pooled_field:?}");
+    // Among the planes' own edges, and as near the true field angle
+    // (2 σ √(2 ln 10)) as the 1.4° texels resolve it.
+    let lowest = separate_field.iter().copied().fold(f64::MAX, f64::min);
+    let highest = separate_field.iter().copied().fold(f64::MIN, f64::max);
+    assert!(
+        (lowest..=highest).contains(&pooled_field[0]),
+        "{pooled_field:?} {separate_field:?}"
+    );
+    let truth = 2.0 * sigma_deg * (2.0 * 10f64.ln()).sqrt();
+    assert!(
+        (pooled_field[0] - truth).abs() < 0.5,
+        "{} vs {truth}",
+        pooled_field[0]
+    );
+    // Each ring keeps its flux; the tables' own integrals (between their
+    // angles) differ by how the planes' values were spread.
+    let (a, b) = (separate.table.flux_lm(), pooled.table.flux_lm());
+    assert!((a / b - 1.0).abs() < 1e-3, "{a} lm vs {b} lm");
 }

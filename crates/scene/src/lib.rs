@@ -5,6 +5,7 @@
 //! Units: metres, lumens, degrees at the file boundary. Luminaire
 //! coordinates are right-handed with z up; the photometric axis points down.
 
+pub mod axial;
 pub mod check;
 pub mod exact;
 pub mod file;

@@ -426,6 +426,7 @@ impl ExportRequest {
             &candela,
             symmetry.order(),
             self.grid,
+            snapshot.luminaire.c_pooling(),
         );
         Ok((candela, Arc::new(resampled.table), resampled.fidelity))
     }

@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 use lucerna_photometry::Dimensions;
+use lucerna_photometry::tabulate::CPooling;
 use lucerna_scene::{Scene, TessellatedScene, load_scene, tessellate};
 use lucerna_tracer::bvh::BvhQuality;
 use lucerna_tracer::{LuminaireSymmetry, PreparedScene, prepared_luminaire_symmetry};
@@ -40,6 +41,17 @@ impl Luminaire {
         };
         luminaire.find_symmetry();
         Ok(luminaire)
+    }
+
+    /// How its tables pool C-planes: over the whole ring when the scene
+    /// is round about its axis (read from the parameters, so also during
+    /// a drag), else not at all.
+    pub fn c_pooling(&self) -> CPooling {
+        if self.scene.rotationally_symmetric() {
+            CPooling::Rotational
+        } else {
+            CPooling::Separate
+        }
     }
 
     /// Prepares an edited scene as fast as it can be traced: its BVH at

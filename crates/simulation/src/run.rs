@@ -9,7 +9,7 @@ use lucerna_photometry::fidelity::FidelityTargets;
 use lucerna_photometry::figures::ZONES_DEG;
 use lucerna_photometry::gamma_grid::PhotonNoise;
 use lucerna_photometry::table::uniform_c_planes;
-use lucerna_photometry::tabulate::{GammaGrid, ResampledTable, TableResampler};
+use lucerna_photometry::tabulate::{CPooling, GammaGrid, ResampledTable, TableResampler};
 use lucerna_photometry::{AxialSymmetry, CubeMapLayout, IntensityMap, TexelSymmetry, figures};
 use lucerna_tracer::gpu::GpuTracer;
 use lucerna_tracer::session::{
@@ -244,13 +244,25 @@ impl Run {
             &candela,
             self.symmetry.order(),
             grid,
+            self.luminaire.c_pooling(),
         );
         let table = Arc::new(table);
         // The unfiltered table beside the exported one, so views can show
         // both.
         let raw_table = if filter.is_some() {
             let raw = map.symmetrised(&self.symmetry).candela();
-            Arc::new(tabulate(&mut self.resampler, &map, &raw, self.symmetry.order(), grid).table)
+            let pooling = self.luminaire.c_pooling();
+            Arc::new(
+                tabulate(
+                    &mut self.resampler,
+                    &map,
+                    &raw,
+                    self.symmetry.order(),
+                    grid,
+                    pooling,
+                )
+                .table,
+            )
         } else {
             table.clone()
         };
@@ -344,7 +356,8 @@ pub(crate) fn exported_candela(
     }
 }
 
-/// The candela table of `candela` (per texel of `map`) on `grid`, and
+/// The candela table of `candela` (per texel of `map`) on `grid`, its
+/// C-planes pooled as `pooling` says, and
 /// how faithfully it carries the map: the automatic γ grid is the coarsest
 /// that holds the map's flux, cone fluxes, beam and field angles and peak
 /// within [`FidelityTargets`]. A run's snapshots and an export on another
@@ -355,6 +368,7 @@ pub(crate) fn tabulate(
     candela: &[f64],
     pooled_images: usize,
     grid: TableGrid,
+    pooling: CPooling,
 ) -> ResampledTable {
     let targets = FidelityTargets::default();
     let gammas = match grid.gamma_step_deg {
@@ -373,6 +387,7 @@ pub(crate) fn tabulate(
         &uniform_c_planes(grid.c_step_deg),
         gammas,
         noise,
+        pooling,
     )
 }
 
@@ -392,6 +407,7 @@ pub fn prepare_snapshots(settings: &SimulationSettings) {
         &candela,
         1,
         settings.table,
+        CPooling::Separate,
     );
 }
 

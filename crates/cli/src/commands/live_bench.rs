@@ -13,7 +13,7 @@ use lucerna_filter::Threshold;
 use lucerna_photometry::fidelity::FidelityTargets;
 use lucerna_photometry::gamma_grid::PhotonNoise;
 use lucerna_photometry::table::uniform_c_planes;
-use lucerna_photometry::tabulate::{GammaGrid, TableResampler};
+use lucerna_photometry::tabulate::{CPooling, GammaGrid, TableResampler};
 use lucerna_photometry::{AxialSymmetry, TexelSymmetry, figures};
 use lucerna_simulation::{
     BackendRequest, LiveFilter, Luminaire, Run, SimulationSettings, StoppingRule,
@@ -108,6 +108,7 @@ pub fn live_bench(args: &LiveBenchArgs) -> Result<()> {
                         lm_per_photon: map.flux_per_photon_lm(),
                         pooled_images: symmetry.order() as f64,
                     }),
+                    CPooling::Separate,
                 )
                 .table;
             let fig = figures(&table, Some(map.emitter_flux_lm));
