@@ -321,7 +321,7 @@ fn dialog_ui(ui: &mut Ui, state: &mut EditorState, dialog: &mut ExportDialog) {
     });
     let detected = state
         .snapshot()
-        .map(|s| s.symmetry.file_symmetry().describe());
+        .map(|s| s.pooled_file_symmetry().describe());
     labelled(ui, "Symmetry", |ui| {
         egui::ComboBox::from_id_salt("export symmetry")
             .selected_text(dialog.declared.name())

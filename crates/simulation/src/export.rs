@@ -166,7 +166,7 @@ fn photometry_of(snapshot: &Snapshot, table: &CandelaTable, options: &ExportOpti
     };
     let declared = options
         .symmetrise
-        .or(Some(snapshot.symmetry.file_symmetry()).filter(|&s| s != CPlaneSymmetry::None));
+        .or(Some(snapshot.pooled_file_symmetry()).filter(|&s| s != CPlaneSymmetry::None));
     let (table, symmetry) = match declared {
         Some(s) => (table.symmetrised(s), s),
         None => (table.clone(), CPlaneSymmetry::None),
@@ -426,7 +426,9 @@ impl ExportRequest {
             &candela,
             symmetry.order(),
             self.grid,
-            snapshot.luminaire.c_pooling(),
+            snapshot
+                .luminaire
+                .c_pooling(snapshot.settings.pool_symmetry),
         );
         Ok((candela, Arc::new(resampled.table), resampled.fidelity))
     }

@@ -45,9 +45,9 @@ impl Luminaire {
 
     /// How its tables pool C-planes: over the whole ring when the scene
     /// is round about its axis (read from the parameters, so also during
-    /// a drag), else not at all.
-    pub fn c_pooling(&self) -> CPooling {
-        if self.scene.rotationally_symmetric() {
+    /// a drag) and the settings pool symmetric photons, else not at all.
+    pub fn c_pooling(&self, pool_symmetry: bool) -> CPooling {
+        if pool_symmetry && self.scene.rotationally_symmetric() {
             CPooling::Rotational
         } else {
             CPooling::Separate

@@ -244,14 +244,14 @@ impl Run {
             &candela,
             self.symmetry.order(),
             grid,
-            self.luminaire.c_pooling(),
+            self.luminaire.c_pooling(self.settings.pool_symmetry),
         );
         let table = Arc::new(table);
         // The unfiltered table beside the exported one, so views can show
         // both.
         let raw_table = if filter.is_some() {
             let raw = map.symmetrised(&self.symmetry).candela();
-            let pooling = self.luminaire.c_pooling();
+            let pooling = self.luminaire.c_pooling(self.settings.pool_symmetry);
             Arc::new(
                 tabulate(
                     &mut self.resampler,

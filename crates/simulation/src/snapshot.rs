@@ -3,7 +3,10 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use lucerna_photometry::{AxialSymmetry, CandelaTable, Figures, IntensityMap, TexelSymmetry};
+use lucerna_photometry::tabulate::CPooling;
+use lucerna_photometry::{
+    AxialSymmetry, CPlaneSymmetry, CandelaTable, Figures, IntensityMap, TexelSymmetry,
+};
 
 use crate::Luminaire;
 
@@ -206,6 +209,18 @@ pub struct Snapshot {
     /// The settings of the run (its filter and table grid decide whether
     /// an export can reuse `table`).
     pub settings: crate::SimulationSettings,
+}
+
+impl Snapshot {
+    /// The C-plane symmetry its photons were pooled over, as files
+    /// declare it: rotational for a round luminaire (its table pooled over
+    /// C), else the axial symmetry found in its geometry.
+    pub fn pooled_file_symmetry(&self) -> CPlaneSymmetry {
+        match self.luminaire.c_pooling(self.settings.pool_symmetry) {
+            CPooling::Rotational => CPlaneSymmetry::Rotational,
+            CPooling::Separate => self.symmetry.file_symmetry(),
+        }
+    }
 }
 
 /// The warnings a map deserves once it holds photons.

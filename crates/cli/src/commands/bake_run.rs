@@ -9,6 +9,7 @@ use std::time::Duration;
 
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
+use lucerna_photometry::tabulate::CPooling;
 use lucerna_simulation::{
     BakeJob, Luminaire, Pace, RunState, Simulation, SimulationSettings, Snapshot, StopReason,
 };
@@ -73,6 +74,11 @@ pub fn describe_symmetry(luminaire: &Luminaire, settings: &SimulationSettings) {
         eprintln!(
             "symmetry: {symmetry}: each photon counted in its {} images",
             symmetry.order()
+        );
+    }
+    if luminaire.c_pooling(settings.pool_symmetry) == CPooling::Rotational {
+        eprintln!(
+            "symmetry: round about its axis (surfaces of revolution, a round Lambertian source): its table pooled over C, files declare it rotational"
         );
     }
 }
