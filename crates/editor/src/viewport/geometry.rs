@@ -1,10 +1,12 @@
 //! What the viewport draws, as vertex data: the luminaire's surfaces with
-//! a look per material, the intensity cube, photon paths and axes. Pure
+//! a look per material, the intensity cube, the photometric solid, photon
+//! paths and axes. Pure
 //! data, so it is tested without a GPU.
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
-use lucerna_photometry::{CubeFace, CubeMapLayout};
+use lucerna_photometry::table::direction;
+use lucerna_photometry::{CandelaTable, CubeFace, CubeMapLayout};
 use lucerna_scene::{Material, SurfaceKind, TessellatedScene};
 use lucerna_tracer::{Fate, PhotonPath};
 
@@ -218,6 +220,77 @@ pub fn cube_texels(layout: CubeMapLayout, candela: &[f64], peak: f64) -> Vec<u8>
     texels
 }
 
+/// The surface id the photometric solid's vertices carry: no part's, and
+/// not the "nothing selected" one, so it is never tinted as selected.
+pub const SOLID_SURFACE: u32 = u32::MAX - 1;
+/// C-planes of the photometric solid: a ring every 5°, whatever the
+/// table's own (a round luminaire's table has one).
+const SOLID_C_STEP_DEG: f64 = 5.0;
+
+/// The photometric solid of `table`: each direction (C, γ) at a distance
+/// from `origin` proportional to its intensity, `radius` (m) at the
+/// peak, coloured by the cube's log false colour. C every 5°, γ at the
+/// table's own angles (fine where the beam is narrow); smooth normals
+/// from the grid's neighbours. Empty for a table without light.
+pub fn photometric_solid(table: &CandelaTable, origin: Vec3, radius: f32) -> Vec<MeshVertex> {
+    let peak = table.peak().0;
+    let gammas = &table.gammas_deg;
+    if !(peak > 0.0) || gammas.len() < 2 {
+        return Vec::new();
+    }
+    let rings = (360.0 / SOLID_C_STEP_DEG) as usize;
+    let ng = gammas.len();
+    // Points ring by ring (C), γ along each; ring `rings` closes the seam.
+    let mut points = Vec::with_capacity((rings + 1) * ng);
+    let mut candela = Vec::with_capacity((rings + 1) * ng);
+    for k in 0..=rings {
+        let c = (k % rings) as f64 * SOLID_C_STEP_DEG;
+        for &g in gammas {
+            let v = table.intensity(c, g).max(0.0);
+            let d = direction(c.to_radians(), g.to_radians());
+            let r = radius * (v / peak) as f32;
+            points.push(origin + r * Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32));
+            candela.push(v);
+        }
+    }
+    let at = |k: usize, j: usize| (k % rings) * ng + j;
+    let normal = |k: usize, j: usize| -> Vec3 {
+        let across = points[at(k + 1, j)] - points[at(k + rings - 1, j)];
+        let along = points[at(k, (j + 1).min(ng - 1))] - points[at(k, j.saturating_sub(1))];
+        let n = across.cross(along);
+        if n.length_squared() > 0.0 {
+            n.normalize()
+        } else {
+            // On the axis or where no light goes: the direction itself.
+            (points[at(k, j)] - origin).normalize_or(Vec3::NEG_Z)
+        }
+    };
+    let vertex = |k: usize, j: usize| MeshVertex {
+        position: points[at(k, j)].to_array(),
+        normal: normal(k, j).to_array(),
+        colour: linear(if candela[at(k, j)] > 0.0 {
+            intensity_colour(candela[at(k, j)], peak)
+        } else {
+            NO_LIGHT
+        }),
+        look: LOOK_DIFFUSE,
+        surface: SOLID_SURFACE,
+    };
+    let mut vertices = Vec::with_capacity(rings * (ng - 1) * 6);
+    for k in 0..rings {
+        for j in 0..ng - 1 {
+            let (a, b, c, d) = (
+                vertex(k, j),
+                vertex(k + 1, j),
+                vertex(k, j + 1),
+                vertex(k + 1, j + 1),
+            );
+            vertices.extend([a, b, d, a, d, c]);
+        }
+    }
+    vertices
+}
+
 /// A path's colour by the bounces it took: direct light yellow, then
 /// green, cyan, magenta, red for four and more: a stray reflection
 /// stands out by its colour.
@@ -331,6 +404,69 @@ pub fn axis_lines(length: f32) -> Vec<LineVertex> {
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
+
+    /// A Lambertian emitter facing down: I = I₀ cos γ, none upwards.
+    fn lambertian(c_planes_deg: Vec<f64>) -> CandelaTable {
+        let gammas_deg: Vec<f64> = (0..=36).map(|k| 5.0 * k as f64).collect();
+        let candela = c_planes_deg
+            .iter()
+            .flat_map(|_| {
+                gammas_deg
+                    .iter()
+                    .map(|g: &f64| 100.0 * g.to_radians().cos().max(0.0))
+            })
+            .collect();
+        CandelaTable {
+            c_planes_deg,
+            gammas_deg,
+            candela,
+        }
+    }
+
+    #[test]
+    fn a_lambertian_solid_is_the_sphere_through_its_origin() {
+        // r = R cos γ along each direction: a sphere of diameter R below
+        // the origin, touching it.
+        let (origin, radius) = (Vec3::new(0.01, -0.02, 0.03), 0.2);
+        let centre = origin - Vec3::Z * (0.5 * radius);
+        let solid = photometric_solid(&lambertian(vec![0.0]), origin, radius);
+        assert_eq!(solid.len(), 72 * 36 * 6);
+        let mut deepest = 0.0f32;
+        for v in &solid {
+            let p = Vec3::from(v.position);
+            assert!(
+                ((p - centre).length() - 0.5 * radius).abs() < 1e-5,
+                "{p} is off the sphere"
+            );
+            deepest = deepest.max(origin.z - p.z);
+            assert_eq!(v.surface, SOLID_SURFACE);
+            // Away from the origin the normal is the sphere's.
+            if (p - origin).length() > 0.1 * radius {
+                let along = Vec3::from(v.normal).dot((p - centre).normalize()).abs();
+                assert!(along > 0.99, "normal {:?} at {p}", v.normal);
+            }
+        }
+        // The peak straight down, `radius` away.
+        assert!((deepest - radius).abs() < 1e-6, "{deepest}");
+    }
+
+    #[test]
+    fn a_one_plane_table_gives_the_solid_of_its_plane_all_round() {
+        let planes: Vec<f64> = (0..72).map(|k| 5.0 * k as f64).collect();
+        let one = photometric_solid(&lambertian(vec![0.0]), Vec3::ZERO, 1.0);
+        let all = photometric_solid(&lambertian(planes), Vec3::ZERO, 1.0);
+        assert_eq!(one.len(), all.len());
+        for (a, b) in one.iter().zip(&all) {
+            assert!((Vec3::from(a.position) - Vec3::from(b.position)).length() < 1e-6);
+            assert_eq!(a.colour, b.colour);
+        }
+        // No light, no solid.
+        let dark = CandelaTable {
+            candela: vec![0.0; 37],
+            ..lambertian(vec![0.0])
+        };
+        assert!(photometric_solid(&dark, Vec3::ZERO, 1.0).is_empty());
+    }
 
     #[test]
     fn cube_texels_sit_where_their_directions_point() {

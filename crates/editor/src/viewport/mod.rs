@@ -25,7 +25,7 @@ use crate::state::{Command, EditorState, Selection};
 use geometry::{LineVertex, MeshVertex, axis_lines, bounce_colour, cube_edges, path_lines};
 use render::{CubeTexels, Uniforms, ViewportFrame, paint_callback};
 
-/// What the cube around the luminaire shows.
+/// What is drawn around the luminaire to show its light.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum CubeShown {
     Off,
@@ -34,6 +34,9 @@ pub enum CubeShown {
     Exported,
     /// The photon counts as traced, before pooling and filtering.
     Raw,
+    /// The exported table as a surface: each direction as far out as it
+    /// is bright, as optics and lighting tools show a distribution.
+    Solid,
 }
 
 impl CubeShown {
@@ -42,7 +45,13 @@ impl CubeShown {
             CubeShown::Off => "No cube",
             CubeShown::Exported => "Cube: exported map",
             CubeShown::Raw => "Cube: raw counts",
+            CubeShown::Solid => "Photometric solid",
         }
+    }
+
+    /// Whether a cube of texels is drawn.
+    fn is_cube(self) -> bool {
+        matches!(self, CubeShown::Exported | CubeShown::Raw)
     }
 }
 
@@ -74,6 +83,8 @@ pub struct Viewport {
     framed: Option<Arc<Luminaire>>,
     mesh: Option<(Arc<Luminaire>, Arc<Vec<MeshVertex>>, Bounds)>,
     cube_texels: Option<(Arc<Snapshot>, CubeShown, CubeTexels, f64)>,
+    /// The photometric solid of a snapshot at a radius, and its peak.
+    solid: Option<(Arc<Snapshot>, f32, Arc<Vec<MeshVertex>>, f64)>,
     /// Keyed by the luminaire and the seed and bounce limit they were
     /// traced with, so they stay the run's photons when those change.
     paths: Option<SampledPaths>,
@@ -136,7 +147,7 @@ impl Viewport {
     /// The cube's texels and the peak they are scaled to, rebuilt per
     /// snapshot.
     fn cube_of(&mut self, snapshot: &Arc<Snapshot>) -> Option<(CubeTexels, f64)> {
-        if self.cube == CubeShown::Off {
+        if !self.cube.is_cube() {
             return None;
         }
         if let Some((s, shown, texels, peak)) = &self.cube_texels
@@ -161,6 +172,33 @@ impl Viewport {
         };
         self.cube_texels = Some((snapshot.clone(), self.cube, texels.clone(), peak));
         Some((texels, peak))
+    }
+
+    /// The photometric solid of the snapshot's table, `radius` (m) at its
+    /// peak, about the luminaire's origin, and the peak; rebuilt per
+    /// snapshot.
+    fn solid_of(
+        &mut self,
+        snapshot: &Arc<Snapshot>,
+        radius: f32,
+    ) -> Option<(Arc<Vec<MeshVertex>>, f64)> {
+        if self.cube != CubeShown::Solid {
+            return None;
+        }
+        if let Some((s, r, solid, peak)) = &self.solid
+            && Arc::ptr_eq(s, snapshot)
+            && *r == radius
+        {
+            return Some((solid.clone(), *peak));
+        }
+        let solid = Arc::new(geometry::photometric_solid(
+            &snapshot.table,
+            Vec3::ZERO,
+            radius,
+        ));
+        let peak = snapshot.table.peak().0;
+        self.solid = Some((snapshot.clone(), radius, solid.clone(), peak));
+        Some((solid, peak))
     }
 
     /// The escaped photons of the run's first iteration, traced again.
@@ -194,7 +232,7 @@ impl Viewport {
         let key = LinesKey {
             paths: paths.map(|p| Arc::as_ptr(p) as usize),
             axes: self.show_axes,
-            cube: self.cube != CubeShown::Off,
+            cube: self.cube.is_cube(),
             centre,
             reach,
         };
@@ -208,7 +246,7 @@ impl Viewport {
         } else {
             Vec::new()
         };
-        if self.cube != CubeShown::Off {
+        if self.cube.is_cube() {
             lines.extend(cube_edges(centre, reach));
         }
         if let Some(paths) = paths {
@@ -284,12 +322,20 @@ fn toolbar_ui(ui: &mut Ui, vp: &mut Viewport, bounds: Option<Bounds>) {
         egui::ComboBox::from_id_salt("cube shown")
             .selected_text(vp.cube.label())
             .show_ui(ui, |ui| {
-                for c in [CubeShown::Exported, CubeShown::Raw, CubeShown::Off] {
+                for c in [
+                    CubeShown::Exported,
+                    CubeShown::Raw,
+                    CubeShown::Solid,
+                    CubeShown::Off,
+                ] {
                     ui.selectable_value(&mut vp.cube, c, c.label());
                 }
             })
             .response
-            .on_hover_text("What the cube around the luminaire shows");
+            .on_hover_text(
+                "What shows the light around the luminaire: the intensity cube, or the \
+                 photometric solid (each direction as far out as it is bright)",
+            );
         ui.checkbox(&mut vp.show_paths, "Photon paths");
         ui.checkbox(&mut vp.show_axes, "Axes");
     });
@@ -334,10 +380,11 @@ pub fn viewport_ui(ui: &mut Ui, state: &mut EditorState, vp: &mut Viewport) {
         vp.framed = Some(luminaire.clone());
     }
     let reach = CUBE_REACH * bounds.radius;
-    // Depth planes hold the cube's corners and the paths drawn to it.
+    // Depth planes hold the cube's corners and the paths drawn to it, and
+    // the photometric solid (`reach` at its peak from the origin).
     let depth_bounds = Bounds {
         centre: bounds.centre,
-        radius: reach * 3f32.sqrt(),
+        radius: (reach * 3f32.sqrt()).max(reach + bounds.centre.length()),
     };
     interact(
         ui,
@@ -351,6 +398,7 @@ pub fn viewport_ui(ui: &mut Ui, state: &mut EditorState, vp: &mut Viewport) {
     );
 
     let cube = vp.cube_of(&snapshot);
+    let solid = vp.solid_of(&snapshot, reach);
     let paths = vp.show_paths.then(|| {
         vp.paths_of(
             &luminaire,
@@ -382,6 +430,7 @@ pub fn viewport_ui(ui: &mut Ui, state: &mut EditorState, vp: &mut Viewport) {
                 uniforms,
                 background: linear_rgb(ui.visuals().extreme_bg_color),
                 mesh,
+                solid: solid.as_ref().map(|(s, _)| s.clone()),
                 cube: cube.as_ref().map(|(c, _)| c.clone()),
                 lines,
             };
@@ -401,7 +450,8 @@ pub fn viewport_ui(ui: &mut Ui, state: &mut EditorState, vp: &mut Viewport) {
         ui,
         rect,
         vp,
-        cube.map(|(_, peak)| peak),
+        cube.map(|(_, peak)| peak)
+            .or(solid.as_ref().map(|(_, peak)| *peak)),
         paths.as_deref(),
         bounds,
         depth_bounds,
@@ -469,13 +519,14 @@ fn overlay_ui(
     let mut y = rect.top() + 6.0;
     if let Some(peak) = peak {
         let name = match vp.cube {
-            CubeShown::Raw => "raw counts",
-            _ => "exported map",
+            CubeShown::Raw => "Cube: raw counts, log",
+            CubeShown::Solid => "Photometric solid: distance linear in cd, colour log",
+            _ => "Cube: exported map, log",
         };
         painter.text(
             egui::pos2(rect.left() + 8.0, y),
             egui::Align2::LEFT_TOP,
-            format!("Cube: {name}, log over {DECADES:.0} decades"),
+            format!("{name} over {DECADES:.0} decades"),
             font.clone(),
             text,
         );

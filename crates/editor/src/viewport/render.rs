@@ -80,6 +80,8 @@ pub struct ViewportFrame {
     /// Linear clear colour.
     pub background: [f32; 3],
     pub mesh: Arc<Vec<MeshVertex>>,
+    /// The photometric solid, drawn like the luminaire's surfaces.
+    pub solid: Option<Arc<Vec<MeshVertex>>>,
     pub cube: Option<CubeTexels>,
     pub lines: Arc<Vec<LineVertex>>,
 }
@@ -95,6 +97,7 @@ struct RenderKey {
     uniforms: Uniforms,
     background: [f32; 3],
     mesh: usize,
+    solid: Option<usize>,
     cube: Option<usize>,
     lines: usize,
 }
@@ -106,6 +109,7 @@ impl RenderKey {
             uniforms: frame.uniforms,
             background: frame.background,
             mesh: Arc::as_ptr(&frame.mesh) as usize,
+            solid: frame.solid.as_ref().map(|s| Arc::as_ptr(s) as usize),
             cube: frame.cube.as_ref().map(|c| Arc::as_ptr(&c.texels) as usize),
             lines: Arc::as_ptr(&frame.lines) as usize,
         }
@@ -148,6 +152,7 @@ struct Resources {
     cube_vertices: wgpu::Buffer,
     cube: Option<(Arc<Vec<u8>>, wgpu::BindGroup)>,
     mesh: Option<Uploaded<MeshVertex>>,
+    solid: Option<Uploaded<MeshVertex>>,
     lines: Option<Uploaded<LineVertex>>,
     targets: Option<Targets>,
     rendered: Option<RenderKey>,
@@ -478,6 +483,7 @@ impl Resources {
             cube_vertices,
             cube: None,
             mesh: None,
+            solid: None,
             lines: None,
             targets: None,
             rendered: None,
@@ -632,6 +638,10 @@ impl Resources {
         }
         upload(device, &mut self.mesh, &frame.mesh, "viewport mesh");
         upload(device, &mut self.lines, &frame.lines, "viewport lines");
+        match &frame.solid {
+            Some(solid) => upload(device, &mut self.solid, solid, "photometric solid"),
+            None => self.solid = None,
+        }
         match &frame.cube {
             Some(cube) => self.upload_cube(device, queue, cube),
             None => self.cube = None,
@@ -676,6 +686,7 @@ impl Resources {
         pass.set_bind_group(0, &self.uniform_group, &[]);
         pass.set_pipeline(&self.mesh_pipeline);
         draw(&mut pass, self.mesh.as_ref());
+        draw(&mut pass, self.solid.as_ref());
         pass.set_pipeline(&self.line_pipeline);
         draw(&mut pass, self.lines.as_ref());
         if let Some((_, group)) = &self.cube {
