@@ -64,6 +64,10 @@ const MAX_PATHS: usize = 400;
 /// The cube's half edge over the luminaire's bounding radius.
 const CUBE_REACH: f32 = 1.3;
 
+/// The photometric solid built for a snapshot at a radius (m), and the
+/// peak (cd) it is scaled to.
+type BuiltSolid = (Arc<Snapshot>, f32, Arc<Vec<MeshVertex>>, f64);
+
 /// Paths traced for a luminaire with (seed, bounce limit).
 type SampledPaths = (Arc<Luminaire>, (u32, u32), Arc<Vec<PhotonPath>>);
 
@@ -83,8 +87,7 @@ pub struct Viewport {
     framed: Option<Arc<Luminaire>>,
     mesh: Option<(Arc<Luminaire>, Arc<Vec<MeshVertex>>, Bounds)>,
     cube_texels: Option<(Arc<Snapshot>, CubeShown, CubeTexels, f64)>,
-    /// The photometric solid of a snapshot at a radius, and its peak.
-    solid: Option<(Arc<Snapshot>, f32, Arc<Vec<MeshVertex>>, f64)>,
+    solid: Option<BuiltSolid>,
     /// Keyed by the luminaire and the seed and bounce limit they were
     /// traced with, so they stay the run's photons when those change.
     paths: Option<SampledPaths>,
