@@ -166,7 +166,18 @@ pub enum SceneEdit {
         part: usize,
         index: usize,
     },
+    /// Replaces a parametric surface of revolution (paraboloid,
+    /// ellipsoid, dome, open cylinder) by a revolved part whose profile
+    /// lies within [`CONVERTED_PROFILE_TOLERANCE_M`] of it; undo restores
+    /// the parametric part.
+    ConvertToProfile {
+        part: usize,
+    },
 }
+
+/// How far a converted profile may lie from the parametric surface it
+/// replaces (m): the conversion aims at 0.02 mm, the promise is 0.05 mm.
+pub const CONVERTED_PROFILE_TOLERANCE_M: f64 = 0.02e-3;
 
 /// The plane a part's profile is drawn in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -216,7 +227,11 @@ pub fn lamps_in_profile_plane(scene: &Scene, index: usize) -> Vec<(String, [f64;
     };
     let t = &part.transform;
     let plane = match part.shape {
-        Shape::Revolved(_) => ProfilePlane::RadiusHeight,
+        Shape::Revolved(_)
+        | Shape::Paraboloid(_)
+        | Shape::Ellipsoid(_)
+        | Shape::Dome(_)
+        | Shape::Cylinder(_) => ProfilePlane::RadiusHeight,
         Shape::Extruded(_) => ProfilePlane::WidthHeight,
         _ => return Vec::new(),
     };
@@ -279,6 +294,17 @@ impl SceneEdit {
                 } else {
                     None
                 }
+            }
+            SceneEdit::ConvertToProfile { part } => {
+                let shape = &scene.parts.get(*part)?.shape;
+                lucerna_scene::shapes::editable_revolution(shape, CONVERTED_PROFILE_TOLERANCE_M)
+                    .is_none()
+                    .then(|| {
+                        format!(
+                            "This {} is not one smooth surface of revolution (faceted, capped or flat): it has no profile to edit.",
+                            shape.generator().kind()
+                        )
+                    })
             }
             SceneEdit::RemoveProfilePoint { part, .. } => {
                 let points = scene.parts.get(*part).and_then(|p| match &p.shape {
@@ -380,6 +406,16 @@ impl SceneEdit {
                     .and_then(|p| profile_mut(&mut p.shape))
                 {
                     points.insert(index.min(points.len()), plane.clamped(point_m));
+                }
+            }
+            SceneEdit::ConvertToProfile { part } => {
+                if let Some(p) = scene.parts.get_mut(part)
+                    && let Some(revolved) = lucerna_scene::shapes::editable_revolution(
+                        &p.shape,
+                        CONVERTED_PROFILE_TOLERANCE_M,
+                    )
+                {
+                    p.shape = Shape::Revolved(revolved);
                 }
             }
             SceneEdit::RemoveProfilePoint { part, index } => {

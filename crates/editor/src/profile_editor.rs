@@ -325,6 +325,15 @@ pub fn profile_editor_ui(
     });
 }
 
+/// The drawing alone, disabled: a section that its parameters set, shown
+/// with its rays but without a table or handles that would move nothing.
+pub fn section_drawing_ui(ui: &mut Ui, profile: Profile<'_>) {
+    let id = Id::unique(("section", profile.part));
+    ui.add_enabled_ui(false, |ui| {
+        drawing_ui(ui, id, profile, &[], &mut None, &mut Vec::new());
+    });
+}
+
 /// The numeric table: one row per control point, in millimetres.
 fn table_ui(
     ui: &mut Ui,

@@ -8,12 +8,15 @@ use std::sync::Arc;
 use egui::Ui;
 use glam::Vec3;
 use lucerna_scene::Shape;
+use lucerna_scene::shapes::{Revolved, editable_revolution};
 use lucerna_simulation::Luminaire;
 use lucerna_tracer::{Fate, sample_photon_paths};
 
-use crate::command::Selection;
-use crate::modelling::{lamps_in_profile_plane, profile_mut};
-use crate::profile_editor::{Profile, profile_editor_ui};
+use crate::command::{Command, Selection};
+use crate::modelling::{
+    CONVERTED_PROFILE_TOLERANCE_M, ProfilePlane, SceneEdit, lamps_in_profile_plane, profile_mut,
+};
+use crate::profile_editor::{Profile, profile_editor_ui, section_drawing_ui};
 use crate::state::EditorState;
 
 /// Photons traced for the drawing, and at most how many are drawn.
@@ -32,9 +35,20 @@ type PlanePath = Vec<[f64; 2]>;
 #[derive(Debug, Default)]
 pub struct ProfilePane {
     rays: Option<(Arc<Luminaire>, usize, Vec<PlanePath>)>,
+    /// A parametric part's section as a profile, kept per shape (finding
+    /// it samples the surface: milliseconds, not for every frame).
+    section: Option<(Shape, Option<Revolved>)>,
 }
 
 impl ProfilePane {
+    fn section_of(&mut self, shape: &Shape) -> Option<Revolved> {
+        if !self.section.as_ref().is_some_and(|(s, _)| s == shape) {
+            let section = editable_revolution(shape, CONVERTED_PROFILE_TOLERANCE_M);
+            self.section = Some((shape.clone(), section));
+        }
+        self.section.as_ref().and_then(|(_, r)| r.clone())
+    }
+
     fn rays_for(&mut self, luminaire: &Arc<Luminaire>, part: usize) -> &[PlanePath] {
         let fresh = self
             .rays
@@ -62,7 +76,8 @@ fn profile_rays(luminaire: &Luminaire, part: usize) -> Vec<PlanePath> {
         t.translate[1] as f32,
         t.translate[2] as f32,
     );
-    let revolved = matches!(p.shape, Shape::Revolved(_));
+    // Every part drawn here but an extrusion is a surface of revolution.
+    let revolved = !matches!(p.shape, Shape::Extruded(_));
     let paths = sample_photon_paths(&luminaire.prepared, 1, 64, PHOTONS_SAMPLED);
     let mut rays = Vec::new();
     for path in paths {
@@ -107,6 +122,77 @@ fn profile_rays(luminaire: &Luminaire, part: usize) -> Vec<PlanePath> {
     rays
 }
 
+/// A parametric surface of revolution's section, read-only, with the
+/// run's rays through it, and the button that makes it an editable
+/// profile; false (nothing drawn) for a part that has no such section.
+fn parametric_section_ui(
+    ui: &mut Ui,
+    state: &mut EditorState,
+    pane: &mut ProfilePane,
+    index: usize,
+) -> bool {
+    let Some(part) = state.scene().and_then(|s| s.parts.get(index)) else {
+        return false;
+    };
+    // Only the round parametric shapes (their section is cached per shape).
+    if !matches!(
+        part.shape,
+        Shape::Paraboloid(_) | Shape::Ellipsoid(_) | Shape::Dome(_) | Shape::Cylinder(_)
+    ) {
+        return false;
+    }
+    let shape = part.shape.clone();
+    let Some(mut section) = pane.section_of(&shape) else {
+        return false;
+    };
+    let Some(part) = state.scene().and_then(|s| s.parts.get(index)) else {
+        return false;
+    };
+    let (name, kind) = (part.name.clone(), part.shape.generator().kind());
+    let lamps_mm = state
+        .scene()
+        .map_or(Vec::new(), |s| lamps_in_profile_plane(s, index));
+    let rays = match state.snapshot() {
+        Some(s) if ui.input(|i| !i.pointer.any_down()) || pane.rays.is_some() => {
+            let luminaire = s.luminaire.clone();
+            pane.rays_for(&luminaire, index).to_vec()
+        }
+        _ => Vec::new(),
+    };
+    ui.strong(format!("Section of {name} ({kind})"));
+    ui.horizontal_wrapped(|ui| {
+        ui.label(format!(
+            "Read-only: its parameters set its shape, drawn through the {} points an editable profile would get. {} photons of the run drawn through it.",
+            section.profile.len(),
+            rays.len()
+        ));
+        if ui
+            .button("Convert to editable profile")
+            .on_hover_text(
+                "Replace it by a revolved part whose profile lies within 0.05 mm of it; Undo restores it",
+            )
+            .clicked()
+        {
+            state.push(Command::Edit(SceneEdit::ConvertToProfile { part: index }));
+        }
+    });
+    let drawing_height = (ui.available_height() - 230.0).clamp(300.0, 1200.0);
+    section_drawing_ui(
+        ui,
+        Profile {
+            part: index,
+            plane: ProfilePlane::RadiusHeight,
+            points_m: &mut section.profile,
+            interpolation: section.interpolation,
+            segments_per_span: section.segments_per_span,
+            lamps_mm: &lamps_mm,
+            rays_mm: &rays,
+            drawing_height,
+        },
+    );
+    true
+}
+
 pub fn profile_pane_ui(ui: &mut Ui, state: &mut EditorState, pane: &mut ProfilePane) {
     let part = match state.selection() {
         Some(Selection::Part(i)) => Some(*i),
@@ -118,8 +204,15 @@ pub fn profile_pane_ui(ui: &mut Ui, state: &mut EditorState, pane: &mut ProfileP
             .and_then(|s| s.parts.get(i))
             .is_some_and(|p| matches!(p.shape, Shape::Revolved(_) | Shape::Extruded(_)))
     };
+    if let Some(index) = part.filter(|&i| !has_profile(state, i))
+        && parametric_section_ui(ui, state, pane, index)
+    {
+        return;
+    }
     let Some(index) = part.filter(|&i| has_profile(state, i)) else {
-        ui.label("Select a revolved or extruded part to shape its profile here.");
+        ui.label(
+            "Select a revolved or extruded part to shape its profile here, or a paraboloid, ellipsoid, dome or cylinder to see its section.",
+        );
         let with_profiles: Vec<(usize, String)> = state.scene().map_or(Vec::new(), |s| {
             s.parts
                 .iter()

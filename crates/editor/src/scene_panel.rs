@@ -307,6 +307,20 @@ fn shape_ui(ui: &mut Ui, shape: &mut Shape, commands: &mut Vec<Command>) {
         {
             commands.push(Command::ShowPane(crate::dock::Pane::Profile));
         }
+    } else if matches!(
+        shape,
+        Shape::Paraboloid(_) | Shape::Ellipsoid(_) | Shape::Dome(_) | Shape::Cylinder(_)
+    ) {
+        ui.separator();
+        if ui
+            .button("Show the section")
+            .on_hover_text(
+                "Its section in the Profile pane, with the run's photons drawn through it; convert it there to shape it freely",
+            )
+            .clicked()
+        {
+            commands.push(Command::ShowPane(crate::dock::Pane::Profile));
+        }
     }
 }
 

@@ -655,3 +655,43 @@ fn a_drag_previews_at_a_coarse_resolution_then_returns_to_the_chosen_one() {
     };
     assert!(f > 0.025 + 1e-4, "{f}");
 }
+
+/// A paraboloid's section is shown read-only in the Profile pane; one
+/// button makes it an editable revolved profile within 0.05 mm of it,
+/// and one undo brings the paraboloid back.
+#[test]
+fn a_paraboloid_shows_its_section_and_converts_to_a_profile_in_one_undo_step() {
+    let mut h = editor();
+    click(&mut h, "Part reflector (paraboloid)");
+    click(&mut h, "Show the section");
+    assert!(
+        h.query_by_label_contains("Section of reflector (paraboloid)")
+            .is_some()
+    );
+    let before = state(&h).scene().unwrap().parts[0].shape.clone();
+    click(&mut h, "Convert to editable profile");
+    steps(&mut h, 2);
+    let points = profile(&h, 0);
+    assert!(points.len() >= 5, "{points:?}");
+    // The ends are the paraboloid's: the vertex on the axis at f, the rim
+    // at the aperture's radius in the focal plane.
+    let (first, last) = (points[0], points[points.len() - 1]);
+    assert!(
+        first[0].abs() < 1e-12 && (first[1] - 0.025).abs() < 1e-12,
+        "{first:?}"
+    );
+    assert!(
+        (last[0] - 0.05).abs() < 1e-12 && last[1].abs() < 1e-12,
+        "{last:?}"
+    );
+    // Every point lies on the paraboloid z = f - r²/4f.
+    for p in &points {
+        let z = 0.025 - p[0] * p[0] / 0.1;
+        assert!((p[1] - z).abs() < 1e-9, "{p:?} off the paraboloid");
+    }
+    assert!(problems(&h).is_empty(), "{:?}", problems(&h));
+    // Now the editable profile, and one undo restores the paraboloid.
+    assert!(h.query_by_label_contains("Profile of reflector").is_some());
+    menu(&mut h, "Edit", "Undo");
+    assert_eq!(state(&h).scene().unwrap().parts[0].shape, before);
+}

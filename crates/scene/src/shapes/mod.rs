@@ -60,7 +60,7 @@ pub use louvre::Louvre;
 pub use mesh::Mesh;
 pub use paraboloid::Paraboloid;
 pub use plate::Plate;
-pub use revolved::Revolved;
+pub use revolved::{Revolved, editable_revolution};
 
 /// What every part shape knows about itself.
 pub trait ShapeGenerator {
