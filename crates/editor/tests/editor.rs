@@ -431,20 +431,31 @@ fn a_drag_previews_live_and_ends_on_the_released_value() {
     h.step();
     let mut pos = start;
     let mut shown = Vec::new();
-    for _ in 0..50 {
-        pos.x += 2.0;
+    let previews = |shown: &[u64]| -> Vec<u64> {
+        let mut g: Vec<u64> = shown.iter().copied().filter(|&g| g > before_drag).collect();
+        g.dedup();
+        g
+    };
+    // A second of dragging, then to and fro (every frame still an edit)
+    // until three previews have shown or 400 frames have passed: a loaded
+    // machine may take more than the second for its first preview.
+    for frame in 0..400 {
+        pos.x += if frame < 50 || frame % 2 == 0 {
+            2.0
+        } else {
+            -2.0
+        };
         h.event(egui::Event::PointerMoved(pos));
         h.step();
         if let Some(s) = h.state().state.snapshot() {
             shown.push(s.generation);
         }
+        if frame >= 50 && previews(&shown).len() >= 3 {
+            break;
+        }
         std::thread::sleep(Duration::from_millis(20));
     }
-    let during: Vec<u64> = {
-        let mut g: Vec<u64> = shown.iter().copied().filter(|&g| g > before_drag).collect();
-        g.dedup();
-        g
-    };
+    let during = previews(&shown);
     assert!(
         during.len() >= 3,
         "the previews froze during the drag: generations shown {shown:?}"
