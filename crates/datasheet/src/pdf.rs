@@ -132,11 +132,11 @@ fn page_content(svg: &Svg, opacities: &[u32], glyphs: &mut BTreeMap<u16, char>) 
                 fill,
                 text,
             } => {
-                let run = lucerna_pictures::canvas::glyph_run_em(text);
+                let (run, width_em) = lucerna_pictures::canvas::glyph_run_em(text);
                 if run.is_empty() {
                     continue;
                 }
-                let width_em = f64::from(lucerna_pictures::canvas::text_width_em(text));
+                let width_em = f64::from(width_em);
                 let x0 = x - anchor.offset_fraction() * width_em * size;
                 set_fill(&mut c, *fill);
                 c.begin_text();

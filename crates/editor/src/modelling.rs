@@ -166,12 +166,15 @@ pub enum SceneEdit {
         part: usize,
         index: usize,
     },
-    /// Replaces a parametric surface of revolution (paraboloid,
-    /// ellipsoid, dome, open cylinder) by a revolved part whose profile
-    /// lies within [`CONVERTED_PROFILE_TOLERANCE_M`] of it; undo restores
-    /// the parametric part.
+    /// Replaces a parametric surface of revolution (`from`: paraboloid,
+    /// ellipsoid, dome, open cylinder) by `to`, the revolved profile the
+    /// pane found for it within [`CONVERTED_PROFILE_TOLERANCE_M`]
+    /// (`editable_revolution`, found once, where it was drawn); undo
+    /// restores the parametric part.
     ConvertToProfile {
         part: usize,
+        from: Box<Shape>,
+        to: Revolved,
     },
 }
 
@@ -227,12 +230,9 @@ pub fn lamps_in_profile_plane(scene: &Scene, index: usize) -> Vec<(String, [f64;
     };
     let t = &part.transform;
     let plane = match part.shape {
-        Shape::Revolved(_)
-        | Shape::Paraboloid(_)
-        | Shape::Ellipsoid(_)
-        | Shape::Dome(_)
-        | Shape::Cylinder(_) => ProfilePlane::RadiusHeight,
+        Shape::Revolved(_) => ProfilePlane::RadiusHeight,
         Shape::Extruded(_) => ProfilePlane::WidthHeight,
+        ref s if s.has_parametric_section() => ProfilePlane::RadiusHeight,
         _ => return Vec::new(),
     };
     if t.rotate_deg != [0.0; 3] || t.scale != [1.0; 3] {
@@ -295,16 +295,10 @@ impl SceneEdit {
                     None
                 }
             }
-            SceneEdit::ConvertToProfile { part } => {
-                let shape = &scene.parts.get(*part)?.shape;
-                lucerna_scene::shapes::editable_revolution(shape, CONVERTED_PROFILE_TOLERANCE_M)
-                    .is_none()
-                    .then(|| {
-                        format!(
-                            "This {} is not one smooth surface of revolution (faceted, capped or flat): it has no profile to edit.",
-                            shape.generator().kind()
-                        )
-                    })
+            SceneEdit::ConvertToProfile { part, from, .. } => {
+                (scene.parts.get(*part)?.shape != **from).then(|| {
+                    "The part changed since its section was drawn: convert it again.".to_owned()
+                })
             }
             SceneEdit::RemoveProfilePoint { part, .. } => {
                 let points = scene.parts.get(*part).and_then(|p| match &p.shape {
@@ -408,14 +402,11 @@ impl SceneEdit {
                     points.insert(index.min(points.len()), plane.clamped(point_m));
                 }
             }
-            SceneEdit::ConvertToProfile { part } => {
+            SceneEdit::ConvertToProfile { part, from, to } => {
                 if let Some(p) = scene.parts.get_mut(part)
-                    && let Some(revolved) = lucerna_scene::shapes::editable_revolution(
-                        &p.shape,
-                        CONVERTED_PROFILE_TOLERANCE_M,
-                    )
+                    && p.shape == *from
                 {
-                    p.shape = Shape::Revolved(revolved);
+                    p.shape = Shape::Revolved(to);
                 }
             }
             SceneEdit::RemoveProfilePoint { part, index } => {

@@ -41,6 +41,19 @@ pub struct ProfilePane {
 }
 
 impl ProfilePane {
+    /// The run's rays through part `index`: traced again when the
+    /// luminaire changes, but not while a pointer is down (a drag keeps
+    /// the rays it had).
+    fn shown_rays(&mut self, ui: &Ui, state: &EditorState, index: usize) -> Vec<PlanePath> {
+        match state.snapshot() {
+            Some(s) if ui.input(|i| !i.pointer.any_down()) || self.rays.is_some() => {
+                let luminaire = s.luminaire.clone();
+                self.rays_for(&luminaire, index).to_vec()
+            }
+            _ => Vec::new(),
+        }
+    }
+
     fn section_of(&mut self, shape: &Shape) -> Option<Revolved> {
         if !self.section.as_ref().is_some_and(|(s, _)| s == shape) {
             let section = editable_revolution(shape, CONVERTED_PROFILE_TOLERANCE_M);
@@ -134,11 +147,7 @@ fn parametric_section_ui(
     let Some(part) = state.scene().and_then(|s| s.parts.get(index)) else {
         return false;
     };
-    // Only the round parametric shapes (their section is cached per shape).
-    if !matches!(
-        part.shape,
-        Shape::Paraboloid(_) | Shape::Ellipsoid(_) | Shape::Dome(_) | Shape::Cylinder(_)
-    ) {
+    if !part.shape.has_parametric_section() {
         return false;
     }
     let shape = part.shape.clone();
@@ -152,13 +161,7 @@ fn parametric_section_ui(
     let lamps_mm = state
         .scene()
         .map_or(Vec::new(), |s| lamps_in_profile_plane(s, index));
-    let rays = match state.snapshot() {
-        Some(s) if ui.input(|i| !i.pointer.any_down()) || pane.rays.is_some() => {
-            let luminaire = s.luminaire.clone();
-            pane.rays_for(&luminaire, index).to_vec()
-        }
-        _ => Vec::new(),
-    };
+    let rays = pane.shown_rays(ui, state, index);
     ui.strong(format!("Section of {name} ({kind})"));
     ui.horizontal_wrapped(|ui| {
         ui.label(format!(
@@ -173,7 +176,11 @@ fn parametric_section_ui(
             )
             .clicked()
         {
-            state.push(Command::Edit(SceneEdit::ConvertToProfile { part: index }));
+            state.push(Command::Edit(SceneEdit::ConvertToProfile {
+                part: index,
+                from: Box::new(shape.clone()),
+                to: section.clone(),
+            }));
         }
     });
     let drawing_height = (ui.available_height() - 230.0).clamp(300.0, 1200.0);
@@ -228,13 +235,7 @@ pub fn profile_pane_ui(ui: &mut Ui, state: &mut EditorState, pane: &mut ProfileP
         }
         return;
     };
-    let rays = match state.snapshot() {
-        Some(s) if ui.input(|i| !i.pointer.any_down()) || pane.rays.is_some() => {
-            let luminaire = s.luminaire.clone();
-            pane.rays_for(&luminaire, index).to_vec()
-        }
-        _ => Vec::new(),
-    };
+    let rays = pane.shown_rays(ui, state, index);
     let problems = state.problems().to_vec();
     let mut commands = Vec::new();
     let Some(scene) = state.doc.scene.as_mut() else {

@@ -307,10 +307,7 @@ fn shape_ui(ui: &mut Ui, shape: &mut Shape, commands: &mut Vec<Command>) {
         {
             commands.push(Command::ShowPane(crate::dock::Pane::Profile));
         }
-    } else if matches!(
-        shape,
-        Shape::Paraboloid(_) | Shape::Ellipsoid(_) | Shape::Dome(_) | Shape::Cylinder(_)
-    ) {
+    } else if shape.has_parametric_section() {
         ui.separator();
         if ui
             .button("Show the section")

@@ -75,20 +75,21 @@ pub fn font() -> Option<&'static FontRef<'static>> {
 }
 
 /// `text`'s glyphs in the bundled font, each with its pen position in ems
-/// (advances plus kerning, as `text_width_em` measures): for writers that
-/// place glyphs themselves, like the datasheet's PDF.
-pub fn glyph_run_em(text: &str) -> Vec<(GlyphId, f32)> {
+/// (advances plus kerning), and the width in ems, as `text_width_em`
+/// measures it: for writers that place glyphs themselves, like the
+/// datasheet's PDF.
+pub fn glyph_run_em(text: &str) -> (Vec<(GlyphId, f32)>, f32) {
     let Ok(font) = &*FONT else {
-        return Vec::new();
+        return (Vec::new(), 0.0);
     };
     let em = font.units_per_em().unwrap_or(2048.0);
     let mut run = Vec::with_capacity(text.len());
-    layout(
+    let width = layout(
         &font.as_scaled(PxScale::from(font.height_unscaled() / em)),
         text,
         |id, x| run.push((id, x)),
     );
-    run
+    (run, width)
 }
 
 /// `text` cut short with an ellipsis until `fits` takes it (empty if

@@ -54,22 +54,16 @@ impl Scene {
     }
 }
 
-/// A smooth surface of revolution about its local z axis.
+/// A smooth surface of revolution (or disk) about its local z axis.
 fn round_part(shape: &Shape) -> bool {
-    let segments = match shape {
-        Shape::Paraboloid(s) => s.segments_around,
-        Shape::Ellipsoid(s) => s.segments_around,
-        Shape::Revolved(s) => s.segments_around,
-        Shape::Dome(s) => s.segments_around,
-        Shape::Cylinder(s) => s.segments_around,
-        Shape::Disk(s) => s.segments_around,
-        _ => return false,
-    };
+    let generator = shape.generator();
     // Faceted shapes have no exact surface: their facets are the light's.
-    let surfaces = shape.generator().exact();
-    segments >= MIN_SEGMENTS_AROUND
-        && surfaces.is_some_and(|s| {
-            s.iter()
+    generator
+        .segments_around()
+        .is_some_and(|n| n >= MIN_SEGMENTS_AROUND)
+        && generator.exact().is_some_and(|surfaces| {
+            surfaces
+                .iter()
                 .all(|s| matches!(s, ExactSurface::Revolution(_) | ExactSurface::Disk { .. }))
         })
 }
@@ -90,77 +84,77 @@ fn keeps_axis(t: &Transform) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_support::SMALL_SCENE;
 
     fn scene(text: &str) -> Scene {
         crate::parse_scene(text, std::path::Path::new("spot.toml")).expect("scene")
     }
 
-    const SPOT: &str = r#"
-format_version = 1
-name = "spot"
-[materials.alu]
-type = "mirror"
-reflectance = 0.9
-[[emitter]]
-name = "LED"
-flux_lm = 800.0
-shape = { type = "disk", radius = 0.0015 }
-transform = { rotate_deg = [180.0, 0.0, 0.0] }
-[[part]]
-name = "reflector"
-material = "alu"
-shape = { type = "paraboloid", focal_length = 0.025, aperture_diameter = 0.1, segments_around = 192, segments_along = 48 }
-"#;
+    /// `SMALL_SCENE` with `from` replaced by `to` (which must occur).
+    fn with(from: &str, to: &str) -> String {
+        assert!(SMALL_SCENE.contains(from), "{from:?} not in the scene");
+        SMALL_SCENE.replace(from, to)
+    }
+
+    const LED: &str = r#"shape = { type = "disk", radius = 0.002 }"#;
+    const REFLECTOR: &str = "aperture_diameter = 0.08 }";
 
     #[test]
     fn a_paraboloid_around_an_led_on_its_axis_is_round() {
-        assert!(scene(SPOT).rotationally_symmetric());
+        assert!(scene(SMALL_SCENE).rotationally_symmetric());
         // Turned about z, or upside down: still round.
-        let turned = SPOT.replace(
-            "rotate_deg = [180.0, 0.0, 0.0]",
-            "rotate_deg = [180.0, 0.0, 33.0]",
-        );
-        assert!(scene(&turned).rotationally_symmetric());
+        for turn in ["[0.0, 0.0, 33.0]", "[180.0, 0.0, 0.0]"] {
+            let turned = with(
+                LED,
+                &format!("{LED}\ntransform = {{ rotate_deg = {turn} }}"),
+            );
+            assert!(scene(&turned).rotationally_symmetric(), "{turn}");
+        }
     }
 
     #[test]
     fn anything_that_breaks_the_round_is_seen() {
         let broken = [
             // The LED 1 mm off the axis.
-            SPOT.replace(
-                "rotate_deg = [180.0, 0.0, 0.0] }",
-                "rotate_deg = [180.0, 0.0, 0.0], translate = [0.001, 0.0, 0.0] }",
+            with(
+                LED,
+                &format!("{LED}\ntransform = {{ translate = [0.001, 0.0, 0.0] }}"),
             ),
             // Tilted 5°.
-            SPOT.replace("rotate_deg = [180.0, 0.0, 0.0]", "rotate_deg = [175.0, 0.0, 0.0]"),
+            with(
+                LED,
+                &format!("{LED}\ntransform = {{ rotate_deg = [5.0, 0.0, 0.0] }}"),
+            ),
             // A square LED.
-            SPOT.replace(
-                r#"{ type = "disk", radius = 0.0015 }"#,
-                r#"{ type = "rectangle", width = 0.003, depth = 0.003 }"#,
+            with(
+                LED,
+                r#"shape = { type = "rectangle", width = 0.003, depth = 0.003 }"#,
             ),
             // Facets, or too few segments.
-            SPOT.replace("segments_along = 48", "segments_along = 48, faceted = true"),
-            SPOT.replace("segments_around = 192", "segments_around = 12"),
+            with(REFLECTOR, "aperture_diameter = 0.08, faceted = true }"),
+            with(
+                REFLECTOR,
+                "aperture_diameter = 0.08, segments_around = 12 }",
+            ),
             // Brushed aluminium.
-            SPOT.replace(
+            with(
                 "type = \"mirror\"\nreflectance = 0.9",
                 "type = \"rough_conductor\"\nreflectance = 0.9\nroughness_u = 0.05\nroughness_v = 0.2",
             ),
             // Squashed into an ellipse.
-            SPOT.replace(
-                "segments_along = 48 }",
-                "segments_along = 48 }\ntransform = { scale = [1.0, 0.8, 1.0] }",
+            with(
+                REFLECTOR,
+                &format!("{REFLECTOR}\ntransform = {{ scale = [1.0, 0.8, 1.0] }}"),
             ),
         ];
         for (i, text) in broken.iter().enumerate() {
-            assert_ne!(text, SPOT, "case {i} changed nothing");
             assert!(
                 !scene(text).rotationally_symmetric(),
                 "case {i} counted as round"
             );
         }
         // Isotropic roughness keeps it round.
-        let rough = SPOT.replace(
+        let rough = with(
             "type = \"mirror\"\nreflectance = 0.9",
             "type = \"rough_conductor\"\nreflectance = 0.9\nroughness_u = 0.1\nroughness_v = 0.1",
         );

@@ -235,6 +235,7 @@ impl Run {
             !final_export,
         );
         let grid = self.settings.table;
+        let pooling = self.luminaire.c_pooling(self.settings.pool_symmetry);
         let ResampledTable {
             table,
             fidelity: table_fidelity,
@@ -244,14 +245,13 @@ impl Run {
             &candela,
             self.symmetry.order(),
             grid,
-            self.luminaire.c_pooling(self.settings.pool_symmetry),
+            pooling,
         );
         let table = Arc::new(table);
         // The unfiltered table beside the exported one, so views can show
         // both.
         let raw_table = if filter.is_some() {
             let raw = map.symmetrised(&self.symmetry).candela();
-            let pooling = self.luminaire.c_pooling(self.settings.pool_symmetry);
             Arc::new(
                 tabulate(
                     &mut self.resampler,

@@ -24,6 +24,10 @@ impl ShapeGenerator for Disk {
         "disk"
     }
 
+    fn segments_around(&self) -> Option<u32> {
+        Some(self.segments_around)
+    }
+
     fn validate(&self, at: &FieldPath, check: &mut Checker<'_>) {
         check.length(at, "radius", self.radius);
         check.segments(at, "segments_around", self.segments_around, 3);

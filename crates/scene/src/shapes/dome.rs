@@ -31,6 +31,10 @@ impl ShapeGenerator for Dome {
         "dome"
     }
 
+    fn segments_around(&self) -> Option<u32> {
+        Some(self.segments_around)
+    }
+
     fn validate(&self, at: &FieldPath, check: &mut Checker<'_>) {
         check.length(at, "radius", self.radius);
         check.length(at, "height", self.height);

@@ -40,6 +40,10 @@ impl ShapeGenerator for Ellipsoid {
         "ellipsoid"
     }
 
+    fn segments_around(&self) -> Option<u32> {
+        Some(self.segments_around)
+    }
+
     fn validate(&self, at: &FieldPath, check: &mut Checker<'_>) {
         let (focal_distance, vertex_distance) = (self.focal_distance, self.vertex_distance);
         let (cut_below_focus, neck_diameter) = (self.cut_below_focus, self.neck_diameter);

@@ -92,6 +92,12 @@ pub trait ShapeGenerator {
         None
     }
 
+    /// Segments around the axis of a shape generated about its local z
+    /// (a surface of revolution, a disk); `None` for the others.
+    fn segments_around(&self) -> Option<u32> {
+        None
+    }
+
     /// Every surface of the shape in the part's frame, reading files
     /// relative to `scene_dir`. A generated shape is one surface in the
     /// part's material; a file may hold several with their own.
@@ -168,6 +174,16 @@ impl Shape {
     /// The shape's `type` as written in scene files.
     pub fn kind(&self) -> &'static str {
         self.generator().kind()
+    }
+
+    /// A surface of revolution its parameters set (paraboloid, ellipsoid,
+    /// dome, cylinder): its section is shown read-only and can become an
+    /// editable profile ([`editable_revolution`]).
+    pub fn has_parametric_section(&self) -> bool {
+        matches!(
+            self,
+            Shape::Paraboloid(_) | Shape::Ellipsoid(_) | Shape::Dome(_) | Shape::Cylinder(_)
+        )
     }
 }
 

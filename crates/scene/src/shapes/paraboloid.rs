@@ -39,6 +39,10 @@ impl ShapeGenerator for Paraboloid {
         "paraboloid"
     }
 
+    fn segments_around(&self) -> Option<u32> {
+        Some(self.segments_around)
+    }
+
     fn validate(&self, at: &FieldPath, check: &mut Checker<'_>) {
         check.length(at, "focal_length", self.focal_length);
         check.length(at, "aperture_diameter", self.aperture_diameter);

@@ -33,6 +33,10 @@ impl ShapeGenerator for Revolved {
         "revolved"
     }
 
+    fn segments_around(&self) -> Option<u32> {
+        Some(self.segments_around)
+    }
+
     fn validate(&self, at: &FieldPath, check: &mut Checker<'_>) {
         let negative_radius = |p: [f64; 2]| {
             (p[0] < 0.0)
@@ -93,13 +97,14 @@ const MAX_CONVERTED_POINTS: usize = 129;
 /// that would need more than 129 points.
 pub fn editable_revolution(shape: &super::Shape, tolerance_m: f64) -> Option<Revolved> {
     use super::Shape;
-    let (segments_around, segments_along) = match shape {
-        Shape::Paraboloid(s) => (s.segments_around, s.segments_along),
-        Shape::Ellipsoid(s) => (s.segments_around, s.segments_along),
-        Shape::Dome(s) => (s.segments_around, s.segments_along),
-        Shape::Cylinder(s) => (s.segments_around, 1),
+    let segments_along = match shape {
+        Shape::Paraboloid(s) => s.segments_along,
+        Shape::Ellipsoid(s) => s.segments_along,
+        Shape::Dome(s) => s.segments_along,
+        Shape::Cylinder(_) => 1,
         _ => return None,
     };
+    let segments_around = shape.generator().segments_around()?;
     let surfaces = shape.generator().exact()?;
     let [ExactSurface::Revolution(curves)] = surfaces.as_slice() else {
         return None;
@@ -254,16 +259,10 @@ mod tests {
             for (a, b) in ends(&spline).iter().zip(ends(original)) {
                 assert!(a.distance(b) < 1e-12, "{text}: end {a} vs {b}");
             }
-            assert_eq!(revolved.segments_around, shape_segments_around(&shape));
-        }
-    }
-
-    fn shape_segments_around(shape: &Shape) -> u32 {
-        match shape {
-            Shape::Paraboloid(s) => s.segments_around,
-            Shape::Ellipsoid(s) => s.segments_around,
-            Shape::Dome(s) => s.segments_around,
-            _ => 0,
+            assert_eq!(
+                Some(revolved.segments_around),
+                shape.generator().segments_around()
+            );
         }
     }
 
