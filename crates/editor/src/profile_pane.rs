@@ -220,16 +220,25 @@ pub fn profile_pane_ui(ui: &mut Ui, state: &mut EditorState, pane: &mut ProfileP
         ui.label(
             "Select a revolved or extruded part to shape its profile here, or a paraboloid, ellipsoid, dome or cylinder to see its section.",
         );
-        let with_profiles: Vec<(usize, String)> = state.scene().map_or(Vec::new(), |s| {
+        // A button for each part this pane can show: its profile to edit,
+        // or its section.
+        let shown: Vec<(usize, String)> = state.scene().map_or(Vec::new(), |s| {
             s.parts
                 .iter()
                 .enumerate()
-                .filter(|(_, p)| matches!(p.shape, Shape::Revolved(_) | Shape::Extruded(_)))
-                .map(|(i, p)| (i, p.name.clone()))
+                .filter_map(|(i, p)| match p.shape {
+                    Shape::Revolved(_) | Shape::Extruded(_) => {
+                        Some((i, format!("Edit the profile of {}", p.name)))
+                    }
+                    ref shape if shape.has_parametric_section() => {
+                        Some((i, format!("Show the section of {}", p.name)))
+                    }
+                    _ => None,
+                })
                 .collect()
         });
-        for (i, name) in with_profiles {
-            if ui.button(format!("Edit the profile of {name}")).clicked() {
+        for (i, label) in shown {
+            if ui.button(label).clicked() {
                 state.push(crate::command::Command::Select(Some(Selection::Part(i))));
             }
         }
