@@ -72,6 +72,10 @@ pub enum DesignError {
     },
 }
 
+/// Texels per cube-face edge of every candidate's map, unless asked
+/// otherwise (`lucerna design --resolution`).
+pub const DEFAULT_RESOLUTION: u32 = 256;
+
 /// Everything a design needs.
 #[derive(Debug, Clone)]
 pub struct DesignRequest {
@@ -146,17 +150,51 @@ pub fn design(
     if request.budget.time.is_zero() {
         return Err(DesignError::Time);
     }
-    let began = std::time::Instant::now();
     let path = &request.scene_path;
     let scene_err = |source| DesignError::Scene {
         path: path.display().to_string(),
         source,
     };
-    let start_text =
-        lucerna_scene::read_limited_text(path, lucerna_scene::file::MAX_SCENE_FILE_BYTES)
-            .map_err(|e| scene_err(lucerna_scene::LoadSceneError::from(e)))?;
-    let start = parse_scene(&start_text, path).map_err(scene_err)?;
-    let scene_dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
+    let text = lucerna_scene::read_limited_text(path, lucerna_scene::file::MAX_SCENE_FILE_BYTES)
+        .map_err(|e| scene_err(lucerna_scene::LoadSceneError::from(e)))?;
+    let scene = parse_scene(&text, path).map_err(scene_err)?;
+    let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
+    design_scene(
+        StartScene { scene, text, dir },
+        request,
+        interrupt,
+        progress,
+    )
+}
+
+/// A design's start: the scene, the text its designed file is edited
+/// from (its file's, so comments and labels stay), and the folder its
+/// relative paths start from.
+#[derive(Debug, Clone)]
+pub struct StartScene {
+    pub scene: Scene,
+    pub text: String,
+    pub dir: PathBuf,
+}
+
+/// Runs a design from a scene already loaded (the editor's): the same
+/// design as [`design`] of its file, for the same request.
+pub fn design_scene(
+    start: StartScene,
+    request: &DesignRequest,
+    interrupt: &AtomicBool,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<Design, DesignError> {
+    if request.budget.time.is_zero() {
+        return Err(DesignError::Time);
+    }
+    let began = std::time::Instant::now();
+    let path = &request.scene_path;
+    let StartScene {
+        scene: start,
+        text: start_text,
+        dir: scene_dir,
+    } = start;
     let variables = variables::parse(&start, &request.vary, request.free_ends)?;
     let luminaire =
         Luminaire::new(start.clone(), &scene_dir).map_err(|source| DesignError::Prepare {

@@ -49,8 +49,9 @@ impl Variable {
     }
 }
 
-/// The variables `--vary` names: `PART.FIELD` or `PART.profile`; a
-/// profile's two end points stay unless `free_ends`.
+/// The variables `--vary` names: `PART.FIELD`, `PART.profile` (a
+/// profile's two end points stay unless `free_ends`) or one point,
+/// `PART.profile[INDEX]`.
 pub fn parse(
     scene: &Scene,
     vary: &[String],
@@ -78,7 +79,7 @@ pub fn parse(
                 names.join(", ")
             )));
         };
-        if field == "profile" {
+        if field == "profile" || field.starts_with("profile[") {
             let Some(points) = profile(&scene.parts[part].shape) else {
                 return Err(bad(format!(
                     "part '{part_name}' is a {}, which has no profile (revolved and extruded parts have one)",
@@ -86,41 +87,36 @@ pub fn parse(
                 )));
             };
             let n = points.len();
-            let range = if free_ends {
-                0..n
+            let range = if field == "profile" {
+                if free_ends {
+                    0..n
+                } else {
+                    1..n.saturating_sub(1)
+                }
             } else {
-                1..n.saturating_sub(1)
+                // One point, named by its index from 0 (its ends too: naming
+                // one frees it).
+                let index = field
+                    .strip_prefix("profile[")
+                    .and_then(|t| t.strip_suffix(']'))
+                    .and_then(|t| t.parse::<usize>().ok())
+                    .ok_or_else(|| {
+                        bad("write one point as PART.profile[INDEX], INDEX from 0".to_owned())
+                    })?;
+                if index >= n {
+                    return Err(bad(format!(
+                        "the profile has {n} points (profile[0] to profile[{}])",
+                        n - 1
+                    )));
+                }
+                index..index + 1
             };
             if range.is_empty() {
                 return Err(bad(format!(
                     "the profile has {n} points and its two ends stay where they are: add interior points, or --free-ends"
                 )));
             }
-            let (lo, hi) = profile_box(points);
-            let revolved = matches!(scene.parts[part].shape, Shape::Revolved(_));
-            for point in range {
-                for coord in 0..2 {
-                    let extent = (hi[coord] - lo[coord]).max(1e-3);
-                    let mut lower = lo[coord] - 0.5 * extent;
-                    if revolved && coord == 0 {
-                        lower = lower.max(0.0);
-                    }
-                    out.push(Variable {
-                        name: format!(
-                            "{part_name}.profile[{point}].{}",
-                            match (coord, revolved) {
-                                (0, true) => "r",
-                                (0, false) => "x",
-                                _ => "z",
-                            }
-                        ),
-                        place: Place::ProfilePoint { part, point, coord },
-                        start: points[point][coord],
-                        lower,
-                        upper: hi[coord] + 0.5 * extent,
-                    });
-                }
-            }
+            out.extend(profile_variables(scene, part, range));
             continue;
         }
         let start = field_value(&scene.parts[part].shape, field).map_err(bad)?;
@@ -146,6 +142,43 @@ pub fn parse(
         }
     }
     Ok(out)
+}
+
+/// The variables of profile points `range` of `part` (both coordinates
+/// each), bounded by the profile's box grown by half its extent either
+/// way (a revolved profile's r by the axis).
+fn profile_variables(scene: &Scene, part: usize, range: std::ops::Range<usize>) -> Vec<Variable> {
+    let Some(points) = profile(&scene.parts[part].shape) else {
+        return Vec::new();
+    };
+    let part_name = &scene.parts[part].name;
+    let (lo, hi) = profile_box(points);
+    let revolved = matches!(scene.parts[part].shape, Shape::Revolved(_));
+    let mut out = Vec::new();
+    for point in range {
+        for coord in 0..2 {
+            let extent = (hi[coord] - lo[coord]).max(1e-3);
+            let mut lower = lo[coord] - 0.5 * extent;
+            if revolved && coord == 0 {
+                lower = lower.max(0.0);
+            }
+            out.push(Variable {
+                name: format!(
+                    "{part_name}.profile[{point}].{}",
+                    match (coord, revolved) {
+                        (0, true) => "r",
+                        (0, false) => "x",
+                        _ => "z",
+                    }
+                ),
+                place: Place::ProfilePoint { part, point, coord },
+                start: points[point][coord],
+                lower,
+                upper: hi[coord] + 0.5 * extent,
+            });
+        }
+    }
+    out
 }
 
 /// The profile's control points of a revolved or extruded shape.

@@ -24,6 +24,10 @@ fn spot_path() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/luminaires/parabolic_spot.toml")
 }
 
+fn designs_path() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/designs")
+}
+
 /// The example spot with another focal length, written beside a copy.
 fn spot_with_focal_length(dir: &Path, f: f64) -> PathBuf {
     let text = std::fs::read_to_string(spot_path()).unwrap();
@@ -302,6 +306,35 @@ fn bad_input_gets_a_clear_error() {
     assert!(vary("reflector.profile").contains("paraboloid, which has no profile"));
     assert!(vary("reflector.colour").contains("has no continuous parameter 'colour'"));
     assert!(vary("reflector").contains("PART.FIELD"));
+    assert!(vary("reflector.profile[1]").contains("paraboloid, which has no profile"));
+
+    // One profile point by its index: the same variables as the whole
+    // interior names, point by point; an index beyond the ends refused.
+    let revolved = load_scene(&designs_path().join("revolved_cone_start.toml")).unwrap();
+    let parse = |v: &[&str]| {
+        let v: Vec<String> = v.iter().map(|s| (*s).to_owned()).collect();
+        variables::parse(&revolved, &v, false)
+    };
+    let whole = parse(&["reflector.profile"]).unwrap();
+    let points = parse(&[
+        "reflector.profile[1]",
+        "reflector.profile[2]",
+        "reflector.profile[3]",
+    ])
+    .unwrap();
+    assert_eq!(whole, points);
+    let end = parse(&["reflector.profile[4]"]).unwrap();
+    assert_eq!(end.len(), 2);
+    assert_eq!(end[0].name, "reflector.profile[4].r");
+    assert_eq!(end[0].start, 0.04);
+    let e = parse(&["reflector.profile[5]"]).unwrap_err().to_string();
+    assert!(e.contains("has 5 points (profile[0] to profile[4])"), "{e}");
+    let e = parse(&["reflector.profile[x]"]).unwrap_err().to_string();
+    assert!(e.contains("PART.profile[INDEX]"), "{e}");
+    let e = parse(&["reflector.profile", "reflector.profile[2]"])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("named twice"), "{e}");
 
     // A time of zero, a scene that does not load.
     let target = Target::Spec(Spec::parse("beam_angle_deg = 10\n").unwrap());
@@ -322,7 +355,7 @@ fn bad_input_gets_a_clear_error() {
 fn the_meridian_model_gives_the_tracers_light_of_a_revolved_mirror() {
     use lucerna_design::global::axial_l2;
     use lucerna_design::merit::{SMOOTH_STEP_DEG, axial};
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/designs");
+    let dir = designs_path();
     let mut profiles = Vec::new();
     let mut baked = Vec::new();
     for name in ["revolved_reflector.toml", "revolved_cone_start.toml"] {

@@ -54,7 +54,7 @@ pub struct DesignArgs {
     #[arg(long)]
     pub least_squares: bool,
     /// Texels per cube-face edge of every candidate's map.
-    #[arg(long, default_value_t = 256)]
+    #[arg(long, default_value_t = lucerna_design::DEFAULT_RESOLUTION)]
     pub resolution: u32,
     /// Photons of the designed scene's final bake (and the start's, for
     /// the comparison).
