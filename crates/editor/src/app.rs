@@ -145,6 +145,7 @@ impl EditorApp {
         self.size_to_screen(&ctx);
         self.state.begin_frame(&ctx);
         let before = self.state.doc.scene.clone();
+        self.state.design.ticks_shown = self.dock.is_visible(Pane::Design);
         if let Some(b) = &mut self.benchmark {
             b.begin_frame(&mut self.state, &mut self.windows.export, &ctx, frame_start);
         }
@@ -167,7 +168,11 @@ impl EditorApp {
                 .resizable(true)
                 .default_size(300.0)
                 .show(ui, |ui| {
-                    egui::ScrollArea::vertical().show(ui, |ui| scene_panel_ui(ui, &mut self.state));
+                    // The design owns the scene while it runs.
+                    let editable = !self.state.design.is_running();
+                    egui::ScrollArea::vertical().show(ui, |ui| {
+                        ui.add_enabled_ui(editable, |ui| scene_panel_ui(ui, &mut self.state));
+                    });
                 });
             egui::Panel::right("simulation")
                 .resizable(true)

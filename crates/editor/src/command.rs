@@ -21,6 +21,8 @@ pub enum DialogKind {
     RayFileEmitter,
     /// The export dialog's output folder.
     ExportFolder,
+    /// The Design pane's target: an IES or EULUMDAT file.
+    DesignTarget,
 }
 
 /// A UI action, queued by a panel and applied after the panels are drawn
@@ -69,10 +71,45 @@ pub enum Command {
     ClearRecent,
     /// The export dialog's output folder, chosen in a native dialog.
     SetExportFolder(PathBuf),
+    /// The Design pane's target file, chosen in a native dialog.
+    SetDesignTarget(PathBuf),
     /// Traces the current scene again from zero photons.
     Restart,
     /// Brings a pane of the dock to the front.
     ShowPane(crate::pane::Pane),
     /// A change to the preview room (room_state.rs).
     Room(crate::room_state::RoomCommand),
+    /// Starts a design as the Design pane sets it up (design_state.rs).
+    StartDesign,
+    /// Stops the design with the best it found so far.
+    StopDesign,
+    /// Ticks (or unticks) what a design may vary: `PART.FIELD` or
+    /// `PART.profile[INDEX]`.
+    TickDesignVariable {
+        vary: String,
+        on: bool,
+    },
+}
+
+impl Command {
+    /// Whether it replaces or edits the scene (refused while a design
+    /// runs: the design owns the scene until it ends).
+    pub fn changes_the_scene(&self) -> bool {
+        matches!(
+            self,
+            Command::Open(_)
+                | Command::OpenDiscarding(_)
+                | Command::Undo
+                | Command::Redo
+                | Command::AddPart(_)
+                | Command::DuplicatePart(_)
+                | Command::DeletePart(_)
+                | Command::Edit(_)
+                | Command::New
+                | Command::NewDiscarding
+                | Command::Recover
+                | Command::ImportMesh(_)
+                | Command::AddRayFileEmitter(_)
+        )
+    }
 }

@@ -45,6 +45,7 @@ fn field_for(kind: DialogKind) -> &'static str {
         DialogKind::ImportMesh => "OBJ file",
         DialogKind::RayFileEmitter => "Ray file",
         DialogKind::ExportFolder => "Output folder",
+        DialogKind::DesignTarget => "Target file",
     }
 }
 
@@ -59,6 +60,7 @@ fn prompt_words(kind: DialogKind) -> (&'static str, &'static str) {
         DialogKind::ImportMesh => ("Import an OBJ mesh", "Import"),
         DialogKind::RayFileEmitter => ("Add a ray-file emitter", "Add"),
         DialogKind::ExportFolder => ("Choose the export folder", "Choose"),
+        DialogKind::DesignTarget => ("Choose the design's target", "Choose"),
     }
 }
 
@@ -69,6 +71,7 @@ fn command_for(kind: DialogKind, path: PathBuf) -> Command {
         DialogKind::ImportMesh => Command::ImportMesh(path),
         DialogKind::RayFileEmitter => Command::AddRayFileEmitter(path),
         DialogKind::ExportFolder => Command::SetExportFolder(path),
+        DialogKind::DesignTarget => Command::SetDesignTarget(path),
     }
 }
 
@@ -169,6 +172,9 @@ impl Dialogs {
                 .set_title("Add a ray-file emitter")
                 .add_filter("IES TM-25 ray file", &["tm25ray", "TM25RAY"]),
             DialogKind::ExportFolder => dialog.set_title("Choose the export folder"),
+            DialogKind::DesignTarget => dialog
+                .set_title("Choose the design's target")
+                .add_filter("IES or EULUMDAT", &["ies", "IES", "ldt", "LDT"]),
         };
         if let Some(name) = file_name {
             dialog = dialog.set_file_name(name);
@@ -178,9 +184,10 @@ impl Dialogs {
             .spawn(move || {
                 let path = match kind {
                     DialogKind::SaveAs => dialog.save_file(),
-                    DialogKind::Open | DialogKind::ImportMesh | DialogKind::RayFileEmitter => {
-                        dialog.pick_file()
-                    }
+                    DialogKind::Open
+                    | DialogKind::ImportMesh
+                    | DialogKind::RayFileEmitter
+                    | DialogKind::DesignTarget => dialog.pick_file(),
                     DialogKind::ExportFolder => dialog.pick_folder(),
                 };
                 // The editor may have closed meanwhile.

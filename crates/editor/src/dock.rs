@@ -8,6 +8,7 @@ use std::path::PathBuf;
 use egui::Ui;
 use egui_tiles::{Container, Linear, LinearDir, Shares, Tile, TileId, Tiles, Tree};
 
+use crate::design_pane::design_pane_ui;
 pub use crate::pane::Pane;
 use crate::pane::View;
 use crate::profile_pane::{ProfilePane, profile_pane_ui};
@@ -25,15 +26,17 @@ pub struct Dock {
     written: Option<String>,
 }
 
-/// The layout a first session starts with: the 3D view, the profile and
-/// the room as tabs on the left, the photometric plots as tabs on the
-/// right (the room beside the polar diagram), half each.
+/// The layout a first session starts with: the 3D view, the profile, the
+/// room and the design as tabs on the left, the photometric plots as tabs
+/// on the right (the room or the design beside the polar diagram), half
+/// each.
 fn default_tree() -> Tree<Pane> {
     let mut tiles = Tiles::default();
     let left = vec![
         tiles.insert_pane(Pane::Luminaire),
         tiles.insert_pane(Pane::Profile),
         tiles.insert_pane(Pane::View(View::Room)),
+        tiles.insert_pane(Pane::Design),
     ];
     let left = tiles.insert_tab_tile(left);
     let right: Vec<TileId> = Pane::ALL[2..7]
@@ -162,8 +165,15 @@ impl egui_tiles::Behavior<Pane> for Behavior<'_> {
             .inner_margin(egui::Margin::same(4))
             .show(ui, |ui| match *pane {
                 Pane::Luminaire => viewport_ui(ui, self.state, self.viewport),
-                Pane::Profile => profile_pane_ui(ui, self.state, self.profile),
+                Pane::Profile => {
+                    // The design owns the scene while it runs.
+                    let editable = !self.state.design.is_running();
+                    ui.add_enabled_ui(editable, |ui| {
+                        profile_pane_ui(ui, self.state, self.profile);
+                    });
+                }
                 Pane::View(v) => photometric_view_ui(ui, self.state, self.views, v),
+                Pane::Design => design_pane_ui(ui, self.state, self.views),
             });
         egui_tiles::UiResponse::None
     }

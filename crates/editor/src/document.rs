@@ -116,6 +116,15 @@ impl Document {
         true
     }
 
+    /// `after` in place of the scene, one undo step back to `before` (a
+    /// design's whole run: the scene it showed on the way is not a step).
+    pub fn replace_as_one_step(&mut self, before: &Scene, after: Scene) {
+        self.undoer.add_undo(before);
+        self.scene = Some(after);
+        self.edit_error = None;
+        self.gesture = false;
+    }
+
     /// Validates the scene again; the scene if it is valid.
     pub fn validated(&mut self) -> Option<&Scene> {
         let scene = self.scene.as_ref()?;

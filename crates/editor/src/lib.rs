@@ -11,6 +11,8 @@ mod benchmarks;
 mod colour;
 mod command;
 mod config;
+mod design_pane;
+mod design_state;
 mod dialogs;
 pub mod dock;
 mod document;

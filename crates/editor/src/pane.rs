@@ -31,11 +31,13 @@ pub enum Pane {
     Profile,
     /// A photometric view.
     View(View),
+    /// Design toward a target: its setup, run and merit plot.
+    Design,
 }
 
 impl Pane {
     /// Every pane, in menu order.
-    pub const ALL: [Pane; 8] = [
+    pub const ALL: [Pane; 9] = [
         Pane::Luminaire,
         Pane::Profile,
         Pane::View(View::Polar),
@@ -44,6 +46,7 @@ impl Pane {
         Pane::View(View::CubeMap),
         Pane::View(View::Figures),
         Pane::View(View::Room),
+        Pane::Design,
     ];
 
     /// Its tab's title (also the tab button's accessible name).
@@ -57,6 +60,7 @@ impl Pane {
             Pane::View(View::CubeMap) => "Cube map",
             Pane::View(View::Figures) => "Figures",
             Pane::View(View::Room) => "Room",
+            Pane::Design => "Design",
         }
     }
 

@@ -222,10 +222,18 @@ fn profile_problems(problems: &[String], part: usize) -> Vec<(Option<usize>, Str
 }
 
 /// The drawing, the point buttons and the table of one profile.
+/// The Design pane's ticks beside each profile point: the part's name
+/// and the design state, while they are shown.
+pub struct PointTicks<'a> {
+    pub part_name: &'a str,
+    pub design: &'a crate::design_state::DesignState,
+}
+
 pub fn profile_editor_ui(
     ui: &mut Ui,
     profile: Profile<'_>,
     problems: &[String],
+    ticks: Option<PointTicks<'_>>,
     commands: &mut Vec<Command>,
 ) {
     let Profile {
@@ -316,7 +324,7 @@ pub fn profile_editor_ui(
         ui.colored_label(ui.visuals().error_fg_color, text);
     }
 
-    table_ui(ui, id, plane, points_m, &mut selected);
+    table_ui(ui, id, plane, points_m, &mut selected, ticks, commands);
     ui.data_mut(|d| match selected {
         Some(k) => {
             d.insert_temp(selected_id, k);
@@ -341,6 +349,8 @@ fn table_ui(
     plane: ProfilePlane,
     points_m: &mut [[f64; 2]],
     selected: &mut Option<usize>,
+    ticks: Option<PointTicks<'_>>,
+    commands: &mut Vec<Command>,
 ) {
     let h = plane.horizontal();
     let h_min = match plane {
@@ -348,12 +358,17 @@ fn table_ui(
         ProfilePlane::WidthHeight => -MAX_MM,
     };
     egui::Grid::new(id.with("table"))
-        .num_columns(3)
+        .num_columns(if ticks.is_some() { 5 } else { 3 })
         .striped(true)
         .show(ui, |ui| {
             ui.strong("Point");
             ui.strong(h);
             ui.strong("z");
+            if ticks.is_some() {
+                ui.strong("Vary")
+                    .on_hover_text("Ticked points move in the Design pane's run; the ends are the package and the aperture");
+                ui.strong("Bounds");
+            }
             ui.end_row();
             for (k, [x, z]) in points_m.iter_mut().enumerate() {
                 let name = format!("Point {}", k + 1);
@@ -379,6 +394,27 @@ fn table_ui(
                     if response.gained_focus() || response.drag_started() {
                         *selected = Some(k);
                     }
+                }
+                if let Some(t) = &ticks {
+                    let vary = format!("{}.profile[{k}]", t.part_name);
+                    let mut on = t.design.setup.is_ticked(&vary);
+                    if ui
+                        .add(egui::Checkbox::without_text(&mut on))
+                        .accessible_name(format!("Vary {name}"))
+                        .changed()
+                    {
+                        commands.push(Command::TickDesignVariable { vary: vary.clone(), on });
+                    }
+                    match t.design.bounds(&vary) {
+                        Some([a, b]) if on => ui.weak(format!(
+                            "{:.1} … {:.1}, {:.1} … {:.1} mm",
+                            a.lower * 1000.0,
+                            a.upper * 1000.0,
+                            b.lower * 1000.0,
+                            b.upper * 1000.0
+                        )),
+                        _ => ui.label(""),
+                    };
                 }
                 ui.end_row();
             }

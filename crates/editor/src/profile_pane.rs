@@ -247,6 +247,7 @@ pub fn profile_pane_ui(ui: &mut Ui, state: &mut EditorState, pane: &mut ProfileP
     let rays = pane.shown_rays(ui, state, index);
     let problems = state.problems().to_vec();
     let mut commands = Vec::new();
+    let design = state.design.ticks_visible().then_some(&state.design);
     let Some(scene) = state.doc.scene.as_mut() else {
         return;
     };
@@ -286,6 +287,10 @@ pub fn profile_pane_ui(ui: &mut Ui, state: &mut EditorState, pane: &mut ProfileP
                     drawing_height,
                 },
                 &problems,
+                design.map(|design| crate::profile_editor::PointTicks {
+                    part_name: &name,
+                    design,
+                }),
                 &mut commands,
             );
         });

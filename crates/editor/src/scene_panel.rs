@@ -8,6 +8,7 @@ use lucerna_scene::{
     Emission, Emitter, EmitterShape, Interpolation, Material, Part, Scene, Shape, Transform,
 };
 
+use crate::design_state::DesignState;
 use crate::modelling::{
     EMITTER_SHAPES, NewPart, SceneEdit, emitter_shape_as, emitter_shape_kind, material_users,
     profile_files_near, profile_mut,
@@ -63,7 +64,8 @@ pub fn scene_panel_ui(ui: &mut Ui, state: &mut EditorState) {
     match state.doc.selection.clone() {
         Some(Selection::Part(i)) => {
             if let Some(part) = scene.parts.get_mut(i) {
-                part_ui(ui, i, part, &materials, &mut commands);
+                let design = state.design.ticks_visible().then_some(&state.design);
+                part_ui(ui, i, part, &materials, design, &mut commands);
                 ui.horizontal(|ui| {
                     if ui.button("Duplicate part").clicked() {
                         commands.push(Command::DuplicatePart(i));
@@ -189,6 +191,7 @@ fn part_ui(
     index: usize,
     part: &mut Part,
     materials: &[String],
+    design: Option<&DesignState>,
     commands: &mut Vec<Command>,
 ) {
     ui.strong(format!("Part ({})", part.shape.generator().kind()));
@@ -211,48 +214,159 @@ fn part_ui(
             .response
     });
     ui.label("Shape");
-    shape_ui(ui, &mut part.shape, commands);
+    let ticks = Ticks {
+        part: &part.name,
+        design,
+    };
+    shape_ui(ui, &mut part.shape, &ticks, commands);
     transform_ui(ui, &mut part.transform);
+}
+
+/// A length parameter with the Design pane's tick beside it.
+fn varied_mm(
+    ui: &mut Ui,
+    ticks: &Ticks<'_>,
+    commands: &mut Vec<Command>,
+    field: &str,
+    label: &str,
+    metres: &mut f64,
+) {
+    ui.horizontal(|ui| {
+        length_mm(ui, label, metres, MAX_MM);
+        ticks.ui(ui, commands, field, label, Unit::Millimetres);
+    });
+}
+
+#[derive(Clone, Copy)]
+enum Unit {
+    Millimetres,
+    Degrees,
+}
+
+/// The Design pane's ticks beside a part's continuous parameters: shown
+/// while the pane is in front or something is ticked; a ticked value
+/// shows the bounds the design keeps it in.
+struct Ticks<'a> {
+    part: &'a str,
+    design: Option<&'a DesignState>,
+}
+
+impl Ticks<'_> {
+    fn ui(&self, ui: &mut Ui, commands: &mut Vec<Command>, field: &str, label: &str, unit: Unit) {
+        let Some(design) = self.design else { return };
+        let vary = format!("{}.{field}", self.part);
+        let mut on = design.setup.is_ticked(&vary);
+        let tick = ui
+            .add(egui::Checkbox::without_text(&mut on))
+            .on_hover_text("Vary it in the Design pane's run")
+            .accessible_name(format!("Vary {label}"));
+        if tick.changed() {
+            commands.push(Command::TickDesignVariable {
+                vary: vary.clone(),
+                on,
+            });
+        }
+        if on && let Some([v]) = design.bounds(&vary) {
+            let text = match unit {
+                Unit::Millimetres => {
+                    format!("{:.1} … {:.1} mm", v.lower * 1000.0, v.upper * 1000.0)
+                }
+                Unit::Degrees => format!("{:.1} … {:.1}°", v.lower, v.upper),
+            };
+            ui.weak(text).on_hover_text(
+                "The design keeps it between these bounds, where the scene stays valid",
+            );
+        }
+    }
 }
 
 /// Every generator parameter with its unit; the profile shapes point to
 /// the profile pane.
-fn shape_ui(ui: &mut Ui, shape: &mut Shape, commands: &mut Vec<Command>) {
+fn shape_ui(ui: &mut Ui, shape: &mut Shape, ticks: &Ticks<'_>, commands: &mut Vec<Command>) {
     match shape {
         Shape::Paraboloid(s) => {
-            length_mm(ui, "Focal length", &mut s.focal_length, MAX_MM);
-            length_mm(ui, "Aperture diameter", &mut s.aperture_diameter, MAX_MM);
-            length_mm(ui, "Neck diameter", &mut s.neck_diameter, MAX_MM);
+            varied_mm(
+                ui,
+                ticks,
+                commands,
+                "focal_length",
+                "Focal length",
+                &mut s.focal_length,
+            );
+            varied_mm(
+                ui,
+                ticks,
+                commands,
+                "aperture_diameter",
+                "Aperture diameter",
+                &mut s.aperture_diameter,
+            );
+            varied_mm(
+                ui,
+                ticks,
+                commands,
+                "neck_diameter",
+                "Neck diameter",
+                &mut s.neck_diameter,
+            );
             segments(ui, "Segments around", &mut s.segments_around, 3);
             segments(ui, "Segments along", &mut s.segments_along, 1);
             flag(ui, "Faceted", &mut s.faceted);
         }
         Shape::Ellipsoid(s) => {
-            length_mm(ui, "Focal distance", &mut s.focal_distance, MAX_MM);
-            length_mm(ui, "Vertex distance", &mut s.vertex_distance, MAX_MM);
-            length_mm(ui, "Cut below focus", &mut s.cut_below_focus, MAX_MM);
-            length_mm(ui, "Neck diameter", &mut s.neck_diameter, MAX_MM);
+            varied_mm(
+                ui,
+                ticks,
+                commands,
+                "focal_distance",
+                "Focal distance",
+                &mut s.focal_distance,
+            );
+            varied_mm(
+                ui,
+                ticks,
+                commands,
+                "vertex_distance",
+                "Vertex distance",
+                &mut s.vertex_distance,
+            );
+            varied_mm(
+                ui,
+                ticks,
+                commands,
+                "cut_below_focus",
+                "Cut below focus",
+                &mut s.cut_below_focus,
+            );
+            varied_mm(
+                ui,
+                ticks,
+                commands,
+                "neck_diameter",
+                "Neck diameter",
+                &mut s.neck_diameter,
+            );
             segments(ui, "Segments around", &mut s.segments_around, 3);
             segments(ui, "Segments along", &mut s.segments_along, 1);
             flag(ui, "Faceted", &mut s.faceted);
         }
         Shape::Disk(s) => {
-            length_mm(ui, "Radius", &mut s.radius, MAX_MM);
+            varied_mm(ui, ticks, commands, "radius", "Radius", &mut s.radius);
             segments(ui, "Segments around", &mut s.segments_around, 3);
         }
         Shape::Plate(s) => {
-            length_mm(ui, "Width", &mut s.width, MAX_MM);
-            length_mm(ui, "Depth", &mut s.depth, MAX_MM);
+            varied_mm(ui, ticks, commands, "width", "Width", &mut s.width);
+            varied_mm(ui, ticks, commands, "depth", "Depth", &mut s.depth);
         }
         Shape::Dome(s) => {
-            length_mm(ui, "Radius", &mut s.radius, MAX_MM);
-            length_mm(ui, "Height", &mut s.height, MAX_MM);
+            varied_mm(ui, ticks, commands, "radius", "Radius", &mut s.radius);
+            varied_mm(ui, ticks, commands, "height", "Height", &mut s.height);
             segments(ui, "Segments around", &mut s.segments_around, 3);
             segments(ui, "Segments along", &mut s.segments_along, 1);
         }
         Shape::Cylinder(s) => {
-            length_mm(ui, "Radius", &mut s.radius, MAX_MM);
-            length_mm(ui, "Height", &mut s.height, MAX_MM);
+            varied_mm(ui, ticks, commands, "radius", "Radius", &mut s.radius);
+            varied_mm(ui, ticks, commands, "height", "Height", &mut s.height);
             flag(ui, "Cap top", &mut s.cap_top);
             flag(ui, "Cap bottom", &mut s.cap_bottom);
             segments(ui, "Segments around", &mut s.segments_around, 3);
@@ -270,24 +384,55 @@ fn shape_ui(ui: &mut Ui, shape: &mut Shape, commands: &mut Vec<Command>) {
             flag(ui, "Faceted", &mut s.faceted);
         }
         Shape::Extruded(s) => {
-            length_mm(ui, "Length", &mut s.length, MAX_MM);
+            varied_mm(ui, ticks, commands, "length", "Length", &mut s.length);
             interpolation_ui(ui, &mut s.interpolation);
             segments(ui, "Segments per span", &mut s.segments_per_span, 1);
             flag(ui, "End caps", &mut s.end_caps);
         }
         Shape::Louvre(s) => {
             segments(ui, "Blade count", &mut s.blade_count, 1);
-            length_mm(ui, "Blade spacing", &mut s.spacing, MAX_MM);
-            length_mm(ui, "Blade height", &mut s.blade_height, MAX_MM);
-            length_mm(ui, "Blade length", &mut s.blade_length, MAX_MM);
+            varied_mm(
+                ui,
+                ticks,
+                commands,
+                "spacing",
+                "Blade spacing",
+                &mut s.spacing,
+            );
+            varied_mm(
+                ui,
+                ticks,
+                commands,
+                "blade_height",
+                "Blade height",
+                &mut s.blade_height,
+            );
+            varied_mm(
+                ui,
+                ticks,
+                commands,
+                "blade_length",
+                "Blade length",
+                &mut s.blade_length,
+            );
             // The validator refuses ±89° and beyond (blades edge-on).
-            number(ui, "Blade tilt", &mut s.tilt_deg, -88.9..=88.9, 0.5, "°");
+            ui.horizontal(|ui| {
+                number(ui, "Blade tilt", &mut s.tilt_deg, -88.9..=88.9, 0.5, "°");
+                ticks.ui(ui, commands, "tilt_deg", "Blade tilt", Unit::Degrees);
+            });
             segments(ui, "Cross blade count", &mut s.cross_blade_count, 0);
             if s.cross_blade_count > 0 {
                 if s.cross_spacing <= 0.0 {
                     s.cross_spacing = s.spacing;
                 }
-                length_mm(ui, "Cross blade spacing", &mut s.cross_spacing, MAX_MM);
+                varied_mm(
+                    ui,
+                    ticks,
+                    commands,
+                    "cross_spacing",
+                    "Cross blade spacing",
+                    &mut s.cross_spacing,
+                );
             }
         }
         Shape::Mesh(m) => {

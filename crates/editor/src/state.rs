@@ -32,6 +32,8 @@ pub struct EditorState {
     pub(crate) files: FileState,
     /// The preview room, lit by the snapshot's table.
     pub(crate) room: RoomLive,
+    /// The Design pane's setup, run and outcome (design_state.rs).
+    pub(crate) design: crate::design_state::DesignState,
     pub(crate) view: View,
     /// A folder chosen for the export dialog, until it takes it.
     pub(crate) chosen_export_folder: Option<PathBuf>,
@@ -76,6 +78,7 @@ impl EditorState {
             run: LiveRun::new(settings),
             files: FileState::new(paths),
             room: RoomLive::default(),
+            design: crate::design_state::DesignState::default(),
             view: View::default(),
             chosen_export_folder: None,
             scripted_pointer: false,
@@ -188,6 +191,7 @@ impl EditorState {
             self.ctx = Some(ctx.clone());
         }
         self.files_begin_frame(ctx);
+        self.poll_design();
         self.run.refresh();
     }
 
@@ -204,6 +208,8 @@ impl EditorState {
             self.run.end_coarse_preview();
         }
         self.apply_commands();
+        self.design
+            .refresh_bounds(self.doc.scene.as_ref(), dragging);
         self.room.tick(
             self.run.snapshot.as_ref(),
             ctx,
@@ -225,6 +231,11 @@ impl EditorState {
     }
 
     fn apply(&mut self, command: Command) {
+        if self.design.is_running() && command.changes_the_scene() {
+            self.doc.edit_error =
+                Some("a design is running: Stop it in the Design pane first".to_owned());
+            return;
+        }
         match command {
             Command::Open(path) if self.is_dirty() => {
                 self.files.pending = Some(crate::file_state::PendingAction::Open(path));
@@ -287,9 +298,22 @@ impl EditorState {
             Command::Resume => self.run.resume(),
             Command::SetSettings(settings) => self.run.set_settings(settings),
             Command::SetExportFolder(path) => self.chosen_export_folder = Some(path),
+            Command::SetDesignTarget(path) => {
+                self.design.setup.target_file = Some(path);
+                self.design.setup.target_kind = crate::design_state::TargetKind::File;
+                self.design.error = None;
+            }
             Command::ShowPane(pane) => self.pane_request = Some(pane),
             Command::Room(command) => self.room.apply(command),
             Command::Restart => self.run.restart(),
+            Command::StartDesign => self.start_design(),
+            Command::StopDesign => self.stop_design(),
+            Command::TickDesignVariable { vary, on } => {
+                if let Some(scene) = &self.doc.scene {
+                    self.design.setup.tick(&vary, on, scene);
+                    self.design.forget_bounds();
+                }
+            }
             command @ (Command::New
             | Command::NewDiscarding
             | Command::Quit
@@ -314,7 +338,7 @@ impl EditorState {
 
     /// Validates the edited scene; a valid one restarts the simulation, an
     /// invalid one is only reported (the last valid one keeps running).
-    fn scene_changed(&mut self) {
+    pub(crate) fn scene_changed(&mut self) {
         self.validate_and_send(false);
     }
 

@@ -55,6 +55,10 @@ pub fn status_bar_ui(ui: &mut Ui, state: &EditorState) {
             (None, _) => String::new(),
         };
         ui.label(file);
+        if let Some(design) = state.design_status() {
+            ui.separator();
+            ui.label(design);
+        }
         let error = state
             .simulation_error()
             .or(state.file_error())

@@ -509,3 +509,96 @@ fn settings_restart_the_run_and_pause_pauses_it() {
         );
     }
 }
+
+/// The Design pane, driven as a user would: tick the focal length in
+/// the scene panel, set a spec in the pane, Start; while it runs the
+/// scene is the design's (an Undo is refused); at the end the scene is
+/// the design's result, its file the same bytes as `lucerna design`
+/// writes for the same target, variables, seed and budget, and one
+/// "Undo design" goes back to the start.
+#[test]
+fn a_design_run_in_the_pane_gives_the_command_lines_scene_and_undoes_in_one_step() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_path = dir.path().join("spot.toml");
+    std::fs::copy(example(), &scene_path).unwrap();
+    let mut h = editor_at(Some(scene_path.clone()), 32);
+    h.state_mut().show_pane(lucerna_editor::dock::Pane::Design);
+    common::steps(&mut h, 3);
+    select_reflector(&mut h);
+    common::click(&mut h, "Vary Focal length");
+    // The tick shows the bounds the design keeps the focal length in.
+    h.get_by_label_contains("reflector.focal_length: 25.000 mm (");
+    common::click(&mut h, "Spec");
+    common::set(&mut h, "Beam angle (°)", 6.0);
+    common::set(&mut h, "Beam tolerance (°)", 0.5);
+    common::click(&mut h, "Stop after");
+    common::set(&mut h, "Candidates at most", 8.0);
+    h.get_by_label_contains("--vary reflector.focal_length --seed 1 --evaluations 8");
+    common::click(&mut h, "Start design");
+    assert!(h.state().state.is_designing(), "{:?}", h.state().state);
+    // The design owns the scene while it runs.
+    command(&mut h, lucerna_editor::Command::Undo);
+    assert!(
+        h.state()
+            .state
+            .edit_error()
+            .is_some_and(|e| e.contains("a design is running")),
+        "{:?}",
+        h.state().state.edit_error()
+    );
+    let deadline = Instant::now() + Duration::from_secs(300);
+    while h.state().state.is_designing() {
+        h.step();
+        assert!(Instant::now() < deadline, "the design did not end");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    common::steps(&mut h, 2);
+    h.get_by_label_contains("Design ended, it traced the candidates it was given");
+    let designed = h
+        .state()
+        .state
+        .designed_scene_text()
+        .expect("a designed scene")
+        .to_owned();
+
+    // The command line's design: the same request `lucerna design SCENE
+    // --target SPEC --vary reflector.focal_length --seed 1 --evaluations 8
+    // --time 120s` makes, and the file it writes.
+    let request = lucerna_design::DesignRequest {
+        scene_path: scene_path.clone(),
+        target: lucerna_design::Target::Spec(
+            lucerna_design::Spec::parse("beam_angle_deg = 6.0\nbeam_tolerance_deg = 0.5\n")
+                .unwrap(),
+        ),
+        vary: vec!["reflector.focal_length".to_owned()],
+        free_ends: false,
+        budget: lucerna_design::Budget {
+            time: Duration::from_secs(120),
+            evaluations: Some(8),
+            max_photons: None,
+        },
+        seed: 1,
+        resolution: lucerna_design::DEFAULT_RESOLUTION,
+        direct: true,
+        least_squares: false,
+    };
+    let cli = lucerna_design::design(
+        &request,
+        &std::sync::atomic::AtomicBool::new(false),
+        &mut |_| {},
+    )
+    .unwrap();
+    let cli_text = lucerna_design::output::scene_text(&cli).unwrap();
+    assert_eq!(designed, cli_text);
+    let designed_f = focal_length(&h);
+    assert!(
+        (designed_f - 0.025).abs() > 1e-4,
+        "the design moved nothing: {designed_f}"
+    );
+    assert_eq!(Some(h.state().state.scene().unwrap()), Some(&cli.scene));
+
+    // One undo step for the whole run.
+    common::click(&mut h, "Undo design");
+    assert_eq!(focal_length(&h), 0.025);
+    assert!(!h.state().state.can_undo());
+}

@@ -1,0 +1,483 @@
+//! The Design pane: a target (a file or a spec), what may vary (ticked in
+//! the scene panel and the profile pane), Start and Stop, the merit over
+//! time with its noise, and the outcome with its one undo step.
+
+use egui::{DragValue, RichText, Ui};
+use egui_plot::{Line, Plot, PlotPoints, Points, Polygon};
+use lucerna_design::{Maximise, Stopped};
+use lucerna_scene::Shape;
+
+use crate::command::{Command, DialogKind};
+use crate::design_state::{DesignState, MeritPoint, SpecForm, TargetKind};
+use crate::reference::Reference;
+use crate::state::EditorState;
+use crate::views::ViewsState;
+use crate::widgets::labelled;
+
+pub fn design_pane_ui(ui: &mut Ui, state: &mut EditorState, views: &mut ViewsState) {
+    if state.scene().is_none() {
+        ui.label("Open a scene to design it.");
+        return;
+    }
+    let mut commands = Vec::new();
+    egui::ScrollArea::vertical()
+        .auto_shrink([false, false])
+        .show(ui, |ui| {
+            ui.label(
+                "Shape the luminaire toward the light you want: the photon tracer judges each candidate.",
+            );
+            let running = state.design.is_running();
+            ui.add_enabled_ui(!running, |ui| {
+                ui.add_space(4.0);
+                ui.strong("Target");
+                target_ui(ui, state, &mut commands);
+                ui.add_space(4.0);
+                ui.strong("Variables");
+                variables_ui(ui, state, &mut commands);
+                ui.add_space(4.0);
+                ui.strong("Run");
+                budget_ui(ui, &mut state.design);
+            });
+            ui.horizontal(|ui| {
+                if ui
+                    .add_enabled(!running, egui::Button::new("Start design"))
+                    .clicked()
+                {
+                    // The target file drawn over the polar and cartesian
+                    // views while the design runs.
+                    if state.design.setup.target_kind == TargetKind::File
+                        && let Some(path) = &state.design.setup.target_file
+                        && let Ok(mut r) = Reference::load(path)
+                    {
+                        r.name = format!("design target {}", r.name);
+                        views.reference = Some(r);
+                        views.reference_error = None;
+                    }
+                    commands.push(Command::StartDesign);
+                }
+                let stopping = state.design.run.as_ref().is_some_and(|r| r.stopping);
+                if ui
+                    .add_enabled(running && !stopping, egui::Button::new("Stop design"))
+                    .on_hover_text("Ends the design with the best it found so far")
+                    .clicked()
+                {
+                    commands.push(Command::StopDesign);
+                }
+            });
+            if let Some(error) = &state.design.error {
+                ui.colored_label(ui.visuals().error_fg_color, error);
+            }
+            ui.add_space(4.0);
+            progress_ui(ui, state, &mut commands);
+        });
+    for c in commands {
+        state.push(c);
+    }
+}
+
+fn target_ui(ui: &mut Ui, state: &mut EditorState, commands: &mut Vec<Command>) {
+    let setup = &mut state.design.setup;
+    ui.horizontal(|ui| {
+        ui.selectable_value(&mut setup.target_kind, TargetKind::File, "Target file");
+        ui.selectable_value(&mut setup.target_kind, TargetKind::Spec, "Spec");
+    });
+    match setup.target_kind {
+        TargetKind::File => {
+            ui.horizontal(|ui| {
+                let name = setup
+                    .target_file
+                    .as_ref()
+                    .map_or("none chosen".to_owned(), |p| {
+                        p.file_name().map_or(p.display().to_string(), |n| {
+                            n.to_string_lossy().into_owned()
+                        })
+                    });
+                ui.label(format!("File: {name}"));
+                if ui
+                    .button("Choose target file…")
+                    .on_hover_text("An IES or EULUMDAT file: the distribution to match")
+                    .clicked()
+                {
+                    commands.push(Command::FileDialog(DialogKind::DesignTarget));
+                }
+            });
+            ui.checkbox(&mut setup.absolute, "Match absolute candela")
+                .on_hover_text("Off: match the shape, both scaled to the same flux");
+        }
+        TargetKind::Spec => spec_ui(ui, &mut setup.spec),
+    }
+}
+
+fn angle(ui: &mut Ui, value: &mut f64, range: std::ops::RangeInclusive<f64>, name: &str) {
+    ui.add(
+        DragValue::new(value)
+            .range(range)
+            .speed(0.1)
+            .suffix("°")
+            .max_decimals(2),
+    )
+    .accessible_name(name);
+}
+
+fn spec_ui(ui: &mut Ui, spec: &mut SpecForm) {
+    egui::Grid::new("design spec")
+        .num_columns(2)
+        .striped(true)
+        .show(ui, |ui| {
+            ui.checkbox(&mut spec.beam, "Beam angle");
+            ui.horizontal(|ui| {
+                angle(ui, &mut spec.beam_angle_deg, 0.1..=359.0, "Beam angle (°)");
+                ui.label("±");
+                angle(
+                    ui,
+                    &mut spec.beam_tolerance_deg,
+                    0.01..=90.0,
+                    "Beam tolerance (°)",
+                );
+            });
+            ui.end_row();
+            ui.checkbox(&mut spec.field, "Field angle at most");
+            angle(
+                ui,
+                &mut spec.field_angle_max_deg,
+                0.1..=359.0,
+                "Field angle at most (°)",
+            );
+            ui.end_row();
+            ui.checkbox(&mut spec.cutoff, "Cut-off above γ");
+            ui.horizontal(|ui| {
+                angle(ui, &mut spec.cutoff_gamma_deg, 0.1..=180.0, "Cut-off γ (°)");
+                ui.label("at most");
+                ui.add(
+                    DragValue::new(&mut spec.cutoff_max_percent)
+                        .range(0.01..=99.0)
+                        .speed(0.1)
+                        .suffix(" % of the peak"),
+                )
+                .accessible_name("Cut-off at most (% of the peak)");
+            });
+            ui.end_row();
+            ui.checkbox(&mut spec.lor, "LOR at least");
+            ui.add(
+                DragValue::new(&mut spec.lor_min_percent)
+                    .range(0.1..=100.0)
+                    .speed(0.1)
+                    .suffix(" %"),
+            )
+            .accessible_name("LOR at least (%)");
+            ui.end_row();
+            ui.checkbox(&mut spec.ugr, "UGR at most");
+            ui.horizontal(|ui| {
+                ui.add(
+                    DragValue::new(&mut spec.ugr_max)
+                        .range(1.0..=40.0)
+                        .speed(0.1),
+                )
+                .accessible_name("UGR at most");
+                ui.weak("4H × 8H room, 70/50/20 (CIE 190)");
+            });
+            ui.end_row();
+            ui.label("Maximise");
+            ui.horizontal(|ui| {
+                egui::ComboBox::from_id_salt("design maximise")
+                    .selected_text(match spec.maximise {
+                        None => "nothing",
+                        Some(Maximise::Lor) => "the LOR",
+                        Some(Maximise::ConeFlux) => "the flux in a cone",
+                    })
+                    .show_ui(ui, |ui| {
+                        ui.selectable_value(&mut spec.maximise, None, "nothing");
+                        ui.selectable_value(&mut spec.maximise, Some(Maximise::Lor), "the LOR");
+                        ui.selectable_value(
+                            &mut spec.maximise,
+                            Some(Maximise::ConeFlux),
+                            "the flux in a cone",
+                        );
+                    });
+                if spec.maximise == Some(Maximise::ConeFlux) {
+                    ui.label("of half-angle");
+                    angle(
+                        ui,
+                        &mut spec.cone_half_angle_deg,
+                        0.1..=180.0,
+                        "Cone half-angle (°)",
+                    );
+                }
+            });
+            ui.end_row();
+        });
+    if let Err(why) = spec.spec() {
+        ui.colored_label(ui.visuals().error_fg_color, why);
+    }
+}
+
+fn variables_ui(ui: &mut Ui, state: &mut EditorState, commands: &mut Vec<Command>) {
+    let design = &state.design;
+    if design.setup.vary.is_empty() {
+        ui.label(
+            "Nothing ticked yet: tick a parameter in the scene panel (select the part), or a point in the Profile pane.",
+        );
+    }
+    for vary in &design.setup.vary {
+        let bounds = design.bounds(vary).unwrap_or_default();
+        let text = bounds
+            .iter()
+            .map(|v| {
+                let coordinate = v.name.rsplit_once('.').map_or("", |(_, c)| c);
+                let shown = if vary.ends_with(']') {
+                    format!("{coordinate} ")
+                } else {
+                    String::new()
+                };
+                format!(
+                    "{shown}{} ({} … {})",
+                    value_text(&v.name, v.start),
+                    value_text(&v.name, v.lower),
+                    value_text(&v.name, v.upper)
+                )
+            })
+            .collect::<Vec<_>>()
+            .join(", ");
+        let mut on = true;
+        if ui
+            .checkbox(&mut on, format!("{vary}: {text}"))
+            .on_hover_text("Untick: it stays as it is")
+            .changed()
+        {
+            commands.push(Command::TickDesignVariable {
+                vary: vary.clone(),
+                on: false,
+            });
+        }
+    }
+    // A profile's interior points at once (the Profile pane ticks them one
+    // by one).
+    let profiles: Vec<(String, usize)> = state.scene().map_or(Vec::new(), |s| {
+        s.parts
+            .iter()
+            .filter_map(|p| match &p.shape {
+                Shape::Revolved(r) => Some((p.name.clone(), r.profile.len())),
+                Shape::Extruded(e) => Some((p.name.clone(), e.profile.len())),
+                _ => None,
+            })
+            .collect()
+    });
+    for (name, n) in profiles {
+        if n > 2
+            && ui
+                .button(format!("Vary the interior points of {name}"))
+                .clicked()
+        {
+            for k in 1..n - 1 {
+                commands.push(Command::TickDesignVariable {
+                    vary: format!("{name}.profile[{k}]"),
+                    on: true,
+                });
+            }
+        }
+    }
+    if !design.setup.vary.is_empty() && ui.button("Untick all").clicked() {
+        for vary in &design.setup.vary {
+            commands.push(Command::TickDesignVariable {
+                vary: vary.clone(),
+                on: false,
+            });
+        }
+    }
+}
+
+fn budget_ui(ui: &mut Ui, design: &mut DesignState) {
+    let setup = &mut design.setup;
+    labelled(ui, "Time", |ui| {
+        ui.add(
+            DragValue::new(&mut setup.time_s)
+                .range(1.0..=86_400.0)
+                .speed(1.0)
+                .suffix(" s"),
+        )
+    });
+    ui.horizontal(|ui| {
+        let mut limited = setup.evaluations.is_some();
+        ui.checkbox(&mut limited, "Stop after")
+            .on_hover_text("A budget that does not depend on the machine: the same seed gives the same design anywhere");
+        let mut n = setup.evaluations.unwrap_or(200);
+        ui.add_enabled(limited, DragValue::new(&mut n).range(1..=1_000_000))
+            .accessible_name("Candidates at most");
+        ui.label("candidates");
+        setup.evaluations = limited.then_some(n);
+    });
+    labelled(ui, "Seed", |ui| ui.add(DragValue::new(&mut setup.seed)));
+}
+
+fn progress_ui(ui: &mut Ui, state: &mut EditorState, commands: &mut Vec<Command>) {
+    let command_line = state.design.setup.command_line(state.path());
+    ui.weak("The same design on the command line:");
+    ui.add(egui::Label::new(RichText::new(command_line).monospace().small()).selectable(true));
+    if state.design.setup.target_kind == TargetKind::Spec {
+        ui.collapsing("SPEC.toml", |ui| {
+            ui.add(
+                egui::Label::new(RichText::new(state.design.setup.spec.to_toml()).monospace())
+                    .selectable(true),
+            );
+        });
+    }
+    if let Some(run) = &state.design.run {
+        let elapsed = run.began.elapsed().as_secs_f64();
+        match &run.latest {
+            Some(p) if p.photons > 0 => {
+                ui.label(format!(
+                    "{} {elapsed:.1} s of {:.0} s toward {}: stage {} ({} photons a candidate), {} candidates traced; best merit {:.4} ± {:.4}",
+                    if run.stopping { "Stopping," } else { "Running," },
+                    state.design.setup.time_s,
+                    run.target_name,
+                    p.stage + 1,
+                    p.photons,
+                    run.history.len(),
+                    p.best_merit,
+                    p.noise
+                ));
+                for (v, x) in run.variables.iter().zip(&p.best_values) {
+                    ui.weak(format!("{} = {}", v.name, value_text(&v.name, *x)));
+                }
+            }
+            Some(_) => {
+                ui.label(format!(
+                    "Running, {elapsed:.1} s: the meridian model's search for a start…"
+                ));
+            }
+            None => {
+                ui.label(format!("Running, {elapsed:.1} s: tracing the start…"));
+            }
+        }
+        merit_plot_ui(ui, &run.history);
+        return;
+    }
+    let Some(outcome) = &state.design.outcome else {
+        return;
+    };
+    let why = match outcome.stopped {
+        Stopped::Converged => "converged (the last stage agrees within its noise)",
+        Stopped::Time => "its time is up",
+        Stopped::Evaluations => "it traced the candidates it was given",
+        Stopped::Interrupted => "stopped: the best so far",
+    };
+    ui.label(format!(
+        "Design ended, {why}: {} candidates in {:.1} s; merit {:.4} at the start, now {:.4} ± {:.4}.",
+        outcome.evaluations, outcome.seconds, outcome.start_merit, outcome.merit, outcome.noise
+    ));
+    egui::Grid::new("design outcome")
+        .num_columns(3)
+        .striped(true)
+        .show(ui, |ui| {
+            ui.strong("Variable");
+            ui.strong("Start");
+            ui.strong("Designed");
+            ui.end_row();
+            for (name, start, designed) in &outcome.variables {
+                ui.label(name);
+                ui.label(value_text(name, *start));
+                ui.label(value_text(name, *designed));
+                ui.end_row();
+            }
+        });
+    if matches!(outcome.target, lucerna_design::Target::Distribution { .. }) {
+        ui.label(format!(
+            "Remaining difference to the target (relative L2 on the sphere, {} photons): {:.4} ± {:.4}",
+            outcome.photons, outcome.merit, outcome.noise
+        ));
+    }
+    let current = state.scene() == Some(&outcome.scene);
+    if ui
+        .add_enabled(
+            current && state.can_undo(),
+            egui::Button::new("Undo design"),
+        )
+        .on_hover_text("Back to the scene before the design: one undo step for the whole run")
+        .clicked()
+    {
+        commands.push(Command::Undo);
+    }
+    merit_plot_ui(ui, &outcome.history);
+}
+
+/// A length in mm, an angle in degrees.
+fn value_text(name: &str, value: f64) -> String {
+    if name.ends_with("_deg") {
+        format!("{value:.3}°")
+    } else {
+        format!("{:.3} mm", value * 1000.0)
+    }
+}
+
+/// Every traced candidate's merit against time, the best of each stage
+/// with its photon noise as a band.
+fn merit_plot_ui(ui: &mut Ui, history: &[MeritPoint]) {
+    if history.is_empty() {
+        return;
+    }
+    let colour = ui.visuals().widgets.inactive.fg_stroke.color;
+    let accent = ui.visuals().selection.bg_fill;
+    // Logarithmic: a design takes its merit down by decades.
+    let log = |m: f64| m.max(1e-6).log10();
+    Plot::new("design merit")
+        .height(220.0)
+        .x_axis_label("s")
+        .y_axis_label("merit (log)")
+        .y_axis_formatter(|mark, _| format!("{}", 10f64.powf(mark.value)))
+        .label_formatter(|hover| {
+            let p = match hover {
+                egui_plot::HoverPosition::NearDataPoint { position, .. } => position,
+                egui_plot::HoverPosition::Elsewhere { position } => position,
+            };
+            Some(format!("{:.1} s: merit {:.4}", p.x, 10f64.powf(p.y)))
+        })
+        .allow_scroll(false)
+        .show(ui, |plot| {
+            let points: Vec<[f64; 2]> = history
+                .iter()
+                .map(|p| [p.elapsed_s, log(p.merit)])
+                .collect();
+            plot.points(
+                Points::new("candidates", PlotPoints::from(points))
+                    .radius(1.5)
+                    .color(colour),
+            );
+            let mut stage_start = 0;
+            for k in 1..=history.len() {
+                if k < history.len() && history[k].stage == history[stage_start].stage {
+                    continue;
+                }
+                let stage = &history[stage_start..k];
+                let best: Vec<[f64; 2]> =
+                    stage.iter().map(|p| [p.elapsed_s, log(p.best)]).collect();
+                let band: Vec<[f64; 2]> = stage
+                    .iter()
+                    .map(|p| [p.elapsed_s, log(p.best + p.noise)])
+                    .chain(
+                        stage
+                            .iter()
+                            .rev()
+                            .map(|p| [p.elapsed_s, log((p.best - p.noise).max(0.2 * p.best))]),
+                    )
+                    .collect();
+                let name = format!(
+                    "best, stage {} ({} photons)",
+                    stage[0].stage + 1,
+                    stage[0].photons
+                );
+                if stage.len() > 1 {
+                    plot.polygon(
+                        Polygon::new(format!("{name} noise"), PlotPoints::from(band))
+                            .fill_color(accent.gamma_multiply(0.3))
+                            .stroke(egui::Stroke::NONE),
+                    );
+                }
+                plot.line(
+                    Line::new(name, PlotPoints::from(best))
+                        .color(accent)
+                        .width(2.0),
+                );
+                stage_start = k;
+            }
+        });
+}
