@@ -400,6 +400,15 @@ fn progress_ui(ui: &mut Ui, state: &mut EditorState, commands: &mut Vec<Command>
     merit_plot_ui(ui, &outcome.history);
 }
 
+/// A merit with two significant digits (the log plot's marks).
+fn significant(v: f64) -> String {
+    if !(v > 0.0) {
+        return "0".to_owned();
+    }
+    let decimals = (1.0 - v.log10().floor()).max(0.0) as usize;
+    format!("{v:.decimals$}")
+}
+
 /// A length in mm, an angle in degrees.
 fn value_text(name: &str, value: f64) -> String {
     if name.ends_with("_deg") {
@@ -423,7 +432,7 @@ fn merit_plot_ui(ui: &mut Ui, history: &[MeritPoint]) {
         .height(220.0)
         .x_axis_label("s")
         .y_axis_label("merit (log)")
-        .y_axis_formatter(|mark, _| format!("{}", 10f64.powf(mark.value)))
+        .y_axis_formatter(|mark, _| significant(10f64.powf(mark.value)))
         .label_formatter(|hover| {
             let p = match hover {
                 egui_plot::HoverPosition::NearDataPoint { position, .. } => position,

@@ -11,6 +11,7 @@ mod benchmarks;
 mod colour;
 mod command;
 mod config;
+mod design;
 mod design_pane;
 mod design_state;
 mod dialogs;
