@@ -15,6 +15,7 @@ pub mod mesh;
 pub mod model;
 pub mod obj;
 pub mod profile;
+pub mod section;
 pub mod shapes;
 pub mod tessellate;
 #[cfg(feature = "test-support")]

@@ -196,24 +196,8 @@ impl Photon {
         // triangle's vertex normals from its shading record.
         let m = &scene.materials[TriangleShading::material_of_tag(hit.tag) as usize];
         let geometric = hit.normal;
-        let shading_normal = if hit.tag & FLAT_TAG != 0 {
-            geometric
-        } else {
-            let s = &scene.shading[hit.triangle as usize];
-            let w = 1.0 - hit.u - hit.v;
-            (Vec3A::from_slice(&s.n0[..3]) * w
-                + Vec3A::from_slice(&s.n1[..3]) * hit.u
-                + Vec3A::from_slice(&s.n2[..3]) * hit.v)
-                .normalize_or(geometric)
-        };
-        // Two-sided sheets: both normals face the incoming photon.
-        let ng = facing(geometric, dir);
-        let ns = if shading_normal.dot(ng) < 0.0 {
-            -shading_normal
-        } else {
-            shading_normal
-        };
-        let ns = facing_consistent(ns, ng);
+        let shading_normal = shading_normal(scene, &hit);
+        let (ng, ns) = facing_normals(geometric, shading_normal, dir);
         let next = match m.kind {
             kind::LAMBERTIAN => (rng.next_f32() < m.reflectance)
                 .then(|| cosine_hemisphere(ns, rng.next_f32(), rng.next_f32())),
@@ -257,6 +241,36 @@ impl Photon {
         self.bounces += 1;
         None
     }
+}
+
+/// The normal a hit shades with: the geometric one of a flat triangle,
+/// else its vertex normals interpolated.
+#[inline(always)]
+pub(crate) fn shading_normal(scene: &PreparedScene, hit: &crate::bvh::Hit) -> Vec3A {
+    let geometric = hit.normal;
+    if hit.tag & FLAT_TAG != 0 {
+        geometric
+    } else {
+        let s = &scene.shading[hit.triangle as usize];
+        let w = 1.0 - hit.u - hit.v;
+        (Vec3A::from_slice(&s.n0[..3]) * w
+            + Vec3A::from_slice(&s.n1[..3]) * hit.u
+            + Vec3A::from_slice(&s.n2[..3]) * hit.v)
+            .normalize_or(geometric)
+    }
+}
+
+/// Two-sided sheets: the geometric and shading normals, both facing the
+/// incoming direction `dir`.
+#[inline(always)]
+pub(crate) fn facing_normals(geometric: Vec3A, shading: Vec3A, dir: Vec3A) -> (Vec3A, Vec3A) {
+    let ng = facing(geometric, dir);
+    let ns = if shading.dot(ng) < 0.0 {
+        -shading
+    } else {
+        shading
+    };
+    (ng, facing_consistent(ns, ng))
 }
 
 /// The shading normal, kept in the geometric normal's hemisphere.

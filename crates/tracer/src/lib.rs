@@ -27,7 +27,10 @@ pub use cpu::{
     BatchTotals, CountBuffers, Fate, Tally, TraceSettings, trace_batch, trace_batch_into,
     trace_batch_into_unless,
 };
-pub use paths::{EscapingRay, PhotonPath, escaping_rays, sample_photon_paths};
+pub use paths::{
+    EscapingRay, PhotonPath, SectionPlane, escaping_rays, sample_photon_paths, section_fan,
+    trace_principal_ray,
+};
 pub use prepared::{PrepareError, PreparedScene};
 pub use session::{Backend, BackendRequest, IterationReport, Session, choose_backend};
 pub use symmetry::{LuminaireSymmetry, luminaire_symmetry, prepared_luminaire_symmetry};
