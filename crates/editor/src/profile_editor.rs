@@ -49,8 +49,19 @@ pub struct Profile<'a> {
     /// Traced photons' paths in this plane (mm), drawn faintly under the
     /// profile so the light's way through it reads at a glance.
     pub rays_mm: &'a [Vec<[f64; 2]>],
+    /// Where the plane cuts the luminaire's surfaces (mm): the parts
+    /// around the profile, and the part itself where it has no profile.
+    pub cuts_mm: &'a [SectionCut],
     /// Height of the drawing (points).
     pub drawing_height: f32,
+}
+
+/// Where a section's plane cuts one surface (mm, the drawing's frame).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SectionCut {
+    pub segments_mm: Vec<[[f64; 2]; 2]>,
+    /// The selected part's own cut (drawn as its curve), not one around it.
+    pub highlighted: bool,
 }
 
 /// The part of the data plane (mm) the drawing shows and how it maps to
@@ -244,6 +255,7 @@ pub fn profile_editor_ui(
         segments_per_span,
         lamps_mm,
         rays_mm,
+        cuts_mm,
         drawing_height,
     } = profile;
     let id = Id::unique(("profile editor", part));
@@ -268,6 +280,7 @@ pub fn profile_editor_ui(
             segments_per_span,
             lamps_mm,
             rays_mm,
+            cuts_mm,
             drawing_height,
         },
         &found,
@@ -437,6 +450,7 @@ fn drawing_ui(
         segments_per_span,
         lamps_mm,
         rays_mm,
+        cuts_mm,
         drawing_height,
     } = profile;
     let (total, _) = ui.allocate_exact_size(
@@ -465,6 +479,12 @@ fn drawing_ui(
                 .iter()
                 .copied()
                 .chain(lamps_mm.iter().map(|(_, p)| *p))
+                .chain(
+                    cuts_mm
+                        .iter()
+                        .filter(|c| c.highlighted)
+                        .flat_map(|c| c.segments_mm.iter().flatten().copied()),
+                )
                 .collect();
             let view = fitted_view_mm(&shown, plane);
             ui.data_mut(|d| {
@@ -484,8 +504,20 @@ fn drawing_ui(
     painter.rect_filled(plot, 2.0, visuals.extreme_bg_color);
     grid_ui(&painter, &plot_painter, &frame, plane, &visuals);
 
+    // The luminaire's other surfaces where the plane cuts them, faint; a
+    // part without a profile drawn as its own cut.
+    for cut in cuts_mm {
+        let stroke = if cut.highlighted {
+            Stroke::new(2.0, visuals.hyperlink_color)
+        } else {
+            Stroke::new(1.5, visuals.weak_text_color())
+        };
+        for [a, b] in &cut.segments_mm {
+            plot_painter.line_segment([frame.screen_from_mm(*a), frame.screen_from_mm(*b)], stroke);
+        }
+    }
     // The photons' paths, under everything else.
-    let ray_stroke = Stroke::new(1.0, visuals.warn_fg_color.gamma_multiply(0.35));
+    let ray_stroke = Stroke::new(1.0, visuals.warn_fg_color.gamma_multiply(0.55));
     for ray in rays_mm {
         let line: Vec<Pos2> = ray.iter().map(|&p| frame.screen_from_mm(p)).collect();
         plot_painter.line(line, ray_stroke);

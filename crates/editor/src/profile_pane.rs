@@ -1,22 +1,30 @@
-//! The profile pane: the selected reflector's profile, large enough to
-//! shape it, with the run's own photons drawn through it (those that
-//! travel in the profile's plane: a revolved part's meridional rays, an
-//! extruded part's section).
+//! The profile pane: the selected part in section, as an optics drawing
+//! shows it. A revolved or extruded part's profile, large enough to shape
+//! it; a paraboloid's, ellipsoid's, dome's or cylinder's exact section,
+//! read-only; any other part's cut by the section plane. Around it, the
+//! luminaire's other surfaces where the plane cuts them (every part,
+//! hidden or not), and through it a fan of rays traced from each
+//! emitter's centre and edges through the real geometry (it follows a
+//! drag: each preview's luminaire is traced again), or the run's own
+//! photons in that plane. The plane is a chosen C-plane through the
+//! part's origin (an extruded profile's is its own, C0).
 
 use std::sync::Arc;
 
 use egui::Ui;
 use glam::Vec3;
 use lucerna_scene::Shape;
+use lucerna_scene::section::{SectionPlane, section_cuts};
 use lucerna_scene::shapes::{Revolved, editable_revolution};
+use lucerna_scene::tessellate::SurfaceKind;
 use lucerna_simulation::Luminaire;
-use lucerna_tracer::{Fate, sample_photon_paths};
+use lucerna_tracer::{Fate, PhotonPath, sample_photon_paths, section_fan};
 
 use crate::command::{Command, Selection};
 use crate::modelling::{
     CONVERTED_PROFILE_TOLERANCE_M, ProfilePlane, SceneEdit, lamps_in_profile_plane, profile_mut,
 };
-use crate::profile_editor::{Profile, profile_editor_ui, section_drawing_ui};
+use crate::profile_editor::{Profile, SectionCut, profile_editor_ui, section_drawing_ui};
 use crate::state::EditorState;
 
 /// Photons traced for the drawing, and at most how many are drawn.
@@ -27,30 +35,151 @@ const RAYS_DRAWN: usize = 60;
 const MERIDIONAL_MM: f64 = 1.5;
 /// Length of an escaped photon's last leg (mm).
 const EXIT_LEG_MM: f64 = 120.0;
+/// The fan: directions from each point of an emitter, and the most
+/// surfaces a ray meets.
+const FAN_RAYS_PER_POINT: usize = 15;
+const FAN_BOUNCES: u32 = 8;
+
+/// Which rays the section shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum RaysShown {
+    /// Principal rays from each emitter's centre and edges, traced
+    /// through the geometry again for each preview (they follow a drag).
+    #[default]
+    Fan,
+    /// The run's own first photons that travel in the plane.
+    RunPhotons,
+}
 
 /// A path in a profile's plane (mm).
 type PlanePath = Vec<[f64; 2]>;
 
-/// The rays drawn, kept per luminaire and part.
+/// What the pane shows and keeps: the plane, the rays chosen, and what
+/// was traced or cut for a luminaire, part and plane.
 #[derive(Debug, Default)]
 pub struct ProfilePane {
+    /// The section's C-plane (degrees).
+    pub c_plane_deg: f64,
+    pub rays_shown: RaysShown,
     rays: Option<(Arc<Luminaire>, usize, Vec<PlanePath>)>,
+    fan: Option<(Arc<Luminaire>, usize, u64, Vec<PlanePath>)>,
+    cuts: Option<(Arc<Luminaire>, usize, u64, Vec<SectionCut>)>,
     /// A parametric part's section as a profile, kept per shape (finding
     /// it samples the surface: milliseconds, not for every frame).
     section: Option<(Shape, Option<Revolved>)>,
 }
 
 impl ProfilePane {
-    /// The run's rays through part `index`: traced again when the
-    /// luminaire changes, but not while a pointer is down (a drag keeps
-    /// the rays it had).
+    /// The rays drawn through part `index` in the section: the fan, traced
+    /// again for each luminaire (each preview of a drag), or the run's
+    /// photons, traced again when the luminaire changes but not while a
+    /// pointer is down (a drag keeps the ones it had).
     fn shown_rays(&mut self, ui: &Ui, state: &EditorState, index: usize) -> Vec<PlanePath> {
-        match state.snapshot() {
-            Some(s) if ui.input(|i| !i.pointer.any_down()) || self.rays.is_some() => {
-                let luminaire = s.luminaire.clone();
+        let Some(s) = state.snapshot() else {
+            return Vec::new();
+        };
+        let luminaire = s.luminaire.clone();
+        match self.rays_shown {
+            RaysShown::Fan => self.fan_for(&luminaire, index).to_vec(),
+            RaysShown::RunPhotons if ui.input(|i| !i.pointer.any_down()) || self.rays.is_some() => {
                 self.rays_for(&luminaire, index).to_vec()
             }
-            _ => Vec::new(),
+            RaysShown::RunPhotons => Vec::new(),
+        }
+    }
+
+    /// The plane of part `index`'s section: through its origin, in the
+    /// chosen C-plane (an extruded profile's own, C0); None for a part
+    /// drawn in its own frame that is turned or scaled.
+    fn plane_of(&self, luminaire: &Luminaire, index: usize) -> Option<SectionPlane> {
+        let p = luminaire.scene.parts.get(index)?;
+        let t = &p.transform;
+        let own_frame = matches!(p.shape, Shape::Revolved(_) | Shape::Extruded(_))
+            || p.shape.has_parametric_section();
+        if own_frame && (t.rotate_deg != [0.0; 3] || t.scale != [1.0; 3]) {
+            return None;
+        }
+        let c = if matches!(p.shape, Shape::Extruded(_)) {
+            0.0
+        } else {
+            self.c_plane_deg
+        };
+        let origin = Vec3::new(
+            t.translate[0] as f32,
+            t.translate[1] as f32,
+            t.translate[2] as f32,
+        );
+        Some(SectionPlane::of_c_plane(origin, c))
+    }
+
+    fn fan_for(&mut self, luminaire: &Arc<Luminaire>, part: usize) -> &[PlanePath] {
+        let key = self.c_plane_deg.to_bits();
+        let fresh = self
+            .fan
+            .as_ref()
+            .is_some_and(|(l, p, c, _)| Arc::ptr_eq(l, luminaire) && *p == part && *c == key);
+        if !fresh {
+            let fan = match self.plane_of(luminaire, part) {
+                Some(plane) => {
+                    section_fan(&luminaire.prepared, plane, FAN_RAYS_PER_POINT, FAN_BOUNCES)
+                        .iter()
+                        .map(|path| in_plane_mm(&plane, path))
+                        .collect()
+                }
+                None => Vec::new(),
+            };
+            self.fan = Some((luminaire.clone(), part, key, fan));
+        }
+        self.fan.as_ref().map_or(&[], |(_, _, _, f)| f.as_slice())
+    }
+
+    /// Where the plane cuts the luminaire's surfaces: the part's own cut
+    /// highlighted where `own` (it has no profile curve to draw), left
+    /// out otherwise.
+    fn cuts_for(&mut self, luminaire: &Arc<Luminaire>, part: usize, own: bool) -> Vec<SectionCut> {
+        let key = self.c_plane_deg.to_bits() ^ u64::from(own);
+        let fresh = self
+            .cuts
+            .as_ref()
+            .is_some_and(|(l, p, c, _)| Arc::ptr_eq(l, luminaire) && *p == part && *c == key);
+        if !fresh {
+            let cuts = match self.plane_of(luminaire, part) {
+                Some(plane) => {
+                    let t = &luminaire.tessellated;
+                    section_cuts(t, &plane)
+                        .into_iter()
+                        .filter_map(|cut| {
+                            let surface = &t.surfaces[cut.surface];
+                            let mine = surface.kind == SurfaceKind::Part && surface.index == part;
+                            (own || !mine).then(|| SectionCut {
+                                segments_mm: cut
+                                    .segments
+                                    .iter()
+                                    .map(|s| s.map(|p| [p[0] * 1000.0, p[1] * 1000.0]))
+                                    .collect(),
+                                highlighted: mine,
+                            })
+                        })
+                        .collect()
+                }
+                None => Vec::new(),
+            };
+            self.cuts = Some((luminaire.clone(), part, key, cuts));
+        }
+        self.cuts
+            .as_ref()
+            .map_or(Vec::new(), |(_, _, _, c)| c.clone())
+    }
+
+    /// The cuts around part `index` (its own too where `own`), for the
+    /// newest luminaire shown.
+    fn shown_cuts(&mut self, state: &EditorState, index: usize, own: bool) -> Vec<SectionCut> {
+        match state.snapshot() {
+            Some(s) => {
+                let luminaire = s.luminaire.clone();
+                self.cuts_for(&luminaire, index, own)
+            }
+            None => Vec::new(),
         }
     }
 
@@ -135,6 +264,113 @@ fn profile_rays(luminaire: &Luminaire, part: usize) -> Vec<PlanePath> {
     rays
 }
 
+/// A path's points in the section plane (mm), its escape drawn as a last
+/// leg of [`EXIT_LEG_MM`].
+fn in_plane_mm(plane: &SectionPlane, path: &PhotonPath) -> PlanePath {
+    let mut points: Vec<[f64; 2]> = path
+        .points
+        .iter()
+        .map(|&q| plane.coordinates(q).0.map(|v| v * 1000.0))
+        .collect();
+    if let Some(d) = path.escape_direction()
+        && let Some(&last) = path.points.last()
+    {
+        let end = last + d * (EXIT_LEG_MM as f32 / 1000.0);
+        points.push(plane.coordinates(end).0.map(|v| v * 1000.0));
+    }
+    points
+}
+
+/// The section's controls: its C-plane (where the part's section depends
+/// on it) and which rays it draws.
+fn section_controls_ui(ui: &mut Ui, pane: &mut ProfilePane, c_plane: bool) {
+    ui.horizontal(|ui| {
+        if c_plane {
+            crate::widgets::labelled(ui, "Section in C-plane", |ui| {
+                ui.add(
+                    egui::DragValue::new(&mut pane.c_plane_deg)
+                        .range(0.0..=359.0)
+                        .speed(1.0)
+                        .suffix("°"),
+                )
+            });
+        }
+        crate::widgets::labelled(ui, "Rays", |ui| {
+            egui::ComboBox::from_id_salt("section rays")
+                .selected_text(match pane.rays_shown {
+                    RaysShown::Fan => "fan from the emitters",
+                    RaysShown::RunPhotons => "the run's photons",
+                })
+                .show_ui(ui, |ui| {
+                    ui.selectable_value(&mut pane.rays_shown, RaysShown::Fan, "fan from the emitters")
+                        .on_hover_text("Rays from each emitter's centre and edges, followed through the geometry: mirrors reflect, glass refracts, a diffuse surface ends them");
+                    ui.selectable_value(
+                        &mut pane.rays_shown,
+                        RaysShown::RunPhotons,
+                        "the run's photons",
+                    )
+                    .on_hover_text("The run's own first photons that travel in this plane");
+                })
+                .response
+        });
+    });
+}
+
+/// A part that has no profile or exact section, cut by the plane: its
+/// cut highlighted among the others', with the rays through them.
+fn cut_section_ui(ui: &mut Ui, state: &mut EditorState, pane: &mut ProfilePane, index: usize) {
+    let Some(part) = state.scene().and_then(|s| s.parts.get(index)) else {
+        return;
+    };
+    let (name, kind) = (part.name.clone(), part.shape.generator().kind());
+    let origin = part.transform.translate;
+    section_controls_ui(ui, pane, true);
+    let rays = pane.shown_rays(ui, state, index);
+    let cuts = pane.shown_cuts(state, index, true);
+    ui.strong(format!(
+        "Section of {name} ({kind}) in C{:.0}",
+        pane.c_plane_deg
+    ));
+    if !cuts.iter().any(|c| c.highlighted) {
+        ui.label("The plane does not cut it here: choose another C-plane.");
+    }
+    ui.label(format!(
+        "Cut by the plane through its origin: it in colour, the luminaire's other surfaces in grey, {} rays through them.",
+        rays.len()
+    ));
+    let plane = SectionPlane::of_c_plane(
+        Vec3::new(origin[0] as f32, origin[1] as f32, origin[2] as f32),
+        pane.c_plane_deg,
+    );
+    let lamps_mm: Vec<(String, [f64; 2])> = state.scene().map_or(Vec::new(), |s| {
+        s.emitters
+            .iter()
+            .filter(|e| e.enabled)
+            .map(|e| {
+                let t = e.transform.translate;
+                let at = Vec3::new(t[0] as f32, t[1] as f32, t[2] as f32);
+                (e.name.clone(), plane.coordinates(at).0.map(|v| v * 1000.0))
+            })
+            .collect()
+    });
+    let drawing_height = (ui.available_height() - 40.0).clamp(300.0, 1200.0);
+    let mut no_points = Vec::new();
+    section_drawing_ui(
+        ui,
+        Profile {
+            part: index,
+            plane: ProfilePlane::WidthHeight,
+            points_m: &mut no_points,
+            interpolation: lucerna_scene::Interpolation::Linear,
+            segments_per_span: 1,
+            lamps_mm: &lamps_mm,
+            rays_mm: &rays,
+            cuts_mm: &cuts,
+            drawing_height,
+        },
+    );
+}
+
 /// A parametric surface of revolution's section, read-only, with the
 /// run's rays through it, and the button that makes it an editable
 /// profile; false (nothing drawn) for a part that has no such section.
@@ -161,11 +397,13 @@ fn parametric_section_ui(
     let lamps_mm = state
         .scene()
         .map_or(Vec::new(), |s| lamps_in_profile_plane(s, index));
+    section_controls_ui(ui, pane, true);
     let rays = pane.shown_rays(ui, state, index);
+    let cuts = pane.shown_cuts(state, index, false);
     ui.strong(format!("Section of {name} ({kind})"));
     ui.horizontal_wrapped(|ui| {
         ui.label(format!(
-            "Read-only: its parameters set its shape, drawn through the {} points an editable profile would get. {} photons of the run drawn through it.",
+            "Read-only: its parameters set its shape, drawn through the {} points an editable profile would get. {} rays drawn through it.",
             section.profile.len(),
             rays.len()
         ));
@@ -194,6 +432,7 @@ fn parametric_section_ui(
             segments_per_span: section.segments_per_span,
             lamps_mm: &lamps_mm,
             rays_mm: &rays,
+            cuts_mm: &cuts,
             drawing_height,
         },
     );
@@ -211,29 +450,26 @@ pub fn profile_pane_ui(ui: &mut Ui, state: &mut EditorState, pane: &mut ProfileP
             .and_then(|s| s.parts.get(i))
             .is_some_and(|p| matches!(p.shape, Shape::Revolved(_) | Shape::Extruded(_)))
     };
-    if let Some(index) = part.filter(|&i| !has_profile(state, i))
-        && parametric_section_ui(ui, state, pane, index)
-    {
+    if let Some(index) = part.filter(|&i| !has_profile(state, i)) {
+        if !parametric_section_ui(ui, state, pane, index) {
+            cut_section_ui(ui, state, pane, index);
+        }
         return;
     }
     let Some(index) = part.filter(|&i| has_profile(state, i)) else {
         ui.label(
-            "Select a revolved or extruded part to shape its profile here, or a paraboloid, ellipsoid, dome or cylinder to see its section.",
+            "Select a part to see it in section here: a revolved or extruded part's profile to shape it, any other part's section with the rays through it.",
         );
-        // A button for each part this pane can show: its profile to edit,
-        // or its section.
+        // A button for each part: its profile to edit, or its section.
         let shown: Vec<(usize, String)> = state.scene().map_or(Vec::new(), |s| {
             s.parts
                 .iter()
                 .enumerate()
-                .filter_map(|(i, p)| match p.shape {
+                .map(|(i, p)| match p.shape {
                     Shape::Revolved(_) | Shape::Extruded(_) => {
-                        Some((i, format!("Edit the profile of {}", p.name)))
+                        (i, format!("Edit the profile of {}", p.name))
                     }
-                    ref shape if shape.has_parametric_section() => {
-                        Some((i, format!("Show the section of {}", p.name)))
-                    }
-                    _ => None,
+                    _ => (i, format!("Show the section of {}", p.name)),
                 })
                 .collect()
         });
@@ -244,6 +480,12 @@ pub fn profile_pane_ui(ui: &mut Ui, state: &mut EditorState, pane: &mut ProfileP
         }
         return;
     };
+    let revolved = state
+        .scene()
+        .and_then(|s| s.parts.get(index))
+        .is_some_and(|p| matches!(p.shape, Shape::Revolved(_)));
+    section_controls_ui(ui, pane, revolved);
+    let cuts = pane.shown_cuts(state, index, false);
     let rays = pane.shown_rays(ui, state, index);
     let problems = state.problems().to_vec();
     let mut commands = Vec::new();
@@ -266,7 +508,7 @@ pub fn profile_pane_ui(ui: &mut Ui, state: &mut EditorState, pane: &mut ProfileP
     };
     ui.strong(format!("Profile of {name}"));
     ui.label(format!(
-        "{} photons of the run drawn through it (those in the profile's plane).",
+        "{} rays drawn through it; the luminaire's other surfaces in grey where the plane cuts them.",
         rays.len()
     ));
     // The table of points needs about 200 points of height below.
@@ -284,6 +526,7 @@ pub fn profile_pane_ui(ui: &mut Ui, state: &mut EditorState, pane: &mut ProfileP
                     segments_per_span,
                     lamps_mm: &lamps_mm,
                     rays_mm: &rays,
+                    cuts_mm: &cuts,
                     drawing_height,
                 },
                 &problems,

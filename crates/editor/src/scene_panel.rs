@@ -452,15 +452,14 @@ fn shape_ui(ui: &mut Ui, shape: &mut Shape, ticks: &Ticks<'_>, commands: &mut Ve
         {
             commands.push(Command::ShowPane(crate::dock::Pane::Profile));
         }
-    } else if shape.has_parametric_section() {
+    } else {
         ui.separator();
-        if ui
-            .button("Show the section")
-            .on_hover_text(
-                "Its section in the Profile pane, with the run's photons drawn through it; convert it there to shape it freely",
-            )
-            .clicked()
-        {
+        let hover = if shape.has_parametric_section() {
+            "Its section in the Profile pane, with rays traced through it; convert it there to shape it freely"
+        } else {
+            "Its cut by a C-plane in the Profile pane, among the luminaire's other surfaces, with rays traced through it"
+        };
+        if ui.button("Show the section").on_hover_text(hover).clicked() {
             commands.push(Command::ShowPane(crate::dock::Pane::Profile));
         }
     }

@@ -695,3 +695,44 @@ fn a_paraboloid_shows_its_section_and_converts_to_a_profile_in_one_undo_step() {
     menu(&mut h, "Edit", "Undo");
     assert_eq!(state(&h).scene().unwrap().parts[0].shape, before);
 }
+
+/// Any part shows its cut by a chosen C-plane in the Profile pane, with
+/// the fan of rays from the emitters through the luminaire: the louvre
+/// of the linear example, in C0 and then C90.
+#[test]
+fn a_louvre_shows_its_section_in_a_chosen_c_plane_with_the_emitters_ray_fan() {
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/luminaires/linear_louvre.toml");
+    let mut h = Harness::builder()
+        .with_size([1366.0, 900.0])
+        .build_ui_state(
+            |ui, app: &mut EditorApp| app.ui(ui),
+            EditorApp::new(EditorState::new(Some(path), settings(64, Some(200_000)))),
+        );
+    steps(&mut h, 2);
+    click(&mut h, "Part louvre (louvre)");
+    click(&mut h, "Show the section");
+    // The fan needs the run's first luminaire.
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while state(&h).snapshot().is_none() {
+        h.step();
+        assert!(Instant::now() < deadline, "no snapshot");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    steps(&mut h, 2);
+    assert!(
+        h.query_by_label_contains("Section of louvre (louvre) in C0")
+            .is_some()
+    );
+    // The LED strip's rectangle: its centre and two edges, 15 rays each.
+    assert!(h.query_by_label_contains("45 rays through them").is_some());
+    set(&mut h, "Section in C-plane", 90.0);
+    assert!(
+        h.query_by_label_contains("Section of louvre (louvre) in C90")
+            .is_some()
+    );
+    assert!(
+        h.query_by_label_contains("The plane does not cut it here")
+            .is_none()
+    );
+}

@@ -196,9 +196,13 @@ pub fn trace_principal_ray(
     }
 }
 
+/// Where a fan's edge rays start: this share of the way from an
+/// emitter's centre to its edge.
+const EDGE_INSET: f32 = 0.95;
+
 /// A fan of principal rays ([`trace_principal_ray`]) in `plane` from each
 /// emitter with a surface: from the centre and both edges of a disk's or
-/// rectangle's cut by the plane, `rays_per_point` directions evenly over
+/// rectangle's cut by the plane (the edges 5 % inside), `rays_per_point` directions evenly over
 /// the emitting half of the plane (not grazing); from a sphere's or
 /// cylinder's centre, `2 × rays_per_point` directions all round, each
 /// starting on its surface. Ray-file emitters have no surface to fan
@@ -252,7 +256,11 @@ pub fn section_fan(
                 };
                 // The normal turned a right angle within the plane.
                 let tangent = along * normal.dot(up) - up * normal.dot(along);
-                for point in [Vec3::ZERO, local * reach, -local * reach] {
+                // Just inside the edges: an emitter set into a reflector
+                // touches it at its rim, where a ray would start on the
+                // mirror itself.
+                let edge = local * reach * EDGE_INSET;
+                for point in [Vec3::ZERO, edge, -edge] {
                     let from = to_luminaire(point);
                     for k in 0..n {
                         // Evenly over (−85°, 85°) from the normal.
