@@ -229,11 +229,16 @@ fn variables_ui(ui: &mut Ui, state: &mut EditorState, commands: &mut Vec<Command
                 } else {
                     String::new()
                 };
+                let (k, unit) = if v.name.ends_with("_deg") {
+                    (1.0, "°")
+                } else {
+                    (1000.0, " mm")
+                };
                 format!(
-                    "{shown}{} ({} … {})",
+                    "{shown}{} ({:.1} … {:.1}{unit})",
                     value_text(&v.name, v.start),
-                    value_text(&v.name, v.lower),
-                    value_text(&v.name, v.upper)
+                    v.lower * k,
+                    v.upper * k
                 )
             })
             .collect::<Vec<_>>()
