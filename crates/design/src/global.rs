@@ -30,8 +30,15 @@ use crate::meridian::MeridianModel;
 use crate::merit::SMOOTH_STEP_DEG;
 
 /// Candidates traced in each stage of one run.
-const WASSERSTEIN_EVALUATIONS: usize = 1200;
-const POLISH_EVALUATIONS: usize = 800;
+const WASSERSTEIN_EVALUATIONS: usize = 4800;
+const POLISH_EVALUATIONS: usize = 3200;
+/// Candidates of each CMA-ES generation: far more than its default for
+/// six variables (9). A large population sees the landscape's large-scale
+/// shape through its narrow valleys: on the revolved reflector's bake,
+/// 16 runs of the default population found model L2 0.129 at best, 4
+/// runs of 60 (the same evaluations) 0.055 and 2 runs of 100 0.037 (the
+/// hidden profile's own is 0.054).
+const POPULATION: usize = 60;
 /// CMA-ES step sizes of the two stages (normalised coordinates).
 const WASSERSTEIN_STEP: f64 = 0.15;
 const POLISH_STEP: f64 = 0.02;
@@ -254,6 +261,7 @@ fn run(
     };
     let left = deadline.saturating_duration_since(Instant::now());
     let mut state = CMAESOptions::new(x0, step)
+        .population_size(POPULATION)
         .seed(seed)
         .max_function_evals(evaluations)
         .max_time(left)
@@ -467,7 +475,7 @@ mod tests {
         let deadline = Instant::now() + std::time::Duration::from_secs(300);
         let never = AtomicBool::new(false);
         let mut heard = 0;
-        let found = search(&m, &cone, &goal, 7, 4, deadline, &never, &mut |_, _| {
+        let found = search(&m, &cone, &goal, 7, 1, deadline, &never, &mut |_, _| {
             heard += 1
         })
         .unwrap();
@@ -481,7 +489,7 @@ mod tests {
         // The ends stay.
         assert_eq!(best.profile[0], cone[0]);
         assert_eq!(best.profile[4], cone[4]);
-        let again = search(&m, &cone, &goal, 7, 4, deadline, &never, &mut |_, _| {}).unwrap();
+        let again = search(&m, &cone, &goal, 7, 1, deadline, &never, &mut |_, _| {}).unwrap();
         assert_eq!(found.candidates, again.candidates);
     }
 }
