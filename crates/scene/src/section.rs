@@ -63,27 +63,34 @@ pub fn section_cuts(t: &TessellatedScene, plane: &SectionPlane) -> Vec<SurfaceCu
         for tri in &t.mesh.triangles[range.triangles.clone()] {
             let p = tri.map(|i| t.mesh.positions[i as usize]);
             let d = p.map(distance);
-            // The points where edges cross the plane (a vertex on it
-            // counts once, for the edges that leave it to either side).
-            let mut crossing: Vec<[f64; 2]> = Vec::with_capacity(2);
+            // The vertices on the plane, and where edges cross it from one
+            // side to the other.
+            let mut crossing: Vec<[f64; 2]> = Vec::with_capacity(3);
             for k in 0..3 {
+                if d[k] == 0.0 {
+                    crossing.push(plane.coordinates(p[k]).0);
+                }
                 let (a, b) = (k, (k + 1) % 3);
                 let (da, db) = (d[a], d[b]);
-                if da == 0.0 && db == 0.0 {
-                    continue;
-                }
-                if da == 0.0 {
-                    crossing.push(plane.coordinates(p[a]).0);
-                } else if (da < 0.0) != (db < 0.0) && db != 0.0 {
+                if (da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0) {
                     let s = (da / (da - db)) as f32;
                     crossing.push(plane.coordinates(p[a] + (p[b] - p[a]) * s).0);
                 }
             }
-            crossing.dedup();
+            // Two points: a segment; three: the triangle lies in the
+            // plane; fewer: it touches the plane at a vertex at most.
             if crossing.len() == 2 && crossing[0] != crossing[1] {
                 segments.push([crossing[0], crossing[1]]);
             }
         }
+        // An edge in the plane is cut from both its triangles: once.
+        for seg in &mut segments {
+            if seg[1] < seg[0] {
+                seg.swap(0, 1);
+            }
+        }
+        segments.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
+        segments.dedup();
         if !segments.is_empty() {
             cuts.push(SurfaceCut { surface, segments });
         }
@@ -145,6 +152,43 @@ mod tests {
             "{}",
             length(cut)
         );
+    }
+
+    #[test]
+    fn a_cylinder_cut_through_its_vertices_shows_both_sides() {
+        // 64 segments around: C0 and C90 pass through vertices on the plane.
+        let t = tessellated(
+            "[[part]]\nname = \"can\"\nmaterial = \"m\"\nshape = { type = \"cylinder\", radius = 0.05, height = 0.04, cap_bottom = false, segments_around = 64 }\n",
+        );
+        let part = t.surfaces.iter().position(|s| s.name == "can").unwrap();
+        for c_deg in [0.0, 90.0, 33.0] {
+            let cuts = section_cuts(&t, &SectionPlane::of_c_plane(Vec3::ZERO, c_deg));
+            let cut = cuts.iter().find(|c| c.surface == part).unwrap();
+            // Both walls (2 × 40 mm) and the cap across (100 mm, a little
+            // less off the vertices: the 64-gon's chord).
+            let walls: f64 = cut
+                .segments
+                .iter()
+                .filter(|[a, b]| (a[0] - b[0]).abs() < 1e-9)
+                .map(|[a, b]| (a[1] - b[1]).abs())
+                .sum();
+            let cap: f64 = cut
+                .segments
+                .iter()
+                .filter(|[a, b]| (a[1] - b[1]).abs() < 1e-9)
+                .map(|[a, b]| (a[0] - b[0]).abs())
+                .sum();
+            assert!((walls - 0.08).abs() < 1e-6, "C{c_deg}: walls {walls}");
+            assert!(
+                (0.0995..=0.100 + 1e-7).contains(&cap),
+                "C{c_deg}: cap {cap}"
+            );
+            let xs: Vec<f64> = cut.segments.iter().flatten().map(|p| p[0]).collect();
+            let (lo, hi) = xs
+                .iter()
+                .fold((0.0f64, 0.0f64), |(l, h), &x| (l.min(x), h.max(x)));
+            assert!(lo < -0.0499 && hi > 0.0499, "C{c_deg}: {lo} … {hi}");
+        }
     }
 
     #[test]
