@@ -602,3 +602,39 @@ fn a_design_run_in_the_pane_gives_the_command_lines_scene_and_undoes_in_one_step
     assert_eq!(focal_length(&h), 0.025);
     assert!(!h.state().state.can_undo());
 }
+
+/// The Design pane refuses what cannot start, saying why, and changes
+/// nothing: nothing ticked, no target file, a spec with no term, a target
+/// file that is not photometry.
+#[test]
+fn the_design_pane_refuses_what_cannot_start_and_says_why() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = editor(Some(example()));
+    h.state_mut().show_pane(lucerna_editor::dock::Pane::Design);
+    common::steps(&mut h, 3);
+    let before = h.state().state.scene().cloned();
+    let start = |h: &mut Harness<'_, EditorApp>| {
+        common::click(h, "Start design");
+        assert!(!h.state().state.is_designing());
+        assert_eq!(h.state().state.scene().cloned(), before);
+    };
+    start(&mut h);
+    h.get_by_label_contains("tick what may change");
+    select_reflector(&mut h);
+    common::click(&mut h, "Vary Focal length");
+    start(&mut h);
+    h.get_by_label_contains("choose a target file (IES or EULUMDAT) first");
+    let not_photometry = dir.path().join("notes.ies");
+    std::fs::write(&not_photometry, "hello\n").unwrap();
+    command(
+        &mut h,
+        lucerna_editor::Command::SetDesignTarget(not_photometry),
+    );
+    start(&mut h);
+    h.get_by_label_contains("not a photometric file");
+    common::click(&mut h, "Spec");
+    common::click(&mut h, "Beam angle");
+    start(&mut h);
+    // Said twice: under the spec as it is edited, and as Start's refusal.
+    assert_eq!(h.get_all_by_label_contains("states no term").count(), 2);
+}
