@@ -135,9 +135,9 @@ pub struct ModelSearch {
 /// Runs of the meridian model's global search, its share of the design's
 /// time and the most time it takes, and how many of its best the tracer
 /// judges.
-const MODEL_RUNS: usize = 4;
-const MODEL_TIME_SHARE: u32 = 3;
-const MODEL_TIME_MAX: std::time::Duration = std::time::Duration::from_secs(45);
+const MODEL_RUNS: usize = 8;
+const MODEL_TIME_SHARE: u32 = 2;
+const MODEL_TIME_MAX: std::time::Duration = std::time::Duration::from_secs(60);
 const MODEL_TRACED: usize = 3;
 
 /// Loads, checks and runs a design; `progress` hears of every traced
