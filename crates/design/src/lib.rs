@@ -119,6 +119,17 @@ pub struct Design {
     pub lamp_flux_lm: f64,
 }
 
+impl Design {
+    /// Each variable's name, start value and designed value.
+    pub fn changes(&self) -> Vec<(String, f64, f64)> {
+        self.variables
+            .iter()
+            .zip(&self.found.values)
+            .map(|(v, &x)| (v.name.clone(), v.start, x))
+            .collect()
+    }
+}
+
 /// What the meridian model's global search ([`global`]) gave.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct ModelSearch {
@@ -147,9 +158,6 @@ pub fn design(
     interrupt: &AtomicBool,
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<Design, DesignError> {
-    if request.budget.time.is_zero() {
-        return Err(DesignError::Time);
-    }
     let path = &request.scene_path;
     let scene_err = |source| DesignError::Scene {
         path: path.display().to_string(),

@@ -253,12 +253,7 @@ impl EditorState {
                     merit: design.found.merit,
                     noise: design.found.noise,
                     photons: design.found.photons,
-                    variables: design
-                        .variables
-                        .iter()
-                        .zip(&design.found.values)
-                        .map(|(v, &x)| (v.name.clone(), v.start, x))
-                        .collect(),
+                    variables: design.changes(),
                     history: run.history,
                     scene: design.scene.clone(),
                     scene_text: scene_text.unwrap_or_default(),

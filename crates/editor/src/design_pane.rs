@@ -108,15 +108,21 @@ fn target_ui(ui: &mut Ui, state: &mut EditorState, commands: &mut Vec<Command>) 
     }
 }
 
-fn angle(ui: &mut Ui, value: &mut f64, range: std::ops::RangeInclusive<f64>, name: &str) {
+/// A spec's number, named for accessibility (its row's label is the
+/// term's tick).
+fn value(ui: &mut Ui, v: &mut f64, range: std::ops::RangeInclusive<f64>, suffix: &str, name: &str) {
     ui.add(
-        DragValue::new(value)
+        DragValue::new(v)
             .range(range)
             .speed(0.1)
-            .suffix("°")
+            .suffix(suffix)
             .max_decimals(2),
     )
     .accessible_name(name);
+}
+
+fn angle(ui: &mut Ui, v: &mut f64, range: std::ops::RangeInclusive<f64>, name: &str) {
+    value(ui, v, range, "°", name);
 }
 
 fn spec_ui(ui: &mut Ui, spec: &mut SpecForm) {
@@ -148,32 +154,27 @@ fn spec_ui(ui: &mut Ui, spec: &mut SpecForm) {
             ui.horizontal(|ui| {
                 angle(ui, &mut spec.cutoff_gamma_deg, 0.1..=180.0, "Cut-off γ (°)");
                 ui.label("at most");
-                ui.add(
-                    DragValue::new(&mut spec.cutoff_max_percent)
-                        .range(0.01..=99.0)
-                        .speed(0.1)
-                        .suffix(" % of the peak"),
-                )
-                .accessible_name("Cut-off at most (% of the peak)");
+                value(
+                    ui,
+                    &mut spec.cutoff_max_percent,
+                    0.01..=99.0,
+                    " % of the peak",
+                    "Cut-off at most (% of the peak)",
+                );
             });
             ui.end_row();
             ui.checkbox(&mut spec.lor, "LOR at least");
-            ui.add(
-                DragValue::new(&mut spec.lor_min_percent)
-                    .range(0.1..=100.0)
-                    .speed(0.1)
-                    .suffix(" %"),
-            )
-            .accessible_name("LOR at least (%)");
+            value(
+                ui,
+                &mut spec.lor_min_percent,
+                0.1..=100.0,
+                " %",
+                "LOR at least (%)",
+            );
             ui.end_row();
             ui.checkbox(&mut spec.ugr, "UGR at most");
             ui.horizontal(|ui| {
-                ui.add(
-                    DragValue::new(&mut spec.ugr_max)
-                        .range(1.0..=40.0)
-                        .speed(0.1),
-                )
-                .accessible_name("UGR at most");
+                value(ui, &mut spec.ugr_max, 1.0..=40.0, "", "UGR at most");
                 ui.weak("4H × 8H room, 70/50/20 (CIE 190)");
             });
             ui.end_row();

@@ -54,6 +54,42 @@ pub enum RaysShown {
 /// A path in a profile's plane (mm).
 type PlanePath = Vec<[f64; 2]>;
 
+/// What was traced or cut for one luminaire, part and key: made again
+/// when any of them changes.
+#[derive(Debug)]
+struct Kept<K, T> {
+    luminaire: Arc<Luminaire>,
+    part: usize,
+    key: K,
+    value: T,
+}
+
+/// `slot`'s value if it was made for `luminaire`, `part` and `key`, else
+/// `make`'s, kept in it.
+fn kept<'a, K: PartialEq, T>(
+    slot: &'a mut Option<Kept<K, T>>,
+    luminaire: &Arc<Luminaire>,
+    part: usize,
+    key: K,
+    make: impl FnOnce() -> T,
+) -> &'a T {
+    let fresh = slot
+        .as_ref()
+        .is_some_and(|k| Arc::ptr_eq(&k.luminaire, luminaire) && k.part == part && k.key == key);
+    if !fresh {
+        *slot = Some(Kept {
+            luminaire: luminaire.clone(),
+            part,
+            key,
+            value: make(),
+        });
+    }
+    match slot {
+        Some(k) => &k.value,
+        None => unreachable!("filled above"),
+    }
+}
+
 /// What the pane shows and keeps: the plane, the rays chosen, and what
 /// was traced or cut for a luminaire, part and plane.
 #[derive(Debug, Default)]
@@ -61,9 +97,11 @@ pub struct ProfilePane {
     /// The section's C-plane (degrees).
     pub c_plane_deg: f64,
     pub rays_shown: RaysShown,
-    rays: Option<(Arc<Luminaire>, usize, Vec<PlanePath>)>,
-    fan: Option<(Arc<Luminaire>, usize, u64, Vec<PlanePath>)>,
-    cuts: Option<(Arc<Luminaire>, usize, u64, Vec<SectionCut>)>,
+    rays: Option<Kept<(), Vec<PlanePath>>>,
+    /// Keyed by the C-plane (its bits).
+    fan: Option<Kept<u64, Vec<PlanePath>>>,
+    /// Keyed by the C-plane and whether the part's own cut is drawn.
+    cuts: Option<Kept<(u64, bool), Vec<SectionCut>>>,
     /// A parametric part's section as a profile, kept per shape (finding
     /// it samples the surface: milliseconds, not for every frame).
     section: Option<(Shape, Option<Revolved>)>,
@@ -113,62 +151,52 @@ impl ProfilePane {
     }
 
     fn fan_for(&mut self, luminaire: &Arc<Luminaire>, part: usize) -> &[PlanePath] {
-        let key = self.c_plane_deg.to_bits();
-        let fresh = self
-            .fan
-            .as_ref()
-            .is_some_and(|(l, p, c, _)| Arc::ptr_eq(l, luminaire) && *p == part && *c == key);
-        if !fresh {
-            let fan = match self.plane_of(luminaire, part) {
-                Some(plane) => {
+        let plane = self.plane_of(luminaire, part);
+        kept(
+            &mut self.fan,
+            luminaire,
+            part,
+            self.c_plane_deg.to_bits(),
+            || {
+                plane.map_or(Vec::new(), |plane| {
                     section_fan(&luminaire.prepared, plane, FAN_RAYS_PER_POINT, FAN_BOUNCES)
                         .iter()
                         .map(|path| in_plane_mm(&plane, path))
                         .collect()
-                }
-                None => Vec::new(),
-            };
-            self.fan = Some((luminaire.clone(), part, key, fan));
-        }
-        self.fan.as_ref().map_or(&[], |(_, _, _, f)| f.as_slice())
+                })
+            },
+        )
+        .as_slice()
     }
 
     /// Where the plane cuts the luminaire's surfaces: the part's own cut
     /// highlighted where `own` (it has no profile curve to draw), left
     /// out otherwise.
     fn cuts_for(&mut self, luminaire: &Arc<Luminaire>, part: usize, own: bool) -> Vec<SectionCut> {
-        let key = self.c_plane_deg.to_bits() ^ u64::from(own);
-        let fresh = self
-            .cuts
-            .as_ref()
-            .is_some_and(|(l, p, c, _)| Arc::ptr_eq(l, luminaire) && *p == part && *c == key);
-        if !fresh {
-            let cuts = match self.plane_of(luminaire, part) {
-                Some(plane) => {
-                    let t = &luminaire.tessellated;
-                    section_cuts(t, &plane)
-                        .into_iter()
-                        .filter_map(|cut| {
-                            let surface = &t.surfaces[cut.surface];
-                            let mine = surface.kind == SurfaceKind::Part && surface.index == part;
-                            (own || !mine).then(|| SectionCut {
-                                segments_mm: cut
-                                    .segments
-                                    .iter()
-                                    .map(|s| s.map(|p| [p[0] * 1000.0, p[1] * 1000.0]))
-                                    .collect(),
-                                highlighted: mine,
-                            })
-                        })
-                        .collect()
-                }
-                None => Vec::new(),
+        let plane = self.plane_of(luminaire, part);
+        let key = (self.c_plane_deg.to_bits(), own);
+        kept(&mut self.cuts, luminaire, part, key, || {
+            let Some(plane) = plane else {
+                return Vec::new();
             };
-            self.cuts = Some((luminaire.clone(), part, key, cuts));
-        }
-        self.cuts
-            .as_ref()
-            .map_or(Vec::new(), |(_, _, _, c)| c.clone())
+            let t = &luminaire.tessellated;
+            section_cuts(t, &plane)
+                .into_iter()
+                .filter_map(|cut| {
+                    let surface = &t.surfaces[cut.surface];
+                    let mine = surface.kind == SurfaceKind::Part && surface.index == part;
+                    (own || !mine).then(|| SectionCut {
+                        segments_mm: cut
+                            .segments
+                            .iter()
+                            .map(|s| s.map(|p| [p[0] * 1000.0, p[1] * 1000.0]))
+                            .collect(),
+                        highlighted: mine,
+                    })
+                })
+                .collect()
+        })
+        .clone()
     }
 
     /// The cuts around part `index` (its own too where `own`), for the
@@ -192,14 +220,10 @@ impl ProfilePane {
     }
 
     fn rays_for(&mut self, luminaire: &Arc<Luminaire>, part: usize) -> &[PlanePath] {
-        let fresh = self
-            .rays
-            .as_ref()
-            .is_some_and(|(l, p, _)| Arc::ptr_eq(l, luminaire) && *p == part);
-        if !fresh {
-            self.rays = Some((luminaire.clone(), part, profile_rays(luminaire, part)));
-        }
-        self.rays.as_ref().map_or(&[], |(_, _, r)| r.as_slice())
+        kept(&mut self.rays, luminaire, part, (), || {
+            profile_rays(luminaire, part)
+        })
+        .as_slice()
     }
 }
 

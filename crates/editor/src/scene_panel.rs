@@ -214,27 +214,13 @@ fn part_ui(
             .response
     });
     ui.label("Shape");
-    let ticks = Ticks {
+    let mut fields = ShapeFields {
         part: &part.name,
         design,
+        commands,
     };
-    shape_ui(ui, &mut part.shape, &ticks, commands);
+    shape_ui(ui, &mut part.shape, &mut fields);
     transform_ui(ui, &mut part.transform);
-}
-
-/// A length parameter with the Design pane's tick beside it.
-fn varied_mm(
-    ui: &mut Ui,
-    ticks: &Ticks<'_>,
-    commands: &mut Vec<Command>,
-    field: &str,
-    label: &str,
-    metres: &mut f64,
-) {
-    ui.horizontal(|ui| {
-        length_mm(ui, label, metres, MAX_MM);
-        ticks.ui(ui, commands, field, label, Unit::Millimetres);
-    });
 }
 
 #[derive(Clone, Copy)]
@@ -243,16 +229,26 @@ enum Unit {
     Degrees,
 }
 
-/// The Design pane's ticks beside a part's continuous parameters: shown
-/// while the pane is in front or something is ticked; a ticked value
-/// shows the bounds the design keeps it in.
-struct Ticks<'a> {
+/// What a part's shape fields are drawn with: the part's name and the
+/// Design pane's ticks beside each continuous parameter (shown while the
+/// pane is in front or something is ticked; a ticked value shows the
+/// bounds the design keeps it in), and the commands they queue.
+struct ShapeFields<'a> {
     part: &'a str,
     design: Option<&'a DesignState>,
+    commands: &'a mut Vec<Command>,
 }
 
-impl Ticks<'_> {
-    fn ui(&self, ui: &mut Ui, commands: &mut Vec<Command>, field: &str, label: &str, unit: Unit) {
+impl ShapeFields<'_> {
+    /// A length in mm with its tick beside it.
+    fn length(&mut self, ui: &mut Ui, field: &str, label: &str, metres: &mut f64) {
+        ui.horizontal(|ui| {
+            length_mm(ui, label, metres, MAX_MM);
+            self.tick(ui, field, label, Unit::Millimetres);
+        });
+    }
+
+    fn tick(&mut self, ui: &mut Ui, field: &str, label: &str, unit: Unit) {
         let Some(design) = self.design else { return };
         let vary = format!("{}.{field}", self.part);
         let mut on = design.setup.is_ticked(&vary);
@@ -261,7 +257,7 @@ impl Ticks<'_> {
             .on_hover_text("Vary it in the Design pane's run")
             .accessible_name(format!("Vary {label}"));
         if tick.changed() {
-            commands.push(Command::TickDesignVariable {
+            self.commands.push(Command::TickDesignVariable {
                 vary: vary.clone(),
                 on,
             });
@@ -282,91 +278,62 @@ impl Ticks<'_> {
 
 /// Every generator parameter with its unit; the profile shapes point to
 /// the profile pane.
-fn shape_ui(ui: &mut Ui, shape: &mut Shape, ticks: &Ticks<'_>, commands: &mut Vec<Command>) {
+fn shape_ui(ui: &mut Ui, shape: &mut Shape, fields: &mut ShapeFields<'_>) {
     match shape {
         Shape::Paraboloid(s) => {
-            varied_mm(
+            fields.length(ui, "focal_length", "Focal length", &mut s.focal_length);
+            fields.length(
                 ui,
-                ticks,
-                commands,
-                "focal_length",
-                "Focal length",
-                &mut s.focal_length,
-            );
-            varied_mm(
-                ui,
-                ticks,
-                commands,
                 "aperture_diameter",
                 "Aperture diameter",
                 &mut s.aperture_diameter,
             );
-            varied_mm(
-                ui,
-                ticks,
-                commands,
-                "neck_diameter",
-                "Neck diameter",
-                &mut s.neck_diameter,
-            );
+            fields.length(ui, "neck_diameter", "Neck diameter", &mut s.neck_diameter);
             segments(ui, "Segments around", &mut s.segments_around, 3);
             segments(ui, "Segments along", &mut s.segments_along, 1);
             flag(ui, "Faceted", &mut s.faceted);
         }
         Shape::Ellipsoid(s) => {
-            varied_mm(
+            fields.length(
                 ui,
-                ticks,
-                commands,
                 "focal_distance",
                 "Focal distance",
                 &mut s.focal_distance,
             );
-            varied_mm(
+            fields.length(
                 ui,
-                ticks,
-                commands,
                 "vertex_distance",
                 "Vertex distance",
                 &mut s.vertex_distance,
             );
-            varied_mm(
+            fields.length(
                 ui,
-                ticks,
-                commands,
                 "cut_below_focus",
                 "Cut below focus",
                 &mut s.cut_below_focus,
             );
-            varied_mm(
-                ui,
-                ticks,
-                commands,
-                "neck_diameter",
-                "Neck diameter",
-                &mut s.neck_diameter,
-            );
+            fields.length(ui, "neck_diameter", "Neck diameter", &mut s.neck_diameter);
             segments(ui, "Segments around", &mut s.segments_around, 3);
             segments(ui, "Segments along", &mut s.segments_along, 1);
             flag(ui, "Faceted", &mut s.faceted);
         }
         Shape::Disk(s) => {
-            varied_mm(ui, ticks, commands, "radius", "Radius", &mut s.radius);
+            fields.length(ui, "radius", "Radius", &mut s.radius);
             segments(ui, "Segments around", &mut s.segments_around, 3);
         }
         Shape::Plate(s) => {
-            varied_mm(ui, ticks, commands, "width", "Width", &mut s.width);
-            varied_mm(ui, ticks, commands, "depth", "Depth", &mut s.depth);
+            fields.length(ui, "width", "Width", &mut s.width);
+            fields.length(ui, "depth", "Depth", &mut s.depth);
         }
         Shape::Dome(s) => {
-            varied_mm(ui, ticks, commands, "radius", "Radius", &mut s.radius);
-            varied_mm(ui, ticks, commands, "height", "Height", &mut s.height);
+            fields.length(ui, "radius", "Radius", &mut s.radius);
+            fields.length(ui, "height", "Height", &mut s.height);
             segments(ui, "Segments around", &mut s.segments_around, 3);
             segments(ui, "Segments along", &mut s.segments_along, 1);
         }
         Shape::Cylinder(s) => {
-            varied_mm(ui, ticks, commands, "radius", "Radius", &mut s.radius);
-            varied_mm(ui, ticks, commands, "height", "Height", &mut s.height);
+            fields.length(ui, "radius", "Radius", &mut s.radius);
+            fields.length(ui, "height", "Height", &mut s.height);
             flag(ui, "Cap top", &mut s.cap_top);
             flag(ui, "Cap bottom", &mut s.cap_bottom);
             segments(ui, "Segments around", &mut s.segments_around, 3);
@@ -384,51 +351,28 @@ fn shape_ui(ui: &mut Ui, shape: &mut Shape, ticks: &Ticks<'_>, commands: &mut Ve
             flag(ui, "Faceted", &mut s.faceted);
         }
         Shape::Extruded(s) => {
-            varied_mm(ui, ticks, commands, "length", "Length", &mut s.length);
+            fields.length(ui, "length", "Length", &mut s.length);
             interpolation_ui(ui, &mut s.interpolation);
             segments(ui, "Segments per span", &mut s.segments_per_span, 1);
             flag(ui, "End caps", &mut s.end_caps);
         }
         Shape::Louvre(s) => {
             segments(ui, "Blade count", &mut s.blade_count, 1);
-            varied_mm(
-                ui,
-                ticks,
-                commands,
-                "spacing",
-                "Blade spacing",
-                &mut s.spacing,
-            );
-            varied_mm(
-                ui,
-                ticks,
-                commands,
-                "blade_height",
-                "Blade height",
-                &mut s.blade_height,
-            );
-            varied_mm(
-                ui,
-                ticks,
-                commands,
-                "blade_length",
-                "Blade length",
-                &mut s.blade_length,
-            );
+            fields.length(ui, "spacing", "Blade spacing", &mut s.spacing);
+            fields.length(ui, "blade_height", "Blade height", &mut s.blade_height);
+            fields.length(ui, "blade_length", "Blade length", &mut s.blade_length);
             // The validator refuses ±89° and beyond (blades edge-on).
             ui.horizontal(|ui| {
                 number(ui, "Blade tilt", &mut s.tilt_deg, -88.9..=88.9, 0.5, "°");
-                ticks.ui(ui, commands, "tilt_deg", "Blade tilt", Unit::Degrees);
+                fields.tick(ui, "tilt_deg", "Blade tilt", Unit::Degrees);
             });
             segments(ui, "Cross blade count", &mut s.cross_blade_count, 0);
             if s.cross_blade_count > 0 {
                 if s.cross_spacing <= 0.0 {
                     s.cross_spacing = s.spacing;
                 }
-                varied_mm(
+                fields.length(
                     ui,
-                    ticks,
-                    commands,
                     "cross_spacing",
                     "Cross blade spacing",
                     &mut s.cross_spacing,
@@ -450,7 +394,9 @@ fn shape_ui(ui: &mut Ui, shape: &mut Shape, ticks: &Ticks<'_>, commands: &mut Ve
             .on_hover_text("Shape it in the Profile pane, with the run's photons drawn through it")
             .clicked()
         {
-            commands.push(Command::ShowPane(crate::dock::Pane::Profile));
+            fields
+                .commands
+                .push(Command::ShowPane(crate::dock::Pane::Profile));
         }
     } else {
         ui.separator();
@@ -460,7 +406,9 @@ fn shape_ui(ui: &mut Ui, shape: &mut Shape, ticks: &Ticks<'_>, commands: &mut Ve
             "Its cut by a C-plane in the Profile pane, among the luminaire's other surfaces, with rays traced through it"
         };
         if ui.button("Show the section").on_hover_text(hover).clicked() {
-            commands.push(Command::ShowPane(crate::dock::Pane::Profile));
+            fields
+                .commands
+                .push(Command::ShowPane(crate::dock::Pane::Profile));
         }
     }
 }

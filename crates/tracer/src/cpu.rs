@@ -201,10 +201,7 @@ impl Photon {
         let next = match m.kind {
             kind::LAMBERTIAN => (rng.next_f32() < m.reflectance)
                 .then(|| cosine_hemisphere(ns, rng.next_f32(), rng.next_f32())),
-            kind::MIRROR => (rng.next_f32() < m.reflectance).then(|| {
-                let r = reflect(dir, ns);
-                if r.dot(ng) > 0.0 { r } else { reflect(dir, ng) }
-            }),
+            kind::MIRROR => (rng.next_f32() < m.reflectance).then(|| specular(dir, ns, ng)),
             kind::ROUGH_CONDUCTOR => rough_conductor(m, dir, ns, rng),
             kind::DIFFUSER => {
                 let u = rng.next_f32();
@@ -371,6 +368,31 @@ fn dielectric(
     shading: Vec3A,
     rng: &mut PhotonRng,
 ) -> (Vec3A, bool) {
+    let d = dielectric_directions(m, dir, geometric, shading);
+    if rng.next_f32() < d.fresnel {
+        (d.reflected, !d.entering)
+    } else {
+        (d.transmitted, d.entering)
+    }
+}
+
+/// The two ways a ray may leave a dielectric's surface, and the share
+/// reflected (1 where it is totally reflected).
+pub(crate) struct DielectricDirections {
+    pub fresnel: f32,
+    pub reflected: Vec3A,
+    pub transmitted: Vec3A,
+    /// Whether the ray came from outside.
+    pub entering: bool,
+}
+
+#[inline(always)]
+pub(crate) fn dielectric_directions(
+    m: &crate::prepared::TraceMaterial,
+    dir: Vec3A,
+    geometric: Vec3A,
+    shading: Vec3A,
+) -> DielectricDirections {
     let entering = dir.dot(geometric) < 0.0;
     let ng = if entering { geometric } else { -geometric };
     let ns = facing_consistent(
@@ -383,16 +405,22 @@ fn dielectric(
     );
     let eta = if entering { 1.0 / m.ior } else { m.ior };
     let cos_i = (-dir.dot(ns)).clamp(0.0, 1.0);
-    let (f, cos_t) = fresnel_dielectric(cos_i, eta);
-    if rng.next_f32() < f {
-        let r = reflect(dir, ns);
-        let r = if r.dot(ng) > 0.0 { r } else { reflect(dir, ng) };
-        (r, !entering)
-    } else {
-        let t = (dir * eta + ns * (eta * cos_i - cos_t)).normalize();
-        let t = if t.dot(ng) < 0.0 { t } else { dir };
-        (t, entering)
+    let (fresnel, cos_t) = fresnel_dielectric(cos_i, eta);
+    let t = (dir * eta + ns * (eta * cos_i - cos_t)).normalize();
+    DielectricDirections {
+        fresnel,
+        reflected: specular(dir, ns, ng),
+        transmitted: if t.dot(ng) < 0.0 { t } else { dir },
+        entering,
     }
+}
+
+/// The mirror reflection of `dir` about the shading normal `ns`, about
+/// the geometric `ng` where that would go through the surface.
+#[inline(always)]
+pub(crate) fn specular(dir: Vec3A, ns: Vec3A, ng: Vec3A) -> Vec3A {
+    let r = reflect(dir, ns);
+    if r.dot(ng) > 0.0 { r } else { reflect(dir, ng) }
 }
 
 /// Photon bookkeeping of a batch apart from its counts; adds exactly.

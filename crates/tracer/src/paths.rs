@@ -140,9 +140,8 @@ pub fn trace_principal_ray(
     direction: Vec3,
     max_bounces: u32,
 ) -> PhotonPath {
-    use crate::cpu::{facing_normals, shading_normal};
+    use crate::cpu::{dielectric_directions, facing_normals, shading_normal, specular};
     use crate::prepared::{TriangleShading, kind};
-    use crate::sampling::{fresnel_dielectric, reflect};
     let mut o = Vec3A::from(origin);
     let mut d = Vec3A::from(direction).normalize_or(Vec3A::NEG_Z);
     let mut points = vec![origin];
@@ -161,21 +160,13 @@ pub fn trace_principal_ray(
         let shading = shading_normal(scene, &hit);
         let (ng, ns) = facing_normals(geometric, shading, d);
         let next = match m.kind {
-            kind::MIRROR | kind::ROUGH_CONDUCTOR => {
-                let r = reflect(d, ns);
-                if r.dot(ng) > 0.0 { r } else { reflect(d, ng) }
-            }
+            kind::MIRROR | kind::ROUGH_CONDUCTOR => specular(d, ns, ng),
             kind::DIELECTRIC => {
-                let entering = d.dot(geometric) < 0.0;
-                let eta = if entering { 1.0 / m.ior } else { m.ior };
-                let cos_i = (-d.dot(ns)).clamp(0.0, 1.0);
-                let (f, cos_t) = fresnel_dielectric(cos_i, eta);
-                if f >= 1.0 {
-                    let r = reflect(d, ns);
-                    if r.dot(ng) > 0.0 { r } else { reflect(d, ng) }
+                let ways = dielectric_directions(m, d, geometric, shading);
+                if ways.fresnel >= 1.0 {
+                    ways.reflected
                 } else {
-                    let t = (d * eta + ns * (eta * cos_i - cos_t)).normalize();
-                    if t.dot(ng) < 0.0 { t } else { d }
+                    ways.transmitted
                 }
             }
             _ => break Fate::Absorbed,

@@ -195,12 +195,7 @@ pub fn design(args: &DesignArgs) -> Result<()> {
             scene: args.scene.display().to_string(),
             stopped: design.found.stopped,
             evaluations: design.found.history.len(),
-            variables: design
-                .variables
-                .iter()
-                .zip(&design.found.values)
-                .map(|(v, &x)| (v.name.clone(), v.start, x))
-                .collect(),
+            variables: design.changes(),
             start_merit: design.start_merit,
             direct_design_merit: design.direct.as_ref().map(|d| d.1),
             meridian_model_search: design.model_search.clone(),
