@@ -11,6 +11,7 @@
 //! designed scene (the start scene's file with the values replaced), its
 //! bake, the design's history and its picture, all or none.
 
+pub mod corrected;
 pub mod direct;
 pub mod evaluate;
 pub mod global;
@@ -150,6 +151,13 @@ const MODEL_RUNS: usize = 8;
 const MODEL_TIME_SHARE: u32 = 2;
 const MODEL_TIME_MAX: std::time::Duration = std::time::Duration::from_secs(60);
 const MODEL_TRACED: usize = 3;
+/// The photons of each candidate the corrected model's rounds trace, and
+/// the share of the design's time those rounds may end by.
+const CORRECTED_PHOTONS: u64 = 1_600_000;
+const CORRECTED_TIME_SHARE: (u32, u32) = (3, 4);
+/// The tracer's loop's first simplex after them (a share of each
+/// variable's range).
+const CORRECTED_STEP: f64 = 0.002;
 
 /// Loads, checks and runs a design; `progress` hears of every traced
 /// candidate, `interrupt` stops it with the best so far.
@@ -282,6 +290,8 @@ pub fn design_scene(
     // best few traced, the best of them replaces the start if better.
     let mut model_records = Vec::new();
     let mut model_best: Option<(Vec<f64>, f64)> = None;
+    let mut corrected_records = Vec::new();
+    let mut corrected_best: Option<(Vec<f64>, f64)> = None;
     let model_search = match (&request.target, request.direct) {
         (Target::Distribution { table, .. }, true) => {
             direct::meridian_model(&start, &variables, &request.target).and_then(
@@ -307,7 +317,7 @@ pub fn design_scene(
                             .collect()
                     };
                     let mut heard = 0u64;
-                    let mut finished_at = [0.0; MODEL_RUNS];
+                    let mut finished_at = vec![0.0; MODEL_RUNS + global::SURVEY_STARTS];
                     let mut best_heard = f64::INFINITY;
                     let mut best_values = start_values.clone();
                     let mut on_run = |run: usize, c: &global::Candidate| {
@@ -365,17 +375,83 @@ pub fn design_scene(
                             values: values_of(&c.profile),
                         });
                     }
-                    for c in search.candidates.iter().take(MODEL_TRACED) {
-                        let values = values_of(&c.profile);
-                        let in_bounds = values
+                    let in_bounds = |values: &[f64]| {
+                        values
                             .iter()
                             .zip(&variables)
-                            .all(|(&x, v)| (v.lower..=v.upper).contains(&x));
-                        if let Some(m) = in_bounds.then(|| trace(&mut evaluator, &values)).flatten()
+                            .all(|(&x, v)| (v.lower..=v.upper).contains(&x))
+                    };
+                    let mut best_profile = None;
+                    for c in search.candidates.iter().take(MODEL_TRACED) {
+                        let values = values_of(&c.profile);
+                        if let Some(m) = in_bounds(&values)
+                            .then(|| trace(&mut evaluator, &values))
+                            .flatten()
                             && model_best.as_ref().is_none_or(|(_, b)| m < *b)
                         {
                             model_best = Some((values, m));
+                            best_profile = Some(c.profile.clone());
                         }
+                    }
+                    // The best, refined on the model corrected by the
+                    // tracer.
+                    let seen = |e: &mut Evaluator, profile: &[[f64; 2]]| {
+                        let values = values_of(profile);
+                        if !in_bounds(&values) {
+                            return None;
+                        }
+                        let scene = variables::apply(&start, &variables, &values)?;
+                        let t = e.trace(&scene, CORRECTED_PHOTONS).ok()?;
+                        Some(corrected::Seen {
+                            merit: optimise::merit_of(&aim, &t, lamp_flux_lm, &t.opening),
+                            axial: merit::axial(&t.table),
+                        })
+                    };
+                    let correction_deadline = began
+                        + if request.budget.evaluations.is_some() {
+                            request.budget.time
+                        } else {
+                            request.budget.time * CORRECTED_TIME_SHARE.0 / CORRECTED_TIME_SHARE.1
+                        };
+                    if let Some(profile) = best_profile
+                        && let Some(first) = seen(&mut evaluator, &profile)
+                    {
+                        let mut rounds = 0u64;
+                        let (profile, m) = corrected::refine(
+                            &model,
+                            &points,
+                            &goal,
+                            profile,
+                            first,
+                            request.seed,
+                            correction_deadline,
+                            interrupt,
+                            &mut |p| seen(&mut evaluator, p),
+                            &mut |r| {
+                                rounds += 1;
+                                let values = values_of(&r.profile);
+                                let record = Record {
+                                    evaluation: rounds,
+                                    elapsed_s: began.elapsed().as_secs_f64(),
+                                    photons: CORRECTED_PHOTONS,
+                                    merit: r.merit,
+                                    measure: "l2".to_owned(),
+                                    values: values.clone(),
+                                };
+                                progress(&Progress {
+                                    elapsed: began.elapsed(),
+                                    evaluations: rounds,
+                                    stage: 0,
+                                    photons: CORRECTED_PHOTONS,
+                                    best_merit: r.merit.unwrap_or(f64::INFINITY),
+                                    noise: 0.0,
+                                    best_values: values,
+                                    record: record.clone(),
+                                });
+                                corrected_records.push(record);
+                            },
+                        );
+                        corrected_best = Some((values_of(&profile), m));
                     }
                     Some(ModelSearch {
                         runs: search.candidates.len(),
@@ -392,7 +468,7 @@ pub fn design_scene(
         }
         _ => None,
     };
-    let x0: Vec<f64> = [
+    let chosen = [
         Some((&start_values, start_merit)),
         direct.as_ref().map(|(v, m)| (v, *m)),
         model_best.as_ref().map(|(v, m)| (v, *m)),
@@ -400,11 +476,25 @@ pub fn design_scene(
     .into_iter()
     .flatten()
     .min_by(|a, b| a.1.total_cmp(&b.1))
-    .map_or(&start_values, |(v, _)| v)
-    .iter()
-    .zip(&variables)
-    .map(|(&x, v)| v.fraction(x))
-    .collect();
+    .map_or(&start_values, |(v, _)| v);
+    // Where the corrected model refined the model's best, the tracer's
+    // loop starts from its result with its photons and a small simplex
+    // (a large one at few photons would leave its valley).
+    let (chosen, first) = match (&corrected_best, &model_best) {
+        (Some((values, _)), Some((model_values, _))) if chosen == model_values => (
+            values,
+            optimise::FirstStage {
+                photons: CORRECTED_PHOTONS,
+                step: CORRECTED_STEP,
+            },
+        ),
+        _ => (chosen, optimise::FirstStage::default()),
+    };
+    let x0: Vec<f64> = chosen
+        .iter()
+        .zip(&variables)
+        .map(|(&x, v)| v.fraction(x))
+        .collect();
     // The tracer's loop has the time the search left.
     let before_loop = began.elapsed();
     let budget = Budget {
@@ -436,6 +526,7 @@ pub fn design_scene(
             &mut evaluator,
             lamp_flux_lm,
             budget,
+            first,
             interrupt,
             progress,
         ),
@@ -443,6 +534,10 @@ pub fn design_scene(
     // design.csv lists the model's runs first, then the traced
     // candidates, on one clock.
     let mut found = found;
+    for (k, r) in corrected_records.iter_mut().enumerate() {
+        r.evaluation = (model_records.len() + k) as u64;
+    }
+    model_records.append(&mut corrected_records);
     let offset = model_records.len() as u64;
     for r in &mut found.history {
         r.evaluation += offset;

@@ -9,7 +9,7 @@
 
 use glam::DVec2;
 use lucerna_scene::Interpolation;
-use lucerna_scene::profile::sample_profile;
+use lucerna_scene::profile::{ProfileSample, sample_profile};
 
 /// γ bins of the model's intensity (degrees): coarser than the merit's
 /// grid, so each holds enough deposits near a narrow beam's peak.
@@ -77,11 +77,9 @@ impl MeridianModel {
                 loop {
                     let hit = mirror.nearest_hit(p, d, last_hit.map(|h| h.0));
                     match hit {
-                        Some((s, t)) if bounces < MAX_BOUNCES => {
+                        Some((s, t, along)) if bounces < MAX_BOUNCES => {
                             let q = p + t * d;
-                            let (a, b) = mirror.segments[s];
-                            let e = (b - a).normalize();
-                            let n = DVec2::new(-e.y, e.x);
+                            let n = mirror.normal(s, along);
                             d = d - 2.0 * d.dot(n) * n;
                             w *= self.reflectance;
                             p = q;
@@ -95,21 +93,19 @@ impl MeridianModel {
                             match last_hit {
                                 None => deposit(&mut flux, gamma0.to_degrees(), w),
                                 Some((_, q)) => {
-                                    // Sideways: the source's radius seen
-                                    // from the last reflection.
-                                    let beta = self.source_radius / (q - origin).length().max(1e-9);
-                                    let mut total = 0.0;
-                                    let mut parts = [(0.0, 0.0); SIDEWAYS];
-                                    for (m, part) in parts.iter_mut().enumerate() {
+                                    // Sideways: the source's chord across
+                                    // the meridian at this point of its
+                                    // diameter, seen from the last
+                                    // reflection (the disk, not a square:
+                                    // the sideways reach shrinks towards
+                                    // the diameter's ends).
+                                    let beta = chord * self.source_radius
+                                        / (q - origin).length().max(1e-9);
+                                    for m in 0..SIDEWAYS {
                                         let v = 2.0 * (m as f64 + 0.5) / SIDEWAYS as f64 - 1.0;
-                                        let c = (1.0 - v * v).sqrt();
                                         let s = v * beta;
                                         let g = (gamma0.cos() * s.cos()).clamp(-1.0, 1.0).acos();
-                                        *part = (g, c);
-                                        total += c;
-                                    }
-                                    for (g, c) in parts {
-                                        deposit(&mut flux, g.to_degrees(), w * c / total);
+                                        deposit(&mut flux, g.to_degrees(), w / SIDEWAYS as f64);
                                     }
                                 }
                             }
@@ -157,16 +153,28 @@ impl MeridianModel {
 
 impl MeridianModel {
     /// The mirror of `profile` in both halves of the meridian: (r, z) and
-    /// (−r, z).
+    /// (−r, z), with the tangents the tessellation's shading normals come
+    /// from.
     fn mirror(&self, profile: &[[f64; 2]]) -> Mirror {
-        let polyline: Vec<DVec2> =
-            sample_profile(profile, self.interpolation, self.segments_per_span)
-                .iter()
-                .flatten()
-                .map(|s| s.point)
-                .collect();
-        let mirrored: Vec<DVec2> = polyline.iter().map(|p| DVec2::new(-p.x, p.y)).collect();
-        Mirror::new(&[&polyline, &mirrored])
+        let strips = sample_profile(profile, self.interpolation, self.segments_per_span);
+        let mirrored: Vec<Vec<ProfileSample>> = strips
+            .iter()
+            .map(|strip| {
+                strip
+                    .iter()
+                    .map(|p| ProfileSample {
+                        point: DVec2::new(-p.point.x, p.point.y),
+                        tangent: DVec2::new(-p.tangent.x, p.tangent.y),
+                    })
+                    .collect()
+            })
+            .collect();
+        let lines: Vec<&[ProfileSample]> = strips
+            .iter()
+            .chain(&mirrored)
+            .map(|s| s.as_slice())
+            .collect();
+        Mirror::new(&lines)
     }
 
     /// Where each ray from the source's centre goes, for `count` source
@@ -189,13 +197,11 @@ impl MeridianModel {
                 let mut d = DVec2::new(theta.sin(), down * theta.cos());
                 let mut skip = None;
                 let mut bounces = 0;
-                while let Some((s, t)) = mirror.nearest_hit(p, d, skip) {
+                while let Some((s, t, along)) = mirror.nearest_hit(p, d, skip) {
                     if bounces >= MAX_BOUNCES {
                         break;
                     }
-                    let (a, b) = mirror.segments[s];
-                    let e = (b - a).normalize();
-                    let n = DVec2::new(-e.y, e.x);
+                    let n = mirror.normal(s, along);
                     p += t * d;
                     d = d - 2.0 * d.dot(n) * n;
                     skip = Some(s);
@@ -227,11 +233,14 @@ fn tent_sine_integral(c: f64, h: f64) -> f64 {
     s
 }
 
-/// The mirror's segments in both halves of the meridian, in runs of
-/// [`RUN`] with their bounding boxes, so a ray tests a run's box before
-/// its segments.
+/// The mirror's segments in both halves of the meridian, with their
+/// ends' normals (a hit's normal is interpolated between them, as the
+/// tracer interpolates a triangle's shading normals), in runs of [`RUN`]
+/// with their bounding boxes, so a ray tests a run's box before its
+/// segments.
 struct Mirror {
     segments: Vec<(DVec2, DVec2)>,
+    normals: Vec<(DVec2, DVec2)>,
     /// (first segment, end, box min, box max).
     runs: Vec<(usize, usize, DVec2, DVec2)>,
 }
@@ -239,16 +248,19 @@ struct Mirror {
 const RUN: usize = 8;
 
 impl Mirror {
-    fn new(polylines: &[&[DVec2]]) -> Mirror {
+    fn new(strips: &[&[ProfileSample]]) -> Mirror {
         let mut segments = Vec::new();
+        let mut normals = Vec::new();
         let mut runs = Vec::new();
-        for line in polylines {
+        let normal = |p: &ProfileSample| DVec2::new(-p.tangent.y, p.tangent.x);
+        for strip in strips {
             let first = segments.len();
-            segments.extend(
-                line.windows(2)
-                    .filter(|w| (w[1] - w[0]).length_squared() > 0.0)
-                    .map(|w| (w[0], w[1])),
-            );
+            for w in strip.windows(2) {
+                if (w[1].point - w[0].point).length_squared() > 0.0 {
+                    segments.push((w[0].point, w[1].point));
+                    normals.push((normal(&w[0]), normal(&w[1])));
+                }
+            }
             let mut k = first;
             while k < segments.len() {
                 let end = (k + RUN).min(segments.len());
@@ -262,19 +274,31 @@ impl Mirror {
                 k = end;
             }
         }
-        Mirror { segments, runs }
+        Mirror {
+            segments,
+            normals,
+            runs,
+        }
     }
 
-    /// The nearest segment the ray `p + t d` (t > 0) meets, but `skip`.
-    fn nearest_hit(&self, p: DVec2, d: DVec2, skip: Option<usize>) -> Option<(usize, f64)> {
+    /// The shading normal of segment `i` at `along` (0 … 1) from its
+    /// first end.
+    fn normal(&self, i: usize, along: f64) -> DVec2 {
+        let (a, b) = self.normals[i];
+        (a + along * (b - a)).normalize_or(a)
+    }
+
+    /// The nearest segment the ray `p + t d` (t > 0) meets, but `skip`:
+    /// the segment, t and where along it.
+    fn nearest_hit(&self, p: DVec2, d: DVec2, skip: Option<usize>) -> Option<(usize, f64, f64)> {
         let inv = DVec2::new(1.0 / d.x, 1.0 / d.y);
-        let mut best: Option<(usize, f64)> = None;
+        let mut best: Option<(usize, f64, f64)> = None;
         for &(first, end, lo, hi) in &self.runs {
             // Slab test of the run's box.
             let (t1, t2) = ((lo - p) * inv, (hi - p) * inv);
             let near = t1.min(t2).max_element();
             let far = t1.max(t2).min_element();
-            if far < near.max(0.0) || best.is_some_and(|(_, bt)| near > bt) {
+            if far < near.max(0.0) || best.is_some_and(|(_, bt, _)| near > bt) {
                 continue;
             }
             for i in first..end {
@@ -290,8 +314,8 @@ impl Mirror {
                 let ap = a - p;
                 let t = ap.perp_dot(e) / denom;
                 let s = ap.perp_dot(d) / denom;
-                if t > 1e-12 && (0.0..=1.0).contains(&s) && best.is_none_or(|(_, bt)| t < bt) {
-                    best = Some((i, t));
+                if t > 1e-12 && (0.0..=1.0).contains(&s) && best.is_none_or(|(_, bt, _)| t < bt) {
+                    best = Some((i, t, s));
                 }
             }
         }

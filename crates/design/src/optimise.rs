@@ -23,6 +23,23 @@ use crate::variables::{Variable, apply};
 pub const FIRST_STAGE_PHOTONS: u64 = 100_000;
 pub const LAST_STAGE_PHOTONS: u64 = 6_400_000;
 
+/// The tracer's loop's first stage: its photons and its simplex's size
+/// (a share of each variable's range).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FirstStage {
+    pub photons: u64,
+    pub step: f64,
+}
+
+impl Default for FirstStage {
+    fn default() -> FirstStage {
+        FirstStage {
+            photons: FIRST_STAGE_PHOTONS,
+            step: 0.15,
+        }
+    }
+}
+
 /// When a design stops.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Budget {
@@ -264,6 +281,7 @@ pub fn optimise(
     evaluator: &mut Evaluator,
     lamp_flux_lm: f64,
     budget: Budget,
+    first: FirstStage,
     interrupt: &AtomicBool,
     progress: &mut dyn FnMut(&Progress),
 ) -> Found {
@@ -271,8 +289,8 @@ pub fn optimise(
     let n = variables.len();
     let mut history: Vec<Record> = Vec::new();
     let mut best_x = x0;
-    let mut photons = FIRST_STAGE_PHOTONS;
-    let mut step = 0.15;
+    let mut photons = first.photons.min(budget.last_stage_photons());
+    let mut step = first.step;
     let mut stage = 0;
     let mut best_merit;
     let mut noise = 0.0;

@@ -1,0 +1,103 @@
+//! The meridian model corrected by the tracer (output space mapping):
+//! the model's light misses the traced light by what it leaves out (the
+//! skew rays' exact spread, the facets, the package), a difference that
+//! changes little between nearby profiles. So the traced axial intensity
+//! less the model's is added to the model, the corrected model is
+//! searched near the profile (thousands of candidates a second), the
+//! tracer judges its best, and the difference is measured again there.
+//! Each round costs one traced candidate, where the tracer's own loop
+//! spends tens on a step; it stops when the tracer no longer confirms
+//! what the corrected model predicts.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+use crate::global::{corrected, scaled_to};
+use crate::meridian::MeridianModel;
+use crate::merit::SMOOTH_STEP_DEG;
+
+/// The first local search's step (normalised coordinates, as the global
+/// search's), halved after each round the tracer does not confirm.
+const FIRST_STEP: f64 = 0.02;
+const SMALLEST_STEP: f64 = 0.002;
+/// Rounds at most.
+const ROUNDS: usize = 16;
+
+/// A traced candidate: its merit (the relative L2 difference on the
+/// sphere) and its axial intensity on [`SMOOTH_STEP_DEG`] steps.
+#[derive(Debug, Clone)]
+pub struct Seen {
+    pub merit: f64,
+    pub axial: Vec<f64>,
+}
+
+/// One round's result, for the design's history.
+#[derive(Debug, Clone)]
+pub struct Round {
+    pub profile: Vec<[f64; 2]>,
+    /// What the corrected model predicted, and what the tracer measured
+    /// (None: refused).
+    pub predicted: f64,
+    pub merit: Option<f64>,
+}
+
+/// Refines `profile` (traced as `seen`) toward `goal` on the model
+/// corrected by the tracer; `trace` traces a profile, `round` hears of
+/// each. The best profile the tracer saw and its merit.
+#[allow(clippy::too_many_arguments)]
+pub fn refine(
+    model: &MeridianModel,
+    start: &[[f64; 2]],
+    goal: &[f64],
+    profile: Vec<[f64; 2]>,
+    seen: Seen,
+    seed: u32,
+    deadline: Instant,
+    interrupt: &AtomicBool,
+    trace: &mut dyn FnMut(&[[f64; 2]]) -> Option<Seen>,
+    round: &mut dyn FnMut(&Round),
+) -> (Vec<[f64; 2]>, f64) {
+    let mut best = (profile, seen);
+    let mut step = FIRST_STEP;
+    for k in 0..ROUNDS {
+        if Instant::now() >= deadline || interrupt.load(Ordering::Relaxed) || step < SMALLEST_STEP {
+            break;
+        }
+        let Some(modelled) = model.intensity(&best.0, SMOOTH_STEP_DEG) else {
+            break;
+        };
+        let correction: Vec<f64> = scaled_to(&best.1.axial, goal)
+            .iter()
+            .zip(scaled_to(&modelled, goal))
+            .map(|(t, m)| t - m)
+            .collect();
+        let Some((candidate, predicted, here)) = corrected(
+            model,
+            start,
+            &best.0,
+            goal,
+            &correction,
+            step,
+            u64::from(seed) * 7919 + k as u64,
+            deadline,
+        ) else {
+            break;
+        };
+        if predicted >= here {
+            // Nothing better within this step: a smaller one.
+            step *= 0.5;
+            continue;
+        }
+        let got = trace(&candidate);
+        round(&Round {
+            profile: candidate.clone(),
+            predicted,
+            merit: got.as_ref().map(|s| s.merit),
+        });
+        match got {
+            Some(s) if s.merit < best.1.merit => best = (candidate, s),
+            _ => step *= 0.5,
+        }
+    }
+    (best.0, best.1.merit)
+}
