@@ -7,7 +7,9 @@
 #   2. profile: the revolved reflector's bake (a 5-point Catmull-Rom
 #      mirror around a 3 mm LED, 80 mm aperture, 60 mm deep) as the
 #      target, the design started from a straight cone between the same
-#      ends, varying the profile (120 s).
+#      ends, varying the profile (120 s);
+#   3. the same with a second hidden profile (interior points (18, -12),
+#      (27, -27), (34, -43) mm: a 4.2 degree beam), 120 s.
 # Each target is baked with 30 M photons (seed 99); the Monte Carlo floor
 # is the hidden scene itself baked with another seed and measured alike.
 # Prints the remaining difference (relative L2 on the sphere) and the
@@ -22,6 +24,9 @@ WORK=$(mktemp -d -t lucerna-bench-design.XXXXXX)
 trap 'rm -rf "$WORK"' EXIT
 DESIGNS=$REPO/assets/designs
 sed 's/focal_length = 0.025/focal_length = 0.03/' "$REPO/assets/luminaires/parabolic_spot.toml" > "$WORK/spot_f30.toml"
+sed 's/\[0.014, -0.008\], \[0.024, -0.021\], \[0.033, -0.039\]/[0.018, -0.012], [0.027, -0.027], [0.034, -0.043]/' \
+  "$DESIGNS/revolved_reflector.toml" > "$WORK/revolved_reflector_2.toml"
+grep -q '0.018, -0.012' "$WORK/revolved_reflector_2.toml"
 
 run_case() { # name hidden start vary time
   local name=$1 hidden=$2 start=$3 vary=$4 time=$5
@@ -46,3 +51,4 @@ run_case() { # name hidden start vary time
 
 run_case focal "$WORK/spot_f30.toml" "$REPO/assets/luminaires/parabolic_spot.toml" reflector.focal_length 60s
 run_case profile "$DESIGNS/revolved_reflector.toml" "$DESIGNS/revolved_cone_start.toml" reflector.profile 120s
+run_case profile2 "$WORK/revolved_reflector_2.toml" "$DESIGNS/revolved_cone_start.toml" reflector.profile 120s

@@ -20,8 +20,8 @@ use crate::merit::SMOOTH_STEP_DEG;
 /// search's), halved after each round the tracer does not confirm.
 const FIRST_STEP: f64 = 0.02;
 const SMALLEST_STEP: f64 = 0.002;
-/// Rounds at most.
-const ROUNDS: usize = 16;
+/// Rounds at most, unless asked otherwise.
+pub const ROUNDS: usize = 16;
 
 /// A traced candidate: its merit (the relative L2 difference on the
 /// sphere) and its axial intensity on [`SMOOTH_STEP_DEG`] steps.
@@ -42,8 +42,9 @@ pub struct Round {
 }
 
 /// Refines `profile` (traced as `seen`) toward `goal` on the model
-/// corrected by the tracer; `trace` traces a profile, `round` hears of
-/// each. The best profile the tracer saw and its merit.
+/// corrected by the tracer, in `rounds` rounds at most; `trace` traces a
+/// profile, `round` hears of each. The best profile the tracer saw and
+/// its merit.
 #[allow(clippy::too_many_arguments)]
 pub fn refine(
     model: &MeridianModel,
@@ -52,6 +53,7 @@ pub fn refine(
     profile: Vec<[f64; 2]>,
     seen: Seen,
     seed: u32,
+    rounds: usize,
     deadline: Instant,
     interrupt: &AtomicBool,
     trace: &mut dyn FnMut(&[[f64; 2]]) -> Option<Seen>,
@@ -59,7 +61,7 @@ pub fn refine(
 ) -> (Vec<[f64; 2]>, f64) {
     let mut best = (profile, seen);
     let mut step = FIRST_STEP;
-    for k in 0..ROUNDS {
+    for k in 0..rounds {
         if Instant::now() >= deadline || interrupt.load(Ordering::Relaxed) || step < SMALLEST_STEP {
             break;
         }
@@ -100,4 +102,80 @@ pub fn refine(
         }
     }
     (best.0, best.1.merit)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::global::axial_l2;
+    use lucerna_scene::Interpolation;
+
+    fn model(source_radius: f64, reflectance: f64) -> MeridianModel {
+        MeridianModel {
+            source_z: 0.0,
+            source_radius,
+            facing_down: true,
+            reflectance,
+            interpolation: Interpolation::CatmullRom,
+            segments_per_span: 16,
+        }
+    }
+
+    #[test]
+    fn the_corrected_model_reaches_what_the_model_alone_cannot() {
+        // "The tracer" is a model of a larger, dimmer source than the
+        // model knows (2 mm radius and 85 % against 1.5 mm and 90 %); the
+        // goal is its light of the revolved reflector's profile. The
+        // model alone, searched near that profile, settles where its own
+        // light is nearest the goal; the corrected model must come far
+        // nearer in the truth's eyes.
+        let hidden = [
+            [0.006, 0.0],
+            [0.014, -0.008],
+            [0.024, -0.021],
+            [0.033, -0.039],
+            [0.04, -0.06],
+        ];
+        let (known, truth) = (model(0.0015, 0.9), model(0.002, 0.85));
+        let goal = truth.intensity(&hidden, SMOOTH_STEP_DEG).unwrap();
+        let seen = |p: &[[f64; 2]]| -> Option<Seen> {
+            let axial = truth.intensity(p, SMOOTH_STEP_DEG)?;
+            Some(Seen {
+                merit: axial_l2(&axial, &goal),
+                axial,
+            })
+        };
+        let far = Instant::now() + std::time::Duration::from_secs(600);
+        // The model alone: no correction.
+        let zero = vec![0.0; goal.len()];
+        let (alone, ..) =
+            corrected(&known, &hidden, &hidden, &goal, &zero, FIRST_STEP, 3, far).unwrap();
+        let alone_merit = seen(&alone).unwrap().merit;
+        assert!(
+            alone_merit > 0.02,
+            "the model alone already fits: {alone_merit}"
+        );
+        // The corrected model, from the model's own best.
+        let mut rounds = Vec::new();
+        let never = AtomicBool::new(false);
+        let (profile, merit) = refine(
+            &known,
+            &hidden,
+            &goal,
+            alone.clone(),
+            seen(&alone).unwrap(),
+            5,
+            6,
+            far,
+            &never,
+            &mut |p| seen(p),
+            &mut |r| rounds.push(r.clone()),
+        );
+        assert!(!rounds.is_empty());
+        assert!(
+            merit < 0.5 * alone_merit,
+            "corrected {merit} against the model alone {alone_merit}"
+        );
+        assert!((seen(&profile).unwrap().merit - merit).abs() < 1e-12);
+    }
 }

@@ -29,7 +29,7 @@ use cmaes::{CMAESOptions, DVector};
 use lucerna_scene::profile::sample_profile;
 
 use crate::meridian::MeridianModel;
-use crate::merit::SMOOTH_STEP_DEG;
+use crate::merit::{SMOOTH_STEP_DEG, blurred};
 
 /// Candidates traced in each stage of one run.
 const WASSERSTEIN_EVALUATIONS: usize = 4800;
@@ -46,16 +46,24 @@ const POPULATION: usize = 60;
 const CORRECTED_POPULATION: usize = 10;
 const CORRECTED_EVALUATIONS: usize = 1500;
 /// The survey of three-point curves: the middle point's normalised θ and
-/// d each on this many steps, and how many of the best the search
-/// polishes (on the relative L2 alone, from the curve's whole profile).
-/// A narrow beam's relative L2 is a needle a Wasserstein stage from a
-/// random start rarely lands in, where a whole profile on the best
-/// three-point curves often starts in it: on the revolved reflector's
-/// bake the third best found the hidden profile (model L2 0.026, its own
-/// 0.032), which random starts had not in 16 runs.
+/// d each on this many steps, how many of the best the search polishes
+/// and how often (each pass with other random numbers). A narrow beam's
+/// relative L2 is a needle a Wasserstein stage from a random start rarely
+/// lands in (a 1 mm perturbation of the revolved reflector's profile does
+/// not find its way back), where whole profiles on the best three-point
+/// curves start near it.
 const SURVEY_STEPS: usize = 48;
 pub const SURVEY_STARTS: usize = 6;
-const SURVEY_POLISH_EVALUATIONS: usize = 5000;
+/// A survey start's polish: the relative L2 of both distributions blurred
+/// in γ by each σ (degrees; 0: not blurred), with its CMA-ES step and
+/// candidates. The blur widens the needle while the start is still
+/// millimetres away. On the revolved reflector's bake (survey only, 12
+/// polishes with each of 3 seeds) this found the hidden profile (model
+/// L2 0.026) 3 times in 36 polishes, the relative L2 alone fewer; a
+/// first stage at 2° did worse (0 in 24); the others end in a
+/// neighbouring basin (model 0.059, traced 0.052).
+const SURVEY_POLISH: [(f64, f64, usize); 3] =
+    [(1.0, 0.02, 2000), (0.3, 0.01, 2000), (0.0, 0.005, 2000)];
 /// CMA-ES step sizes of the two stages (normalised coordinates).
 const WASSERSTEIN_STEP: f64 = 0.15;
 const POLISH_STEP: f64 = 0.02;
@@ -65,6 +73,14 @@ const D_RANGE: f64 = 4.0;
 const MIN_SPAN_SHARE: f64 = 0.35;
 /// Quantiles the Wasserstein distance compares.
 const QUANTILES: usize = 200;
+
+/// How many runs a search makes: passes over the survey's starts, then
+/// runs from the start profile and from random starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Plan {
+    pub survey_passes: usize,
+    pub random_runs: usize,
+}
 
 /// One run's result.
 #[derive(Debug, Clone, PartialEq)]
@@ -344,7 +360,7 @@ pub fn search(
     start: &[[f64; 2]],
     goal: &[f64],
     seed: u32,
-    runs: usize,
+    plan: Plan,
     deadline: Instant,
     interrupt: &AtomicBool,
     finished: &mut dyn FnMut(usize, &Candidate),
@@ -353,8 +369,8 @@ pub fn search(
     let coords = Coordinates::new(model, start)?;
     let count = AtomicUsize::new(0);
     let survey = survey(&coords, goal, &count);
-    let surveyed = survey.len();
-    let runs = surveyed + runs;
+    let surveyed = survey.len() * plan.survey_passes;
+    let runs = surveyed + plan.random_runs;
     let next = AtomicUsize::new(0);
     let results: Mutex<Vec<Option<Candidate>>> = Mutex::new(vec![None; runs]);
     let interior = start.len() - 2;
@@ -365,11 +381,30 @@ pub fn search(
                 return;
             }
             let run_seed = u64::from(seed) * 1_000_003 + r as u64;
-            // The survey's starts are polished as they are; the others
-            // first find where the light goes (Wasserstein).
-            let (coarse, polish_evaluations) = if let Some(x) = survey.get(r) {
-                (x.clone(), SURVEY_POLISH_EVALUATIONS)
+            let fine = if r < surveyed {
+                // A survey start, polished on ever less blurred light.
+                let mut x = survey[r % survey.len()].clone();
+                for (k, &(sigma, step, evaluations)) in SURVEY_POLISH.iter().enumerate() {
+                    let blurred_goal = blurred(goal, sigma);
+                    match run(
+                        &coords,
+                        x.clone(),
+                        step,
+                        POPULATION,
+                        evaluations,
+                        run_seed ^ (0x5bd1_e995 + k as u64),
+                        deadline,
+                        &|got| axial_l2(&blurred(got, sigma), &blurred_goal),
+                        &count,
+                    ) {
+                        Some((_, y)) => x = y,
+                        None => break,
+                    }
+                }
+                x
             } else {
+                // A random start (or the start profile itself): first
+                // where the light goes (Wasserstein), then its L2.
                 let x0 = if r == surveyed {
                     coords
                         .of(start)
@@ -398,20 +433,20 @@ pub fn search(
                 ) else {
                     continue;
                 };
-                (coarse, POLISH_EVALUATIONS)
-            };
-            let Some((_, fine)) = run(
-                &coords,
-                coarse.clone(),
-                POLISH_STEP,
-                POPULATION,
-                polish_evaluations,
-                run_seed ^ 0x5bd1_e995,
-                deadline,
-                &|got| axial_l2(got, goal),
-                &count,
-            ) else {
-                continue;
+                let Some((_, fine)) = run(
+                    &coords,
+                    coarse,
+                    POLISH_STEP,
+                    POPULATION,
+                    POLISH_EVALUATIONS,
+                    run_seed ^ 0x5bd1_e995,
+                    deadline,
+                    &|got| axial_l2(got, goal),
+                    &count,
+                ) else {
+                    continue;
+                };
+                fine
             };
             let (profile, _) = coords.profile(&fine);
             let Some(got) = model.intensity(&profile, SMOOTH_STEP_DEG) else {
@@ -627,14 +662,16 @@ mod tests {
     }
 
     #[test]
-    fn the_search_finds_a_profile_far_better_than_the_cone_and_repeats_itself() {
-        // The target: the model's own light of a smooth reflector (a broad
-        // beam); the search starts from the cone between its ends.
+    fn the_survey_takes_a_narrow_beam_far_below_the_cone_and_repeats_itself() {
+        // The target: the model's own light of the revolved reflector
+        // example (a narrow beam on a wide skirt, whose relative L2 is a
+        // needle); the search starts from the cone between its ends and
+        // has only the survey's starts (no random run).
         let hidden = [
             [0.006, 0.0],
-            [0.016, -0.006],
-            [0.026, -0.02],
-            [0.034, -0.038],
+            [0.014, -0.008],
+            [0.024, -0.021],
+            [0.033, -0.039],
             [0.04, -0.06],
         ];
         let cone = [
@@ -647,24 +684,52 @@ mod tests {
         let m = model();
         let goal = m.intensity(&hidden, SMOOTH_STEP_DEG).unwrap();
         let start = axial_l2(&m.intensity(&cone, SMOOTH_STEP_DEG).unwrap(), &goal);
-        let deadline = Instant::now() + std::time::Duration::from_secs(300);
+        let deadline = Instant::now() + std::time::Duration::from_secs(600);
         let never = AtomicBool::new(false);
         let mut heard = 0;
-        let found = search(&m, &cone, &goal, 7, 1, deadline, &never, &mut |_, _| {
+        let plan = Plan {
+            survey_passes: 1,
+            random_runs: 0,
+        };
+        let found = search(&m, &cone, &goal, 7, plan, deadline, &never, &mut |_, _| {
             heard += 1
         })
         .unwrap();
-        assert_eq!(heard, found.candidates.len());
+        assert_eq!(heard, SURVEY_STARTS);
+        assert_eq!(found.candidates.len(), SURVEY_STARTS);
         let best = &found.candidates[0];
+        // A tenth of the cone's difference at most (the hidden profile's
+        // own basin is a needle the polish finds with some random numbers,
+        // not all: the neighbouring basin is 0.06).
         assert!(
-            best.model_l2 < 0.25 * start,
+            best.model_l2 < 0.1 * start,
             "{} from {start}",
             best.model_l2
         );
         // The ends stay.
         assert_eq!(best.profile[0], cone[0]);
         assert_eq!(best.profile[4], cone[4]);
-        let again = search(&m, &cone, &goal, 7, 1, deadline, &never, &mut |_, _| {}).unwrap();
+        let again = search(&m, &cone, &goal, 7, plan, deadline, &never, &mut |_, _| {}).unwrap();
         assert_eq!(found.candidates, again.candidates);
+    }
+
+    #[test]
+    fn a_three_point_curves_profile_lies_on_it_at_the_starts_shares() {
+        let m = model();
+        let cone = [
+            [0.006, 0.0],
+            [0.0145, -0.015],
+            [0.023, -0.03],
+            [0.0315, -0.045],
+            [0.04, -0.06],
+        ];
+        let coords = Coordinates::new(&m, &cone).unwrap();
+        // The middle of the cone itself: the curve is the cone's line, so
+        // the profile is the cone again.
+        let middle = coords.of(&cone);
+        let p = coords.through([middle[2], middle[3]]).unwrap();
+        for (got, want) in p.iter().zip(&cone) {
+            assert!((got[0] - want[0]).abs() < 1e-6 && (got[1] - want[1]).abs() < 1e-6);
+        }
     }
 }

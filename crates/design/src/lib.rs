@@ -142,18 +142,26 @@ pub struct ModelSearch {
     /// tracer's merit of the best of the few it traced.
     pub model_l2: f64,
     pub traced_merit: Option<f64>,
+    /// The corrected model's rounds ([`corrected`]): how many, and the
+    /// tracer's merit of the best before and after them, at
+    /// [`CORRECTED_PHOTONS`].
+    pub corrected_rounds: u64,
+    pub corrected_from: Option<f64>,
+    pub corrected_merit: Option<f64>,
 }
 
 /// Runs of the meridian model's global search, its share of the design's
 /// time and the most time it takes, and how many of its best the tracer
 /// judges.
 const MODEL_RUNS: usize = 8;
+/// Passes of the search over its survey's starts, before those runs.
+const SURVEY_PASSES: usize = 2;
 const MODEL_TIME_SHARE: u32 = 2;
 const MODEL_TIME_MAX: std::time::Duration = std::time::Duration::from_secs(60);
 const MODEL_TRACED: usize = 3;
 /// The photons of each candidate the corrected model's rounds trace, and
 /// the share of the design's time those rounds may end by.
-const CORRECTED_PHOTONS: u64 = 1_600_000;
+pub const CORRECTED_PHOTONS: u64 = 1_600_000;
 const CORRECTED_TIME_SHARE: (u32, u32) = (3, 4);
 /// The tracer's loop's first simplex after them (a share of each
 /// variable's range).
@@ -317,7 +325,12 @@ pub fn design_scene(
                             .collect()
                     };
                     let mut heard = 0u64;
-                    let mut finished_at = vec![0.0; MODEL_RUNS + global::SURVEY_STARTS];
+                    let plan = global::Plan {
+                        survey_passes: SURVEY_PASSES,
+                        random_runs: MODEL_RUNS,
+                    };
+                    let mut finished_at =
+                        vec![0.0; plan.random_runs + global::SURVEY_STARTS * plan.survey_passes];
                     let mut best_heard = f64::INFINITY;
                     let mut best_values = start_values.clone();
                     let mut on_run = |run: usize, c: &global::Candidate| {
@@ -353,7 +366,7 @@ pub fn design_scene(
                         &points,
                         &goal,
                         request.seed,
-                        MODEL_RUNS,
+                        plan,
                         deadline,
                         interrupt,
                         &mut on_run,
@@ -413,10 +426,12 @@ pub fn design_scene(
                         } else {
                             request.budget.time * CORRECTED_TIME_SHARE.0 / CORRECTED_TIME_SHARE.1
                         };
+                    let mut rounds = 0u64;
+                    let mut corrected_from = None;
                     if let Some(profile) = best_profile
                         && let Some(first) = seen(&mut evaluator, &profile)
                     {
-                        let mut rounds = 0u64;
+                        corrected_from = Some(first.merit);
                         let (profile, m) = corrected::refine(
                             &model,
                             &points,
@@ -424,6 +439,7 @@ pub fn design_scene(
                             profile,
                             first,
                             request.seed,
+                            corrected::ROUNDS,
                             correction_deadline,
                             interrupt,
                             &mut |p| seen(&mut evaluator, p),
@@ -462,6 +478,9 @@ pub fn design_scene(
                             .first()
                             .map_or(f64::INFINITY, |c| c.model_l2),
                         traced_merit: model_best.as_ref().map(|b| b.1),
+                        corrected_rounds: rounds,
+                        corrected_from,
+                        corrected_merit: corrected_best.as_ref().map(|b| b.1),
                     })
                 },
             )

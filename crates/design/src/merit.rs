@@ -39,7 +39,7 @@ pub fn axial(table: &CandelaTable) -> Vec<f64> {
 
 /// `profile` blurred by a Gaussian of `sigma_deg` in γ (mirrored at 0°
 /// and 180°, where the sphere continues into the opposite plane).
-fn blurred(profile: &[f64], sigma_deg: f64) -> Vec<f64> {
+pub fn blurred(profile: &[f64], sigma_deg: f64) -> Vec<f64> {
     if sigma_deg <= 0.0 {
         return profile.to_vec();
     }

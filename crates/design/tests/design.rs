@@ -377,10 +377,12 @@ fn the_meridian_model_gives_the_tracers_light_of_a_revolved_mirror() {
             .intensity(&profiles[k].1, SMOOTH_STEP_DEG)
             .unwrap()
     };
-    // Each close to its own bake (the reflector's 3.2° beam: 0.053
-    // against a 30 M-photon bake; the cone's broad light, where skew rays
-    // the model leaves out matter more, 0.16)…
-    for (k, bound) in [(0, 0.1), (1, 0.2)] {
+    // Each close to its own bake (the reflector's 3.2° beam: 0.044
+    // against this 2 M-photon bake, 0.032 against a 30 M one; the cone's
+    // broad light, where skew rays the model leaves out matter more,
+    // 0.127). Before the model interpolated the shading normals and gave
+    // each point of the source's diameter its own chord: 0.053 and 0.16.
+    for (k, bound) in [(0, 0.05), (1, 0.14)] {
         let d = axial_l2(&light(k), &baked[k]);
         eprintln!("profile {k}: model against its bake {d:.4}");
         assert!(d < bound, "profile {k}: {d}");

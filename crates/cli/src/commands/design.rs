@@ -219,6 +219,13 @@ pub fn design(args: &DesignArgs) -> Result<()> {
                 design.start_merit
             ))
         );
+        if let (Some(from), Some(to)) = (m.corrected_from, m.corrected_merit) {
+            println!(
+                "corrected by the tracer: {} rounds, {from:.4} -> {to:.4} ({} M photons)",
+                m.corrected_rounds,
+                lucerna_design::CORRECTED_PHOTONS as f64 / 1e6
+            );
+        }
     }
     for (v, &x) in design.variables.iter().zip(&design.found.values) {
         println!(
