@@ -162,7 +162,7 @@ const MODEL_TRACED: usize = 3;
 /// The photons of each candidate the corrected model's rounds trace, and
 /// the share of the design's time those rounds may end by.
 pub const CORRECTED_PHOTONS: u64 = 1_600_000;
-const CORRECTED_TIME_SHARE: (u32, u32) = (3, 4);
+const CORRECTED_TIME_SHARE: (u32, u32) = (7, 8);
 /// The tracer's loop's first simplex after them (a share of each
 /// variable's range).
 const CORRECTED_STEP: f64 = 0.002;
