@@ -127,18 +127,7 @@ pub fn refine(
 mod tests {
     use super::*;
     use crate::global::axial_l2;
-    use lucerna_scene::Interpolation;
-
-    fn model(source_radius: f64, reflectance: f64) -> MeridianModel {
-        MeridianModel {
-            source_z: 0.0,
-            source_radius,
-            facing_down: true,
-            reflectance,
-            interpolation: Interpolation::CatmullRom,
-            segments_per_span: 16,
-        }
-    }
+    use crate::meridian::fixtures::{REVOLVED_REFLECTOR, model};
 
     #[test]
     fn the_corrected_model_reaches_what_the_model_alone_cannot() {
@@ -148,13 +137,7 @@ mod tests {
         // model alone, searched near that profile, settles where its own
         // light is nearest the goal; the corrected model must come far
         // nearer in the truth's eyes.
-        let hidden = [
-            [0.006, 0.0],
-            [0.014, -0.008],
-            [0.024, -0.021],
-            [0.033, -0.039],
-            [0.04, -0.06],
-        ];
+        let hidden = REVOLVED_REFLECTOR;
         let (known, truth) = (model(0.0015, 0.9), model(0.002, 0.85));
         let goal = truth.intensity(&hidden, SMOOTH_STEP_DEG).unwrap();
         let seen = |p: &[[f64; 2]]| -> Option<Seen> {

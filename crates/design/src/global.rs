@@ -616,17 +616,11 @@ impl Starts {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use lucerna_scene::Interpolation;
+    use crate::meridian::fixtures::{CONE, REVOLVED_REFLECTOR};
 
+    /// The revolved reflector's LED: 3 mm across, a 90 % mirror.
     fn model() -> MeridianModel {
-        MeridianModel {
-            source_z: 0.0,
-            source_radius: 0.0015,
-            facing_down: true,
-            reflectance: 0.9,
-            interpolation: Interpolation::CatmullRom,
-            segments_per_span: 16,
-        }
+        crate::meridian::fixtures::model(0.0015, 0.9)
     }
 
     #[test]
@@ -667,20 +661,7 @@ mod tests {
         // example (a narrow beam on a wide skirt, whose relative L2 is a
         // needle); the search starts from the cone between its ends and
         // has only the survey's starts (no random run).
-        let hidden = [
-            [0.006, 0.0],
-            [0.014, -0.008],
-            [0.024, -0.021],
-            [0.033, -0.039],
-            [0.04, -0.06],
-        ];
-        let cone = [
-            [0.006, 0.0],
-            [0.0145, -0.015],
-            [0.023, -0.03],
-            [0.0315, -0.045],
-            [0.04, -0.06],
-        ];
+        let (hidden, cone) = (REVOLVED_REFLECTOR, CONE);
         let m = model();
         let goal = m.intensity(&hidden, SMOOTH_STEP_DEG).unwrap();
         let start = axial_l2(&m.intensity(&cone, SMOOTH_STEP_DEG).unwrap(), &goal);
@@ -716,13 +697,7 @@ mod tests {
     #[test]
     fn a_three_point_curves_profile_lies_on_it_at_the_starts_shares() {
         let m = model();
-        let cone = [
-            [0.006, 0.0],
-            [0.0145, -0.015],
-            [0.023, -0.03],
-            [0.0315, -0.045],
-            [0.04, -0.06],
-        ];
+        let cone = CONE;
         let coords = Coordinates::new(&m, &cone).unwrap();
         // The middle of the cone itself: the curve is the cone's line, so
         // the profile is the cone again.

@@ -323,6 +323,41 @@ impl Mirror {
     }
 }
 
+/// The model and profiles the search's tests share: the revolved
+/// reflector example's mirror and the straight cone between its ends.
+#[cfg(test)]
+pub(crate) mod fixtures {
+    use super::MeridianModel;
+    use lucerna_scene::Interpolation;
+
+    pub const REVOLVED_REFLECTOR: [[f64; 2]; 5] = [
+        [0.006, 0.0],
+        [0.014, -0.008],
+        [0.024, -0.021],
+        [0.033, -0.039],
+        [0.04, -0.06],
+    ];
+    pub const CONE: [[f64; 2]; 5] = [
+        [0.006, 0.0],
+        [0.0145, -0.015],
+        [0.023, -0.03],
+        [0.0315, -0.045],
+        [0.04, -0.06],
+    ];
+
+    /// A disk LED at the origin facing down inside a Catmull-Rom mirror.
+    pub fn model(source_radius: f64, reflectance: f64) -> MeridianModel {
+        MeridianModel {
+            source_z: 0.0,
+            source_radius,
+            facing_down: true,
+            reflectance,
+            interpolation: Interpolation::CatmullRom,
+            segments_per_span: 16,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
