@@ -80,6 +80,10 @@ pub fn meridian_model(
             reflectance,
             interpolation: shape.interpolation,
             segments_per_span: shape.segments_per_span,
+            gammas_deg: match target {
+                Target::Distribution { table, .. } => table.gammas_deg.clone(),
+                Target::Spec(_) => Vec::new(),
+            },
         },
         setup.points,
     ))

@@ -8,6 +8,7 @@
 //! refines: thousands of candidates a second, where the tracer does tens.
 
 use glam::DVec2;
+use lucerna_photometry::resample::gamma_cell_edges;
 use lucerna_scene::Interpolation;
 use lucerna_scene::profile::{ProfileSample, sample_profile};
 
@@ -23,6 +24,10 @@ const AXIS_CAP_DEG: f64 = 0.75;
 const ANGLES: usize = 768;
 const SOURCE_POINTS: usize = 8;
 const SIDEWAYS: usize = 6;
+/// The longest step of a table cell's mean.
+const CELL_STEP_DEG: f64 = 0.025;
+/// The golden ratio's fractional part, for the sideways points' shifts.
+const GOLDEN: f64 = 0.618_033_988_749_895;
 /// Reflections followed before a ray is dropped.
 const MAX_BOUNCES: usize = 8;
 
@@ -38,6 +43,13 @@ pub struct MeridianModel {
     pub reflectance: f64,
     pub interpolation: Interpolation,
     pub segments_per_span: u32,
+    /// The γ angles (degrees) of the table the light is compared with:
+    /// the model tabulates on them as a bake does (each cell the mean of
+    /// its solid angle) and interpolates between them as the table does,
+    /// so its light and the target's differ by the light, not by the
+    /// grid (a coarse cell averages out the model's ray-sampling
+    /// ripple). Empty: the model's own bins.
+    pub gammas_deg: Vec<f64>,
 }
 
 impl MeridianModel {
@@ -101,8 +113,15 @@ impl MeridianModel {
                                     // the diameter's ends).
                                     let beta = chord * self.source_radius
                                         / (q - origin).length().max(1e-9);
+                                    // Each ray's sideways points
+                                    // shifted by its own share of a
+                                    // step (a golden-ratio sequence):
+                                    // the same points for every ray
+                                    // would pile collimated light on
+                                    // rings near the axis.
+                                    let shift = ((k * ANGLES + j) as f64 * GOLDEN).fract();
                                     for m in 0..SIDEWAYS {
-                                        let v = 2.0 * (m as f64 + 0.5) / SIDEWAYS as f64 - 1.0;
+                                        let v = 2.0 * (m as f64 + shift) / SIDEWAYS as f64 - 1.0;
                                         let s = v * beta;
                                         let g = (gamma0.cos() * s.cos()).clamp(-1.0, 1.0).acos();
                                         deposit(&mut flux, g.to_degrees(), w / SIDEWAYS as f64);
@@ -138,13 +157,47 @@ impl MeridianModel {
             *v = mean;
         }
         let n = (180.0 / step_deg).round() as usize;
+        let fine = |gamma_deg: f64| {
+            let x = (gamma_deg / BIN_DEG).clamp(0.0, bins as f64);
+            let i = (x.floor() as usize).min(bins - 1);
+            let f = x - i as f64;
+            intensity[i] * (1.0 - f) + intensity[i + 1] * f
+        };
+        if self.gammas_deg.len() < 2 {
+            return Some((0..=n).map(|k| fine(k as f64 * step_deg)).collect());
+        }
+        // Each cell's mean over its solid angle (midpoints at most
+        // CELL_STEP_DEG apart), then linear between the angles.
+        let g = &self.gammas_deg;
+        let cells: Vec<f64> = gamma_cell_edges(g)
+            .windows(2)
+            .map(|e| {
+                let parts = ((e[1] - e[0]) / CELL_STEP_DEG).ceil().max(1.0) as usize;
+                let h = (e[1] - e[0]) / parts as f64;
+                let (mut sum, mut weight) = (0.0, 0.0);
+                for m in 0..parts {
+                    let gamma = e[0] + (m as f64 + 0.5) * h;
+                    let w = gamma.to_radians().sin();
+                    sum += w * fine(gamma);
+                    weight += w;
+                }
+                if weight > 0.0 {
+                    sum / weight
+                } else {
+                    fine(0.5 * (e[0] + e[1]))
+                }
+            })
+            .collect();
         Some(
             (0..=n)
                 .map(|k| {
-                    let x = (k as f64 * step_deg / BIN_DEG).min(bins as f64);
-                    let i = (x.floor() as usize).min(bins - 1);
-                    let f = x - i as f64;
-                    intensity[i] * (1.0 - f) + intensity[i + 1] * f
+                    let gamma = k as f64 * step_deg;
+                    if gamma < g[0] || gamma > g[g.len() - 1] {
+                        return 0.0;
+                    }
+                    let j = g.partition_point(|&x| x <= gamma).clamp(1, g.len() - 1);
+                    let t = (gamma - g[j - 1]) / (g[j] - g[j - 1]);
+                    cells[j - 1] * (1.0 - t) + cells[j] * t
                 })
                 .collect(),
         )
@@ -354,6 +407,7 @@ pub(crate) mod fixtures {
             reflectance,
             interpolation: Interpolation::CatmullRom,
             segments_per_span: 16,
+            gammas_deg: Vec::new(),
         }
     }
 }
@@ -382,6 +436,7 @@ mod tests {
             reflectance: 0.9,
             interpolation: Interpolation::CatmullRom,
             segments_per_span: 64,
+            gammas_deg: Vec::new(),
         };
         let f = 0.01;
         let profile = parabola(f);
@@ -412,6 +467,7 @@ mod tests {
             reflectance: 0.9,
             interpolation: Interpolation::CatmullRom,
             segments_per_span: 4,
+            gammas_deg: Vec::new(),
         };
         let profile = [[0.1, 1.0], [0.1001, 1.0001], [0.1002, 1.0002]];
         let step = 0.5;
@@ -422,5 +478,42 @@ mod tests {
             assert!((ratio - 1.0).abs() < 0.03, "γ {g}: {ratio}");
         }
         assert!(at(120.0) == 0.0);
+    }
+
+    #[test]
+    fn on_a_tables_grid_each_angle_holds_its_cells_mean_over_solid_angle() {
+        // The revolved reflector's light tabulated on an uneven grid
+        // against the untabulated light averaged over each cell by a
+        // finer quadrature (0.01° steps, weighted by sin γ).
+        let mut model = fixtures::model(0.0015, 0.9);
+        let profile = fixtures::REVOLVED_REFLECTOR;
+        let fine_step = 0.01;
+        let fine = model.intensity(&profile, fine_step).unwrap();
+        let gammas = vec![0.0, 1.0, 2.5, 5.0, 10.0, 20.0, 40.0, 90.0, 180.0];
+        model.gammas_deg = gammas.clone();
+        let step = 0.1;
+        let tabulated = model.intensity(&profile, step).unwrap();
+        let edges = gamma_cell_edges(&gammas);
+        for (i, &g) in gammas.iter().enumerate() {
+            let (lo, hi) = (edges[i], edges[i + 1]);
+            let (mut sum, mut weight) = (0.0, 0.0);
+            let mut k = (lo / fine_step).round() as usize;
+            while (k as f64) * fine_step < hi - 1e-9 {
+                let gamma = (k as f64 + 0.5) * fine_step;
+                let v = 0.5 * (fine[k] + fine[k + 1]);
+                sum += v * gamma.to_radians().sin();
+                weight += gamma.to_radians().sin();
+                k += 1;
+            }
+            let mean = sum / weight;
+            let got = tabulated[(g / step).round() as usize];
+            assert!(
+                (got - mean).abs() <= 0.01 * mean.abs().max(1e-3 * fine[0]),
+                "γ {g}: {got} against the cell's mean {mean}"
+            );
+        }
+        // Between the angles, linear as a table is read.
+        let (a, b) = (tabulated[100], tabulated[200]);
+        assert!((tabulated[150] - 0.5 * (a + b)).abs() < 1e-9 * a.abs().max(1.0));
     }
 }

@@ -221,8 +221,14 @@ pub fn design(args: &DesignArgs) -> Result<()> {
         );
         if let (Some(from), Some(to)) = (m.corrected_from, m.corrected_merit) {
             println!(
-                "corrected by the tracer: {} rounds, {from:.4} -> {to:.4} ({} M photons)",
+                "corrected by the tracer: {} rounds from {} {}, {from:.4} -> {to:.4} ({} M photons)",
                 m.corrected_rounds,
+                m.corrected_basins,
+                if m.corrected_basins == 1 {
+                    "basin"
+                } else {
+                    "basins"
+                },
                 lucerna_design::CORRECTED_PHOTONS as f64 / 1e6
             );
         }
