@@ -61,7 +61,7 @@ pub struct Round {
 /// Refines `profile` (traced as `seen`) toward `goal` on the model
 /// corrected by the tracer, in `rounds` rounds at most; `trace` traces a
 /// profile, `round` hears of each. The best profile the tracer saw and
-/// its merit.
+/// what it saw there.
 #[allow(clippy::too_many_arguments)]
 pub fn refine(
     model: &MeridianModel,
@@ -75,7 +75,7 @@ pub fn refine(
     interrupt: &AtomicBool,
     trace: &mut dyn FnMut(&[[f64; 2]]) -> Option<Seen>,
     round: &mut dyn FnMut(&Round),
-) -> (Vec<[f64; 2]>, f64) {
+) -> (Vec<[f64; 2]>, Seen) {
     let mut best = (profile, seen);
     let mut step = FIRST_STEP;
     // Rounds in a row where the corrected model predicted nothing
@@ -151,7 +151,7 @@ pub fn refine(
             break;
         }
     }
-    (best.0, best.1.merit)
+    best
 }
 
 #[cfg(test)]
@@ -190,7 +190,7 @@ mod tests {
         // The corrected model, from the model's own best.
         let mut rounds = Vec::new();
         let never = AtomicBool::new(false);
-        let (profile, merit) = refine(
+        let (profile, best) = refine(
             &known,
             &hidden,
             &goal,
@@ -203,6 +203,7 @@ mod tests {
             &mut |p| seen(p),
             &mut |r| rounds.push(r.clone()),
         );
+        let merit = best.merit;
         assert!(!rounds.is_empty());
         assert!(
             merit < 0.5 * alone_merit,

@@ -160,19 +160,19 @@ const MODEL_RUNS: usize = 8;
 const SURVEY_PASSES: usize = 2;
 const MODEL_TIME_SHARE: u32 = 2;
 const MODEL_TIME_MAX: std::time::Duration = std::time::Duration::from_secs(60);
-const MODEL_TRACED: usize = 4;
+const MODEL_TRACED: usize = 6;
 /// Basins the corrected model refines, at most, and how far apart (the
 /// largest distance between two profiles' control points) two
 /// candidates must be to count as two. The model alone ranks
 /// neighbouring basins wrongly at times (toward the second hidden
 /// profile's bake its best sat at traced 0.149, where another basin's
 /// walked to 0.018).
-const BASINS: usize = 2;
+const BASINS: usize = 3;
 const BASIN_APART_M: f64 = 0.001;
 /// The photons of each candidate the corrected model's rounds trace, and
 /// the share of the design's time those rounds may end by.
 pub const CORRECTED_PHOTONS: u64 = 1_600_000;
-const CORRECTED_TIME_SHARE: (u32, u32) = (7, 8);
+const CORRECTED_TIME_SHARE: (u32, u32) = (15, 16);
 /// The tracer's loop's first simplex after them (a share of each
 /// variable's range).
 const CORRECTED_STEP: f64 = 0.002;
@@ -436,9 +436,10 @@ pub fn design_scene(
                             basins.push(p.clone());
                         }
                     }
-                    // Each basin refined on the model corrected by the
-                    // tracer, in its share of the time (or of the rounds,
-                    // with an evaluation budget); the best kept.
+                    // One round of the model corrected by the tracer from
+                    // each basin (a round's far search is where a basin
+                    // leads to another), then the best refined in the
+                    // rounds and time left.
                     let seen = |e: &mut Evaluator, profile: &[[f64; 2]]| {
                         let values = values_of(profile);
                         if !in_bounds(&values) {
@@ -461,59 +462,82 @@ pub fn design_scene(
                     let mut rounds = 0u64;
                     let mut corrected_from: Option<f64> = None;
                     let basin_count = basins.len();
-                    let count = basin_count.max(1);
-                    for (i, profile) in basins.into_iter().enumerate() {
+                    let mut on_round = |r: &corrected::Round| {
+                        rounds += 1;
+                        let values = values_of(&r.profile);
+                        let record = Record {
+                            evaluation: rounds,
+                            elapsed_s: began.elapsed().as_secs_f64(),
+                            photons: CORRECTED_PHOTONS,
+                            merit: r.merit,
+                            measure: "l2".to_owned(),
+                            values: values.clone(),
+                        };
+                        progress(&Progress {
+                            elapsed: began.elapsed(),
+                            evaluations: rounds,
+                            stage: 0,
+                            photons: CORRECTED_PHOTONS,
+                            best_merit: r.merit.unwrap_or(f64::INFINITY),
+                            noise: 0.0,
+                            best_values: values,
+                            record: record.clone(),
+                        });
+                        corrected_records.push(record);
+                    };
+                    let refine =
+                        |e: &mut Evaluator,
+                         profile: Vec<[f64; 2]>,
+                         first: corrected::Seen,
+                         count: usize,
+                         on_round: &mut dyn FnMut(&corrected::Round)| {
+                            corrected::refine(
+                                &model,
+                                &points,
+                                &goal,
+                                profile,
+                                first,
+                                request.seed,
+                                count,
+                                correction_deadline,
+                                interrupt,
+                                &mut |p| seen(e, p),
+                                on_round,
+                            )
+                        };
+                    let mut refined: Option<(Vec<[f64; 2]>, corrected::Seen)> = None;
+                    let mut keep = |found: (Vec<[f64; 2]>, corrected::Seen)| {
+                        if refined
+                            .as_ref()
+                            .is_none_or(|(_, b)| found.1.merit < b.merit)
+                        {
+                            refined = Some(found);
+                        }
+                    };
+                    for profile in basins {
                         let Some(first) = seen(&mut evaluator, &profile) else {
                             continue;
                         };
                         corrected_from =
                             Some(corrected_from.map_or(first.merit, |m| m.min(first.merit)));
-                        let deadline = if timed {
-                            let left = correction_deadline
-                                .saturating_duration_since(std::time::Instant::now());
-                            std::time::Instant::now() + left / (count - i) as u32
-                        } else {
-                            correction_deadline
-                        };
-                        let (profile, m) = corrected::refine(
-                            &model,
-                            &points,
-                            &goal,
+                        keep(refine(&mut evaluator, profile, first, 1, &mut on_round));
+                    }
+                    if let Some((profile, first)) = refined.clone() {
+                        let found = refine(
+                            &mut evaluator,
                             profile,
                             first,
-                            request.seed,
-                            corrected::ROUNDS / count,
-                            deadline,
-                            interrupt,
-                            &mut |p| seen(&mut evaluator, p),
-                            &mut |r| {
-                                rounds += 1;
-                                let values = values_of(&r.profile);
-                                let record = Record {
-                                    evaluation: rounds,
-                                    elapsed_s: began.elapsed().as_secs_f64(),
-                                    photons: CORRECTED_PHOTONS,
-                                    merit: r.merit,
-                                    measure: "l2".to_owned(),
-                                    values: values.clone(),
-                                };
-                                progress(&Progress {
-                                    elapsed: began.elapsed(),
-                                    evaluations: rounds,
-                                    stage: 0,
-                                    photons: CORRECTED_PHOTONS,
-                                    best_merit: r.merit.unwrap_or(f64::INFINITY),
-                                    noise: 0.0,
-                                    best_values: values,
-                                    record: record.clone(),
-                                });
-                                corrected_records.push(record);
-                            },
+                            corrected::ROUNDS.saturating_sub(basin_count),
+                            &mut on_round,
                         );
-                        if corrected_best.as_ref().is_none_or(|(_, b)| m < *b) {
-                            corrected_best = Some((values_of(&profile), m));
+                        if refined
+                            .as_ref()
+                            .is_none_or(|(_, b)| found.1.merit < b.merit)
+                        {
+                            refined = Some(found);
                         }
                     }
+                    corrected_best = refined.map(|(p, s)| (values_of(&p), s.merit));
                     Some(ModelSearch {
                         runs: search.candidates.len(),
                         evaluations: search.evaluations,
