@@ -93,15 +93,17 @@ pub fn refine(
             .zip(scaled_to(&modelled, goal))
             .map(|(t, m)| t - m)
             .collect();
-        // A far and a near search of the corrected model from here, each
-        // traced where it predicts better than here (the better kept): the far one jumps to the
-        // next basin when the model alone sat in a neighbour of the
-        // answer; the near one follows a valley the far one overshoots.
+        // A far, a near and a fine search of the corrected model from
+        // here, each traced where it predicts better than here (the best
+        // kept): the far one jumps to the next basin when the model alone
+        // sat in a neighbour of the answer; the near one follows a valley
+        // the far one overshoots; the fine one stays in a needle the
+        // others step out of.
         let here_profile = best.0.clone();
         let mut improved = false;
         let mut traced = false;
-        // Both searches at once, on two threads (each its own random
-        // numbers, so the same seed gives the same rounds).
+        // The three at once (each its own random numbers, so the same
+        // seed gives the same rounds).
         let search = |n: usize, reach: f64| {
             corrected(
                 model,

@@ -522,20 +522,16 @@ pub fn design_scene(
                             Some(corrected_from.map_or(first.merit, |m| m.min(first.merit)));
                         keep(refine(&mut evaluator, profile, first, 1, &mut on_round));
                     }
-                    if let Some((profile, first)) = refined.clone() {
-                        let found = refine(
+                    // The best goes on (refine never returns worse than
+                    // its start).
+                    if let Some((profile, first)) = refined.take() {
+                        refined = Some(refine(
                             &mut evaluator,
                             profile,
                             first,
                             corrected::ROUNDS.saturating_sub(basin_count),
                             &mut on_round,
-                        );
-                        if refined
-                            .as_ref()
-                            .is_none_or(|(_, b)| found.1.merit < b.merit)
-                        {
-                            refined = Some(found);
-                        }
+                        ));
                     }
                     corrected_best = refined.map(|(p, s)| (values_of(&p), s.merit));
                     Some(ModelSearch {
