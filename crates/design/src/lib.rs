@@ -347,8 +347,12 @@ pub fn design_scene(
                         survey_passes: SURVEY_PASSES,
                         random_runs: MODEL_RUNS,
                     };
-                    let mut finished_at =
-                        vec![0.0; plan.random_runs + global::SURVEY_STARTS * plan.survey_passes];
+                    let mut finished_at = vec![
+                        0.0;
+                        global::CHORD_STARTS
+                            + plan.random_runs
+                            + global::SURVEY_STARTS * plan.survey_passes
+                    ];
                     let mut best_heard = f64::INFINITY;
                     let mut best_values = start_values.clone();
                     let mut on_run = |run: usize, c: &global::Candidate| {
