@@ -3,15 +3,20 @@
 //! difference of a narrow beam is a needle in the profile's space (a
 //! 0.2 mm move of a control point takes it from the floor to 0.3), where
 //! Nelder–Mead from a cone stops in the first side valley. The model
-//! traces a candidate in about a millisecond, so CMA-ES (the `cmaes`
-//! crate) can run many times from spread-out starts:
+//! traces a candidate in about a millisecond, so the search can afford
+//! grids and many CMA-ES runs (the `cmaes` crate), in this order:
 //!
-//! 1. on the 2-Wasserstein distance between the γ distributions of flux
+//! 1. the chord survey: interior points on equal shares of the chord
+//!    between the ends, offset across it on a grid, ranked by the
+//!    2-Wasserstein distance between the γ distributions of flux
 //!    (degrees; it grows steadily as light moves away from where the
 //!    target has it, where the L2 of intensity is flat until the beam
-//!    almost matches), then
-//! 2. on the relative L2 difference itself, from the first's best, with a
-//!    small step.
+//!    almost matches); the best cells searched on a finer grid by the
+//!    relative L2 and the best few polished with small steps;
+//! 2. the survey of three-point curves, each of the best polished on
+//!    ever less blurred light;
+//! 3. runs from the start and from random starts, first on the
+//!    Wasserstein distance, then on the relative L2 with a small step.
 //!
 //! Control points move in polar coordinates about the source (the angle
 //! θ from the axis and d = ρ(1 − cos θ), constant along a parabola focused
@@ -98,8 +103,9 @@ const MIN_SPAN_SHARE: f64 = 0.35;
 /// Quantiles the Wasserstein distance compares.
 const QUANTILES: usize = 200;
 
-/// How many runs a search makes: passes over the survey's starts, then
-/// runs from the start profile and from random starts.
+/// How many runs a search makes after the chord survey's
+/// [`CHORD_STARTS`]: passes over the survey's starts, then runs from the
+/// start profile and from random starts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Plan {
     pub survey_passes: usize,
@@ -568,8 +574,14 @@ fn polish(
     deadline: Instant,
     count: &AtomicUsize,
 ) -> Vec<f64> {
+    // The start itself is a candidate: a polish never ends worse.
+    let (profile, outside) = coords.profile(&x);
+    let mut raw_best: Kept = (outside == 0.0 && coords.unlike(&profile) == 0.0)
+        .then(|| coords.model.intensity(&profile, SMOOTH_STEP_DEG))
+        .flatten()
+        .map(|got| (axial_l2(&got, goal), x.clone()))
+        .filter(|(m, _)| m.is_finite());
     let mut x = x;
-    let mut raw_best: Kept = None;
     for (k, &(sigma, step, evaluations)) in stages.iter().enumerate() {
         let blurred_goal = blurred(goal, sigma);
         match run(
@@ -589,6 +601,14 @@ fn polish(
         }
     }
     raw_best.map_or(x, |(_, y)| y)
+}
+
+/// The largest distance between two profiles' corresponding points (m).
+pub fn farthest_apart_m(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1]))
+        .fold(0.0, f64::max)
 }
 
 /// The chord survey ([`CHORD_SCREENED`]): the normalised coordinates of
@@ -642,6 +662,12 @@ fn chord_survey(
         }
         let x = coords.of(&profile);
         if x.iter().any(|t| !(0.0..=1.0).contains(t)) {
+            return None;
+        }
+        // Only profiles the search's coordinates give back (their θ in
+        // order from the first end to the last).
+        let (back, _) = coords.profile(&x);
+        if farthest_apart_m(&back, &profile) > 1e-9 {
             return None;
         }
         count.fetch_add(1, Ordering::Relaxed);
@@ -705,6 +731,7 @@ fn chord_survey(
         }
     }
     best.sort_by(|a, b| a.0.total_cmp(&b.0));
+
     best.into_iter()
         .take(CHORD_STARTS)
         .map(|(_, x)| x.iter().map(|t| t.clamp(0.0, 1.0)).collect())
@@ -896,8 +923,8 @@ mod tests {
             heard += 1
         })
         .unwrap();
-        assert_eq!(heard, SURVEY_STARTS);
-        assert_eq!(found.candidates.len(), SURVEY_STARTS);
+        assert_eq!(heard, CHORD_STARTS + SURVEY_STARTS);
+        assert_eq!(found.candidates.len(), CHORD_STARTS + SURVEY_STARTS);
         let best = &found.candidates[0];
         // A tenth of the cone's difference at most (the hidden profile's
         // own basin is a needle the polish finds with some random numbers,
@@ -912,6 +939,106 @@ mod tests {
         assert_eq!(best.profile[4], cone[4]);
         let again = search(&m, &cone, &goal, 7, plan, deadline, &never, &mut |_, _| {}).unwrap();
         assert_eq!(found.candidates, again.candidates);
+    }
+
+    #[test]
+    fn the_chord_survey_finds_a_needle_the_polish_alone_misses() {
+        // A second hidden profile bulging out from the revolved
+        // reflector's ends (a 4° beam on a skirt to 27°, two reflections
+        // between): the chord survey's best start, polished with small
+        // steps, reaches its needle; the same polish from the cone does
+        // not.
+        let hidden = [
+            CONE[0],
+            [0.018, -0.012],
+            [0.027, -0.027],
+            [0.034, -0.043],
+            CONE[4],
+        ];
+        let m = model();
+        let goal = m.intensity(&hidden, SMOOTH_STEP_DEG).unwrap();
+        let coords = Coordinates::new(&m, &CONE).unwrap();
+        let count = AtomicUsize::new(0);
+        let deadline = Instant::now() + std::time::Duration::from_secs(600);
+        let never = AtomicBool::new(false);
+        let l2_of = |x: &[f64]| {
+            let (p, _) = coords.profile(x);
+            axial_l2(&m.intensity(&p, SMOOTH_STEP_DEG).unwrap(), &goal)
+        };
+        let starts = chord_survey(&coords, &goal, &count, deadline, &never);
+        assert_eq!(starts.len(), CHORD_STARTS);
+        let found = polish(
+            &coords,
+            starts[0].clone(),
+            &goal,
+            &SURVEY_POLISH[1..],
+            7,
+            deadline,
+            &count,
+        );
+        let from_cone = polish(
+            &coords,
+            coords.of(&CONE),
+            &goal,
+            &SURVEY_POLISH[1..],
+            7,
+            deadline,
+            &count,
+        );
+        let (found, from_cone) = (l2_of(&found), l2_of(&from_cone));
+        assert!(found < 0.05, "{found}");
+        assert!(from_cone > 0.2, "{from_cone}");
+        // It repeats itself.
+        assert_eq!(
+            chord_survey(&coords, &goal, &count, deadline, &never),
+            starts
+        );
+    }
+
+    #[test]
+    fn a_chord_profile_lies_on_equal_shares_of_the_chord_offset_along_its_normal() {
+        let m = model();
+        let coords = Coordinates::new(&m, &CONE).unwrap();
+        let (a, b) = (CONE[0], CONE[4]);
+        let length = (b[0] - a[0]).hypot(b[1] - a[1]);
+        let p = coords.along_chord(&[0.002, 0.0, -0.003]);
+        assert_eq!((p[0], p[4]), (a, b));
+        for (i, h) in [0.002, 0.0, -0.003].iter().enumerate() {
+            let t = (i + 1) as f64 / 4.0;
+            let q = p[i + 1];
+            let (dx, dy) = (q[0] - a[0], q[1] - a[1]);
+            // Along the chord: its share; across it (toward larger r): h.
+            let along = (dx * (b[0] - a[0]) + dy * (b[1] - a[1])) / length;
+            let across = (dx * -(b[1] - a[1]) + dy * (b[0] - a[0])) / length;
+            assert!((along - t * length).abs() < 1e-12, "{along}");
+            assert!((across - h).abs() < 1e-12, "{across} {h}");
+        }
+        // The cone is the chord itself (its points at equal shares).
+        assert!(farthest_apart_m(&coords.along_chord(&[0.0; 3]), &CONE) < 1e-12);
+    }
+
+    #[test]
+    fn a_polish_never_ends_worse_than_its_start() {
+        let m = model();
+        let goal = m.intensity(&REVOLVED_REFLECTOR, SMOOTH_STEP_DEG).unwrap();
+        let coords = Coordinates::new(&m, &CONE).unwrap();
+        let count = AtomicUsize::new(0);
+        // The start is the goal's own profile: every candidate near it
+        // is worse, so the start comes back.
+        let x = coords.of(&REVOLVED_REFLECTOR);
+        let deadline = Instant::now() + std::time::Duration::from_secs(600);
+        assert_eq!(
+            polish(
+                &coords,
+                x.clone(),
+                &goal,
+                &SURVEY_POLISH[2..],
+                1,
+                deadline,
+                &count
+            ),
+            x
+        );
     }
 
     #[test]

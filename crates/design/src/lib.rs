@@ -177,14 +177,6 @@ const CORRECTED_TIME_SHARE: (u32, u32) = (15, 16);
 /// variable's range).
 const CORRECTED_STEP: f64 = 0.002;
 
-/// The largest distance between corresponding points of two profiles (m).
-fn farthest_apart_m(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1]))
-        .fold(0.0, f64::max)
-}
-
 /// Loads, checks and runs a design; `progress` hears of every traced
 /// candidate, `interrupt` stops it with the best so far.
 pub fn design(
@@ -435,7 +427,7 @@ pub fn design_scene(
                         if basins.len() < BASINS
                             && basins
                                 .iter()
-                                .all(|b| farthest_apart_m(b, p) > BASIN_APART_M)
+                                .all(|b| global::farthest_apart_m(b, p) > BASIN_APART_M)
                         {
                             basins.push(p.clone());
                         }
