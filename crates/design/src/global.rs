@@ -96,6 +96,12 @@ pub const CHORD_STARTS: usize = 3;
 /// CMA-ES step sizes of the two stages (normalised coordinates).
 const WASSERSTEIN_STEP: f64 = 0.15;
 const POLISH_STEP: f64 = 0.02;
+/// How far below the last end's θ a point may be, as a share of the ends'
+/// span of θ (normalised θ from −this to 1): a profile bulging inward
+/// near the aperture sees its last points at a smaller θ than the rim
+/// (the third profile's (28, −44) mm at 32.5° against the rim's 33.7°),
+/// which a box ending at the rim could not reach.
+const THETA_BELOW: f64 = 0.1;
 /// The range of d either side of the ends' geometric mean (a factor).
 const D_RANGE: f64 = 4.0;
 /// The shortest span, as a share of the mean span.
@@ -202,8 +208,17 @@ impl<'a> Coordinates<'a> {
     /// they were.
     fn profile(&self, x: &[f64]) -> (Vec<[f64; 2]>, f64) {
         let n = self.start.len();
-        let outside: f64 = x.iter().map(|t| (-t).max(0.0) + (t - 1.0).max(0.0)).sum();
-        let mut thetas: Vec<f64> = (0..n - 2).map(|i| x[2 * i].clamp(0.0, 1.0)).collect();
+        let outside: f64 = x
+            .iter()
+            .enumerate()
+            .map(|(k, t)| {
+                let (lo, hi) = box_of(k);
+                (lo - t).max(0.0) + (t - hi).max(0.0)
+            })
+            .sum();
+        let mut thetas: Vec<f64> = (0..n - 2)
+            .map(|i| x[2 * i].clamp(-THETA_BELOW, 1.0))
+            .collect();
         thetas.sort_by(|a, b| b.total_cmp(a));
         let mut p = self.start.to_vec();
         for i in 1..n - 1 {
@@ -310,6 +325,34 @@ impl<'a> Coordinates<'a> {
             .map(|s| (MIN_SPAN_SHARE - s / mean.max(1e-12)).max(0.0))
             .sum::<f64>()
     }
+}
+
+/// The box of the k-th normalised coordinate (θ at even k, d at odd).
+fn box_of(k: usize) -> (f64, f64) {
+    if k % 2 == 0 {
+        (-THETA_BELOW, 1.0)
+    } else {
+        (0.0, 1.0)
+    }
+}
+
+/// Whether normalised coordinates are inside the search's box.
+fn in_box(x: &[f64]) -> bool {
+    x.iter().enumerate().all(|(k, t)| {
+        let (lo, hi) = box_of(k);
+        (lo..=hi).contains(t)
+    })
+}
+
+/// Normalised coordinates moved `margin` inside the box at least.
+fn inside(x: &[f64], margin: f64) -> Vec<f64> {
+    x.iter()
+        .enumerate()
+        .map(|(k, t)| {
+            let (lo, hi) = box_of(k);
+            t.clamp(lo + margin, hi - margin)
+        })
+        .collect()
 }
 
 /// The relative L2 difference of two axial profiles on
@@ -473,11 +516,7 @@ pub fn search(
                 // A random start (or the start profile itself): first
                 // where the light goes (Wasserstein), then its L2.
                 let x0 = if r == surveyed {
-                    coords
-                        .of(start)
-                        .iter()
-                        .map(|t| t.clamp(0.02, 0.98))
-                        .collect()
+                    inside(&coords.of(start), 0.02)
                 } else {
                     let mut rng = Starts::new(run_seed);
                     let mut thetas: Vec<f64> = (0..interior).map(|_| rng.uniform()).collect();
@@ -661,7 +700,7 @@ fn chord_survey(
             return None;
         }
         let x = coords.of(&profile);
-        if x.iter().any(|t| !(0.0..=1.0).contains(t)) {
+        if !in_box(&x) {
             return None;
         }
         // Only profiles the search's coordinates give back (their θ in
@@ -734,7 +773,7 @@ fn chord_survey(
 
     best.into_iter()
         .take(CHORD_STARTS)
-        .map(|(_, x)| x.iter().map(|t| t.clamp(0.0, 1.0)).collect())
+        .map(|(_, x)| x)
         .collect()
 }
 
@@ -756,7 +795,7 @@ fn survey(coords: &Coordinates<'_>, goal: &[f64], count: &AtomicUsize) -> Vec<Ve
         count.fetch_add(1, Ordering::Relaxed);
         let profile = coords.through(middle)?;
         let x = coords.of(&profile);
-        if coords.unlike(&profile) > 0.0 || x.iter().any(|t| !(0.0..=1.0).contains(t)) {
+        if coords.unlike(&profile) > 0.0 || !in_box(&x) {
             return None;
         }
         let got = coords.model.intensity(&profile, SMOOTH_STEP_DEG)?;
@@ -782,7 +821,7 @@ fn survey(coords: &Coordinates<'_>, goal: &[f64], count: &AtomicUsize) -> Vec<Ve
     scored
         .into_iter()
         .take(SURVEY_STARTS)
-        .map(|(_, x)| x.iter().map(|t| t.clamp(0.02, 0.98)).collect())
+        .map(|(_, x)| inside(&x, 0.02))
         .collect()
 }
 
@@ -806,7 +845,7 @@ pub fn corrected(
 ) -> Option<(Vec<[f64; 2]>, f64, f64)> {
     let coords = Coordinates::new(model, start)?;
     let x0 = coords.of(profile);
-    if x0.iter().any(|t| !(0.0..=1.0).contains(t)) {
+    if !in_box(&x0) {
         return None;
     }
     let count = AtomicUsize::new(0);
@@ -1015,6 +1054,27 @@ mod tests {
         }
         // The cone is the chord itself (its points at equal shares).
         assert!(farthest_apart_m(&coords.along_chord(&[0.0; 3]), &CONE) < 1e-12);
+    }
+
+    #[test]
+    fn a_profile_bulging_inward_below_the_rims_angle_is_in_the_search() {
+        // The third profile: its last interior points are seen from the
+        // source at a smaller angle than the aperture's rim.
+        let m = model();
+        let coords = Coordinates::new(&m, &CONE).unwrap();
+        let third = [
+            CONE[0],
+            [0.011, -0.012],
+            [0.018, -0.028],
+            [0.028, -0.044],
+            CONE[4],
+        ];
+        let x = coords.of(&third);
+        assert!(x[4] < 0.0, "{x:?}");
+        assert!(in_box(&x), "{x:?}");
+        let (back, outside) = coords.profile(&x);
+        assert_eq!(outside, 0.0);
+        assert!(farthest_apart_m(&back, &third) < 1e-12);
     }
 
     #[test]
