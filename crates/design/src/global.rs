@@ -329,7 +329,7 @@ impl<'a> Coordinates<'a> {
 
 /// The box of the k-th normalised coordinate (θ at even k, d at odd).
 fn box_of(k: usize) -> (f64, f64) {
-    if k % 2 == 0 {
+    if k.is_multiple_of(2) {
         (-THETA_BELOW, 1.0)
     } else {
         (0.0, 1.0)
