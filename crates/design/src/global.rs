@@ -217,14 +217,18 @@ impl<'a> Coordinates<'a> {
             })
             .sum();
         let mut thetas: Vec<f64> = (0..n - 2)
-            .map(|i| x[2 * i].clamp(-THETA_BELOW, 1.0))
+            .map(|i| {
+                let (lo, hi) = box_of(2 * i);
+                x[2 * i].clamp(lo, hi)
+            })
             .collect();
         thetas.sort_by(|a, b| b.total_cmp(a));
         let mut p = self.start.to_vec();
         for i in 1..n - 1 {
             let theta = self.theta_last + thetas[i - 1] * (self.theta_first - self.theta_last);
             let d = self.d_reference
-                * ((x[2 * (i - 1) + 1].clamp(0.0, 1.0) - 0.5) * 2.0 * D_RANGE.ln()).exp();
+                * ((x[2 * (i - 1) + 1].clamp(box_of(1).0, box_of(1).1) - 0.5) * 2.0 * D_RANGE.ln())
+                    .exp();
             p[i] = self.point(theta, d);
         }
         (p, outside)
@@ -325,6 +329,13 @@ impl<'a> Coordinates<'a> {
             .map(|s| (MIN_SPAN_SHARE - s / mean.max(1e-12)).max(0.0))
             .sum::<f64>()
     }
+}
+
+/// The search's threads: two at most (the machines it is made for).
+fn threads() -> usize {
+    std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(2)
 }
 
 /// The box of the k-th normalised coordinate (θ at even k, d at odd).
@@ -573,9 +584,7 @@ pub fn search(
         }
     };
     std::thread::scope(|s| {
-        let threads = std::thread::available_parallelism()
-            .map_or(1, |n| n.get())
-            .min(2);
+        let threads = threads();
         let (done, heard) = std::sync::mpsc::channel();
         for _ in 0..threads {
             let done = done.clone();
@@ -715,9 +724,7 @@ fn chord_survey(
     let stopped = || Instant::now() >= deadline || interrupt.load(Ordering::Relaxed);
     // Each of `points` scored by `merit`, on two threads; in order.
     let scored = |points: Vec<Vec<f64>>, merit: &(dyn Fn(&[f64]) -> f64 + Sync)| {
-        let threads = std::thread::available_parallelism()
-            .map_or(1, |n| n.get())
-            .min(2);
+        let threads = threads();
         let points = &points;
         let light = &light;
         let stopped = &stopped;
@@ -802,9 +809,7 @@ fn survey(coords: &Coordinates<'_>, goal: &[f64], count: &AtomicUsize) -> Vec<Ve
         let m = axial_l2(&got, goal);
         m.is_finite().then_some((m, x))
     };
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .min(2);
+    let threads = threads();
     let mut scored: Vec<(f64, Vec<f64>)> = std::thread::scope(|s| {
         let chunks: Vec<_> = cells
             .chunks(cells.len().div_ceil(threads))
