@@ -11,18 +11,14 @@
 //! designed scene (the start scene's file with the values replaced), its
 //! bake, the design's history and its picture, all or none.
 
-pub mod corrected;
-pub mod direct;
-pub mod evaluate;
-pub mod global;
-pub mod least_squares;
-pub mod meridian;
 pub mod merit;
-pub mod optimise;
+pub mod model;
 pub mod outcome;
 pub mod output;
 pub mod picture;
+pub mod search;
 pub mod target;
+pub mod traced;
 pub mod variables;
 
 use std::path::{Path, PathBuf};
@@ -32,12 +28,12 @@ use lucerna_photometry::AxialSymmetry;
 use lucerna_scene::{Scene, Shape, parse_scene};
 use lucerna_simulation::Luminaire;
 
-pub use optimise::{Budget, Found, Progress, Record, Stopped};
+pub use search::optimise::{Budget, Found, Progress, Record, Stopped};
 pub use target::{Maximise, Spec, Target};
 pub use variables::Variable;
 
-use crate::evaluate::Evaluator;
 use crate::merit::Aim;
+use crate::traced::evaluate::Evaluator;
 
 /// Why a design could not start or could not be written.
 #[derive(Debug, thiserror::Error)]
@@ -277,8 +273,15 @@ pub fn design_scene(
     let start_values: Vec<f64> = variables.iter().map(|v| v.start).collect();
     let trace = |e: &mut Evaluator, values: &[f64]| -> Option<f64> {
         let scene = variables::apply(&start, &variables, values)?;
-        let t = e.trace(&scene, optimise::FIRST_STAGE_PHOTONS).ok()?;
-        Some(optimise::merit_of(&aim, &t, lamp_flux_lm, &t.opening))
+        let t = e
+            .trace(&scene, search::optimise::FIRST_STAGE_PHOTONS)
+            .ok()?;
+        Some(search::optimise::merit_of(
+            &aim,
+            &t,
+            lamp_flux_lm,
+            &t.opening,
+        ))
     };
     let start_merit = trace(&mut evaluator, &start_values).ok_or_else(|| {
         DesignError::Start(
@@ -291,7 +294,7 @@ pub fn design_scene(
     // The direct design, where it applies, replaces the start if it is
     // better.
     let direct = if request.direct {
-        direct::designs(&start, &variables, &request.target)
+        model::direct::designs(&start, &variables, &request.target)
             .into_iter()
             .filter(|values| {
                 values
@@ -312,7 +315,7 @@ pub fn design_scene(
     let mut corrected_best: Option<(Vec<f64>, f64)> = None;
     let model_search = match (&request.target, request.direct) {
         (Target::Distribution { table, .. }, true) => {
-            direct::meridian_model(&start, &variables, &request.target).and_then(
+            model::direct::meridian_model(&start, &variables, &request.target).and_then(
                 |(model, points)| {
                     let goal = merit::axial(table);
                     // With an evaluation budget (a design that must not depend
@@ -335,19 +338,20 @@ pub fn design_scene(
                             .collect()
                     };
                     let mut heard = 0u64;
-                    let plan = global::Plan {
+                    let plan = search::global::Plan {
                         survey_passes: SURVEY_PASSES,
                         random_runs: MODEL_RUNS,
                     };
                     let mut finished_at = vec![
                         0.0;
-                        global::CHORD_STARTS
+                        search::global::CHORD_STARTS
                             + plan.random_runs
-                            + global::SURVEY_STARTS * plan.survey_passes
+                            + search::global::SURVEY_STARTS
+                                * plan.survey_passes
                     ];
                     let mut best_heard = f64::INFINITY;
                     let mut best_values = start_values.clone();
-                    let mut on_run = |run: usize, c: &global::Candidate| {
+                    let mut on_run = |run: usize, c: &search::global::Candidate| {
                         heard += 1;
                         if let Some(t) = finished_at.get_mut(run) {
                             *t = began.elapsed().as_secs_f64();
@@ -375,7 +379,7 @@ pub fn design_scene(
                             },
                         });
                     };
-                    let search = global::search(
+                    let model_found = search::global::search(
                         &model,
                         &points,
                         &goal,
@@ -386,7 +390,7 @@ pub fn design_scene(
                         &mut on_run,
                     )?;
                     // One row per run, in the order they finished.
-                    let mut rows: Vec<(f64, &global::Candidate)> = search
+                    let mut rows: Vec<(f64, &search::global::Candidate)> = model_found
                         .candidates
                         .iter()
                         .map(|c| (finished_at.get(c.run).copied().unwrap_or(0.0), c))
@@ -411,7 +415,7 @@ pub fn design_scene(
                     // The best few traced; the best traced of each basin
                     // (profiles more than BASIN_APART_M apart) refined.
                     let mut traced: Vec<(Vec<f64>, f64, Vec<[f64; 2]>)> = Vec::new();
-                    for c in search.candidates.iter().take(MODEL_TRACED) {
+                    for c in model_found.candidates.iter().take(MODEL_TRACED) {
                         let values = values_of(&c.profile);
                         if let Some(m) = in_bounds(&values)
                             .then(|| trace(&mut evaluator, &values))
@@ -427,7 +431,7 @@ pub fn design_scene(
                         if basins.len() < BASINS
                             && basins
                                 .iter()
-                                .all(|b| global::farthest_apart_m(b, p) > BASIN_APART_M)
+                                .all(|b| search::global::farthest_apart_m(b, p) > BASIN_APART_M)
                         {
                             basins.push(p.clone());
                         }
@@ -443,8 +447,8 @@ pub fn design_scene(
                         }
                         let scene = variables::apply(&start, &variables, &values)?;
                         let t = e.trace(&scene, CORRECTED_PHOTONS).ok()?;
-                        Some(corrected::Seen {
-                            merit: optimise::merit_of(&aim, &t, lamp_flux_lm, &t.opening),
+                        Some(search::corrected::Seen {
+                            merit: search::optimise::merit_of(&aim, &t, lamp_flux_lm, &t.opening),
                             axial: merit::axial(&t.table),
                         })
                     };
@@ -458,7 +462,7 @@ pub fn design_scene(
                     let mut rounds = 0u64;
                     let mut corrected_from: Option<f64> = None;
                     let basin_count = basins.len();
-                    let mut on_round = |r: &corrected::Round| {
+                    let mut on_round = |r: &search::corrected::Round| {
                         rounds += 1;
                         let values = values_of(&r.profile);
                         let record = Record {
@@ -484,10 +488,10 @@ pub fn design_scene(
                     let refine =
                         |e: &mut Evaluator,
                          profile: Vec<[f64; 2]>,
-                         first: corrected::Seen,
+                         first: search::corrected::Seen,
                          count: usize,
-                         on_round: &mut dyn FnMut(&corrected::Round)| {
-                            corrected::refine(
+                         on_round: &mut dyn FnMut(&search::corrected::Round)| {
+                            search::corrected::refine(
                                 &model,
                                 &points,
                                 &goal,
@@ -501,8 +505,8 @@ pub fn design_scene(
                                 on_round,
                             )
                         };
-                    let mut refined: Option<(Vec<[f64; 2]>, corrected::Seen)> = None;
-                    let mut keep = |found: (Vec<[f64; 2]>, corrected::Seen)| {
+                    let mut refined: Option<(Vec<[f64; 2]>, search::corrected::Seen)> = None;
+                    let mut keep = |found: (Vec<[f64; 2]>, search::corrected::Seen)| {
                         if refined
                             .as_ref()
                             .is_none_or(|(_, b)| found.1.merit < b.merit)
@@ -525,16 +529,16 @@ pub fn design_scene(
                             &mut evaluator,
                             profile,
                             first,
-                            corrected::ROUNDS.saturating_sub(basin_count),
+                            search::corrected::ROUNDS.saturating_sub(basin_count),
                             &mut on_round,
                         ));
                     }
                     corrected_best = refined.map(|(p, s)| (values_of(&p), s.merit));
                     Some(ModelSearch {
-                        runs: search.candidates.len(),
-                        evaluations: search.evaluations,
-                        seconds: search.seconds,
-                        model_l2: search
+                        runs: model_found.candidates.len(),
+                        evaluations: model_found.evaluations,
+                        seconds: model_found.seconds,
+                        model_l2: model_found
                             .candidates
                             .first()
                             .map_or(f64::INFINITY, |c| c.model_l2),
@@ -564,12 +568,12 @@ pub fn design_scene(
     let (chosen, first) = match (&corrected_best, &model_best) {
         (Some((values, _)), Some((model_values, _))) if chosen == model_values => (
             values,
-            optimise::FirstStage {
+            search::optimise::FirstStage {
                 photons: CORRECTED_PHOTONS,
                 step: CORRECTED_STEP,
             },
         ),
-        _ => (chosen, optimise::FirstStage::default()),
+        _ => (chosen, search::optimise::FirstStage::default()),
     };
     let x0: Vec<f64> = chosen
         .iter()
@@ -589,7 +593,7 @@ pub fn design_scene(
     // A distribution is a sum of squares: damped least squares on its
     // residuals; a spec's terms are not, Nelder–Mead on its merit.
     let found = match &request.target {
-        Target::Distribution { .. } if request.least_squares => least_squares::fit(
+        Target::Distribution { .. } if request.least_squares => search::least_squares::fit(
             &start,
             &variables,
             x0,
@@ -599,7 +603,7 @@ pub fn design_scene(
             interrupt,
             progress,
         ),
-        _ => optimise::optimise(
+        _ => search::optimise::optimise(
             &start,
             &variables,
             x0,

@@ -150,7 +150,7 @@ impl Aim {
             Target::Distribution { table, .. } => {
                 (table.c_planes_deg.clone(), table.gammas_deg.clone())
             }
-            Target::Spec(_) => crate::evaluate::merit_grid(),
+            Target::Spec(_) => crate::traced::evaluate::merit_grid(),
         }
     }
 

@@ -16,8 +16,8 @@ use lucerna_simulation::{
 };
 use toml_edit::{Array, DocumentMut, Item, Value};
 
-use crate::evaluate::Evaluator;
 pub use crate::outcome::Outcome;
+use crate::traced::evaluate::Evaluator;
 use crate::variables::{Place, Variable};
 use crate::{Design, DesignError, Target};
 

@@ -10,8 +10,8 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
-use lucerna_design::evaluate::Evaluator;
 use lucerna_design::merit::Aim;
+use lucerna_design::traced::evaluate::Evaluator;
 use lucerna_design::variables::{self, apply};
 use lucerna_design::{Budget, DesignError, DesignRequest, Spec, Target};
 use lucerna_photometry::{AxialSymmetry, figures};
@@ -353,8 +353,8 @@ fn bad_input_gets_a_clear_error() {
 /// cone between its ends, each the model's light against its own bake.
 #[test]
 fn the_meridian_model_gives_the_tracers_light_of_a_revolved_mirror() {
-    use lucerna_design::global::axial_l2;
     use lucerna_design::merit::{SMOOTH_STEP_DEG, axial};
+    use lucerna_design::search::global::axial_l2;
     let dir = designs_path();
     let mut profiles = Vec::new();
     let mut baked = Vec::new();
@@ -364,7 +364,7 @@ fn the_meridian_model_gives_the_tracers_light_of_a_revolved_mirror() {
         let start = load_scene(&path).unwrap();
         let vary = variables::parse(&start, &["reflector.profile".to_owned()], false).unwrap();
         let (model, points) =
-            lucerna_design::direct::meridian_model(&start, &vary, &target).expect("a model");
+            lucerna_design::model::direct::meridian_model(&start, &vary, &target).expect("a model");
         let Target::Distribution { table, .. } = &target else {
             unreachable!()
         };

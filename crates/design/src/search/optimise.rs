@@ -15,8 +15,8 @@ use argmin::solver::neldermead::NelderMead;
 use lucerna_photometry::Dimensions;
 use lucerna_scene::Scene;
 
-use crate::evaluate::{Evaluator, Refused, Traced};
 use crate::merit::Aim;
+use crate::traced::evaluate::{Evaluator, Refused, Traced};
 use crate::variables::{Variable, apply};
 
 /// Photons of the first stage, and the most any stage traces.

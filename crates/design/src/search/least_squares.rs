@@ -16,9 +16,9 @@ use std::time::Instant;
 
 use lucerna_scene::Scene;
 
-use crate::evaluate::Evaluator;
 use crate::merit::Aim;
-use crate::optimise::{Budget, FIRST_STAGE_PHOTONS, Found, Progress, Record, Stopped};
+use crate::search::optimise::{Budget, FIRST_STAGE_PHOTONS, Found, Progress, Record, Stopped};
+use crate::traced::evaluate::Evaluator;
 use crate::variables::{Variable, apply};
 
 /// The blur of each stage's comparison (degrees of γ; negative: the

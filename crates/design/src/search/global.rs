@@ -1,5 +1,5 @@
 //! A global search for a revolved mirror's profile on the meridian model
-//! ([`crate::meridian`]), before the tracer in the loop: the relative L2
+//! ([`crate::model::meridian`]), before the tracer in the loop: the relative L2
 //! difference of a narrow beam is a needle in the profile's space (a
 //! 0.2 mm move of a control point takes it from the floor to 0.3), where
 //! Nelder–Mead from a cone stops in the first side valley. The model
@@ -33,8 +33,8 @@ use cmaes::{CMAESOptions, DVector};
 
 use lucerna_scene::profile::sample_profile;
 
-use crate::meridian::MeridianModel;
 use crate::merit::{SMOOTH_STEP_DEG, blurred};
+use crate::model::meridian::MeridianModel;
 
 /// Candidates traced in each stage of one run.
 const WASSERSTEIN_EVALUATIONS: usize = 4800;
@@ -907,11 +907,11 @@ impl Starts {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::meridian::fixtures::{CONE, REVOLVED_REFLECTOR};
+    use crate::model::meridian::fixtures::{CONE, REVOLVED_REFLECTOR};
 
     /// The revolved reflector's LED: 3 mm across, a 90 % mirror.
     fn model() -> MeridianModel {
-        crate::meridian::fixtures::model(0.0015, 0.9)
+        crate::model::meridian::fixtures::model(0.0015, 0.9)
     }
 
     #[test]

@@ -16,9 +16,9 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
-use crate::global::{corrected, scaled_to};
-use crate::meridian::MeridianModel;
 use crate::merit::SMOOTH_STEP_DEG;
+use crate::model::meridian::MeridianModel;
+use crate::search::global::{corrected, scaled_to};
 
 /// The first far search's step (normalised coordinates, as the global
 /// search's), halved after each round the tracer does not confirm, and
@@ -159,8 +159,8 @@ pub fn refine(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::global::axial_l2;
-    use crate::meridian::fixtures::{REVOLVED_REFLECTOR, model};
+    use crate::model::meridian::fixtures::{REVOLVED_REFLECTOR, model};
+    use crate::search::global::axial_l2;
 
     #[test]
     fn the_corrected_model_reaches_what_the_model_alone_cannot() {

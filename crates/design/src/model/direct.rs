@@ -18,7 +18,7 @@ use glam::{DQuat, DVec2, DVec3};
 use lucerna_photometry::CandelaTable;
 use lucerna_scene::{Emission, EmitterShape, Interpolation, Material, Scene, Shape};
 
-use crate::meridian::MeridianModel;
+use crate::model::meridian::MeridianModel;
 use crate::target::Target;
 use crate::variables::{Place, Variable};
 

@@ -1,0 +1,8 @@
+//! Searches over the design's variables: the tracer's loop (Nelder–Mead
+//! or damped least squares), and the meridian model's global search with
+//! its correction by the tracer.
+
+pub mod corrected;
+pub mod global;
+pub mod least_squares;
+pub mod optimise;

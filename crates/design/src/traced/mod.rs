@@ -1,0 +1,3 @@
+//! Candidates traced by the photon tracer with common random numbers.
+
+pub mod evaluate;
