@@ -1,20 +1,26 @@
-//! Design from the light you want: a luminaire's shape parameters or a
-//! reflector's profile shaped toward a target distribution (an IES or
-//! EULUMDAT file) or a spec of figures (beam, field, cut-off, LOR, UGR).
+//! Design from the light you want: a luminaire's shape parameters, a
+//! reflector's profile or a part's placement shaped toward a target
+//! distribution (an IES or EULUMDAT file) or a spec of figures (beam,
+//! field, cut-off, LOR, UGR).
 //!
-//! Where a revolved profile is varied toward a rotationally symmetric
-//! target, a direct design for a point source at the emitter gives the
-//! start in milliseconds ([`direct`]); then the photon tracer in the loop
-//! corrects it for the real extended source and package ([`optimise`]:
-//! Nelder–Mead on common random numbers, in stages of growing photon
-//! counts, pooled over the luminaire's symmetry). [`output`] writes the
-//! designed scene (the start scene's file with the values replaced), its
-//! bake, the design's history and its picture, all or none.
+//! A design is a pipeline of phases ([`phases`]): the start traced; for a
+//! revolved mirror toward a rotationally symmetric target, what its fixed
+//! parts make impossible ([`Reachability`]), the point-source direct
+//! design by energy balance between the fixed ends, its correction for
+//! the extended source by feedback through the tracer, and a local
+//! refinement with the tracer in the loop; the meridian model's global
+//! search only where the mapping cannot represent the target; for every
+//! other design, the tracer's loop. [`output`] writes the designed scene
+//! (the start scene's file with the values replaced), its bake, the
+//! design's history and its picture, all or none.
 
+pub mod error;
+pub mod history;
 pub mod merit;
 pub mod model;
 pub mod outcome;
 pub mod output;
+pub mod phases;
 pub mod picture;
 pub mod search;
 pub mod target;
@@ -22,63 +28,46 @@ pub mod traced;
 pub mod variables;
 
 use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
 
 use lucerna_photometry::AxialSymmetry;
 use lucerna_scene::{Scene, Shape, parse_scene};
 use lucerna_simulation::Luminaire;
 
-pub use search::optimise::{Budget, Found, Progress, Record, Stopped};
+pub use error::DesignError;
+pub use history::{Phase, Progress, Record};
+pub use phases::correction::Iteration;
+pub use phases::direct::{MAX_POINTS, MIN_POINTS, Reachability};
+pub use phases::fallback::{FallbackSettings, ModelSearch};
+pub use phases::{LAST_PHOTONS, PHASE_PHOTONS};
 pub use target::{Maximise, Spec, Target};
 pub use variables::Variable;
 
+use crate::history::History;
 use crate::merit::Aim;
+use crate::phases::{Context, ProfilePlan};
+use crate::search::optimise::{FIRST_STAGE_PHOTONS, LAST_STAGE_PHOTONS};
 use crate::traced::evaluate::Evaluator;
-
-/// Why a design could not start or could not be written.
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum DesignError {
-    #[error("cannot load the scene {path}")]
-    Scene {
-        path: String,
-        #[source]
-        source: lucerna_scene::LoadSceneError,
-    },
-    #[error("the scene {path} cannot be traced")]
-    Prepare {
-        path: String,
-        #[source]
-        source: Box<lucerna_simulation::SimulationError>,
-    },
-    #[error("target {path}: {why}")]
-    Target { path: String, why: String },
-    #[error("--vary {what}: {why}")]
-    Vary { what: String, why: String },
-    #[error("the time for a design must be positive")]
-    Time,
-    #[error("the start scene itself cannot be traced: {0}")]
-    Start(String),
-    #[error("the design's files cannot be made: {0}")]
-    Output(String),
-    #[error("cannot write {path}")]
-    Write {
-        path: String,
-        #[source]
-        source: std::io::Error,
-    },
-}
+use crate::variables::{Owner, Place};
 
 /// Texels per cube-face edge of every candidate's map, unless asked
 /// otherwise (`lucerna design --resolution`).
 pub const DEFAULT_RESOLUTION: u32 = 256;
+
+/// How far a target's C-planes may differ (the root mean square of each
+/// angle's spread across C, over the peak) before a design that assumes
+/// rotation refuses it; above [`target::SYMMETRIC_ENOUGH`] it designs to
+/// the mean over C with a warning.
+pub const ASYMMETRY_LIMIT: f64 = 0.10;
 
 /// Everything a design needs.
 #[derive(Debug, Clone)]
 pub struct DesignRequest {
     pub scene_path: PathBuf,
     pub target: Target,
-    /// `PART.FIELD` or `PART.profile`.
+    /// `PART.FIELD`, `PART.profile`, `PART.profile[INDEX]`,
+    /// `NAME.translate_z` (a part or an emitter).
     pub vary: Vec<String>,
     /// Frees a profile's end points.
     pub free_ends: bool,
@@ -86,10 +75,74 @@ pub struct DesignRequest {
     pub seed: u32,
     /// Texels per cube-face edge of the candidates' maps.
     pub resolution: u32,
-    /// Start a varied revolved profile from the point-source direct design.
+    /// Run the direct design of a revolved profile (and the fallback
+    /// search); without it the design starts from the scene as it is.
     pub direct: bool,
-    /// Fit a distribution by damped least squares instead of Nelder–Mead.
+    /// Fit a distribution by damped least squares instead of Nelder–Mead
+    /// (designs other than a profile's).
     pub least_squares: bool,
+    /// The designed profile's control points (None: as many as the
+    /// target's detail needs, from [`MIN_POINTS`] to [`MAX_POINTS`]).
+    pub points: Option<usize>,
+    pub fallback: FallbackSettings,
+}
+
+/// When a design stops.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Budget {
+    pub time: Duration,
+    /// Traced candidates at most (a budget that does not depend on the
+    /// machine's speed: the same seed and budget give the same design).
+    pub evaluations: Option<u64>,
+    /// Photons of the last stage (default [`LAST_STAGE_PHOTONS`]).
+    pub max_photons: Option<u64>,
+}
+
+impl Budget {
+    /// Why a design that began at `began` and has traced `traced`
+    /// candidates must stop now, if it must.
+    pub fn spent(&self, began: Instant, traced: usize, interrupt: &AtomicBool) -> Option<Stopped> {
+        if interrupt.load(Ordering::Relaxed) {
+            return Some(Stopped::Interrupted);
+        }
+        if began.elapsed() >= self.time {
+            return Some(Stopped::Time);
+        }
+        if self.evaluations.is_some_and(|n| traced as u64 >= n) {
+            return Some(Stopped::Evaluations);
+        }
+        None
+    }
+
+    /// The photons of the last stage.
+    pub fn last_stage_photons(&self) -> u64 {
+        self.max_photons
+            .unwrap_or(LAST_STAGE_PHOTONS)
+            .max(FIRST_STAGE_PHOTONS)
+    }
+}
+
+/// Why a design stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Stopped {
+    /// The last stage's simplex agrees within the merit's noise.
+    Converged,
+    Time,
+    Evaluations,
+    /// Interrupted (Ctrl+C, or Stop in the editor): the best so far.
+    Interrupted,
+}
+
+/// What the loop found.
+#[derive(Debug, Clone)]
+pub struct Found {
+    pub values: Vec<f64>,
+    pub merit: f64,
+    pub photons: u64,
+    pub noise: f64,
+    pub history: Vec<Record>,
+    pub stopped: Stopped,
 }
 
 /// A finished design.
@@ -99,12 +152,20 @@ pub struct Design {
     pub start: Scene,
     pub start_text: String,
     pub scene_dir: PathBuf,
+    /// The variables (of the start with its profile resampled to the
+    /// designed point count, where that changed).
     pub variables: Vec<Variable>,
-    /// The start's merit at the first stage's photons.
+    /// The start's merit at [`PHASE_PHOTONS`].
     pub start_merit: f64,
-    /// The direct design's values and merit, where one was made.
+    /// What the geometry can reach, where a direct design applied.
+    pub reach: Option<Reachability>,
+    /// The profile's control points, where a profile was designed.
+    pub points: Option<usize>,
+    /// The best direct design's values and merit, and each correction
+    /// iteration.
     pub direct: Option<(Vec<f64>, f64)>,
-    /// The meridian model's global search, where one was made.
+    pub corrections: Vec<Iteration>,
+    /// The fallback's global search, where it ran.
     pub model_search: Option<ModelSearch>,
     pub found: Found,
     /// The designed scene.
@@ -114,6 +175,8 @@ pub struct Design {
     pub seed: u32,
     pub resolution: u32,
     pub lamp_flux_lm: f64,
+    /// What the user should know (a target designed to its mean over C).
+    pub warnings: Vec<String>,
 }
 
 impl Design {
@@ -127,53 +190,7 @@ impl Design {
     }
 }
 
-/// What the meridian model's global search ([`global`]) gave.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct ModelSearch {
-    /// Runs finished and model candidates traced.
-    pub runs: usize,
-    pub evaluations: u64,
-    pub seconds: f64,
-    /// The best run's relative L2 difference in the model, and the
-    /// tracer's merit of the best of the few it traced.
-    pub model_l2: f64,
-    pub traced_merit: Option<f64>,
-    /// The corrected model's rounds ([`corrected`]): the basins they
-    /// started from, how many rounds in all, and the tracer's merit of
-    /// the best start before them and of the best after them, at
-    /// [`CORRECTED_PHOTONS`].
-    pub corrected_basins: usize,
-    pub corrected_rounds: u64,
-    pub corrected_from: Option<f64>,
-    pub corrected_merit: Option<f64>,
-}
-
-/// Runs of the meridian model's global search, its share of the design's
-/// time and the most time it takes, and how many of its best the tracer
-/// judges.
-const MODEL_RUNS: usize = 8;
-/// Passes of the search over its survey's starts, before those runs.
-const SURVEY_PASSES: usize = 2;
-const MODEL_TIME_SHARE: u32 = 2;
-const MODEL_TIME_MAX: std::time::Duration = std::time::Duration::from_secs(60);
-const MODEL_TRACED: usize = 6;
-/// Basins the corrected model refines, at most, and how far apart (the
-/// largest distance between two profiles' control points) two
-/// candidates must be to count as two. The model alone ranks
-/// neighbouring basins wrongly at times (toward the second hidden
-/// profile's bake its best sat at traced 0.149, where another basin's
-/// walked to 0.018).
-const BASINS: usize = 3;
-const BASIN_APART_M: f64 = 0.001;
-/// The photons of each candidate the corrected model's rounds trace, and
-/// the share of the design's time those rounds may end by.
-pub const CORRECTED_PHOTONS: u64 = 1_600_000;
-const CORRECTED_TIME_SHARE: (u32, u32) = (15, 16);
-/// The tracer's loop's first simplex after them (a share of each
-/// variable's range).
-const CORRECTED_STEP: f64 = 0.002;
-
-/// Loads, checks and runs a design; `progress` hears of every traced
+/// Loads, checks and runs a design; `progress` hears of every judged
 /// candidate, `interrupt` stops it with the best so far.
 pub fn design(
     request: &DesignRequest,
@@ -218,51 +235,30 @@ pub fn design_scene(
     if request.budget.time.is_zero() {
         return Err(DesignError::Time);
     }
-    let began = std::time::Instant::now();
-    let path = &request.scene_path;
+    let began = Instant::now();
     let StartScene {
         scene: start,
         text: start_text,
         dir: scene_dir,
     } = start;
     let variables = variables::parse(&start, &request.vary, request.free_ends)?;
+    check_request(&start, &variables, request)?;
     let luminaire =
         Luminaire::new(start.clone(), &scene_dir).map_err(|source| DesignError::Prepare {
-            path: path.display().to_string(),
+            path: request.scene_path.display().to_string(),
             source: Box::new(source),
         })?;
-    // Pooled over the start's symmetry where every varied part is a
-    // surface of revolution about the axis (which varying keeps);
-    // otherwise not at all.
-    let keeps_symmetry = variables.iter().all(|v| {
-        let part = match &v.place {
-            variables::Place::Field { part, .. } | variables::Place::ProfilePoint { part, .. } => {
-                &start.parts[*part]
-            }
-        };
-        let about_axis = part.transform.translate[0] == 0.0
-            && part.transform.translate[1] == 0.0
-            && part.transform.rotate_deg[0] == 0.0
-            && part.transform.rotate_deg[1] == 0.0;
-        about_axis
-            && matches!(
-                part.shape,
-                Shape::Paraboloid(_)
-                    | Shape::Ellipsoid(_)
-                    | Shape::Revolved(_)
-                    | Shape::Dome(_)
-                    | Shape::Cylinder(_)
-                    | Shape::Disk(_)
-            )
-    });
-    let symmetry = if keeps_symmetry {
+    let symmetry = if keeps_symmetry(&start, &variables) {
         luminaire.find_symmetry().symmetry
     } else {
         AxialSymmetry::None
     };
+    let mut warnings = Vec::new();
+    let round = keeps_symmetry(&start, &variables) && start.rotationally_symmetric();
+    let target = aimed_target(request, round, &mut warnings)?;
     let lamp_flux_lm = luminaire.prepared.total_flux_lm;
-    let aim = Aim::new(request.target.clone());
-    let mut evaluator = Evaluator::new(
+    let aim = Aim::new(target);
+    let evaluator = Evaluator::new(
         &scene_dir,
         request.seed,
         request.resolution,
@@ -270,377 +266,50 @@ pub fn design_scene(
         &variables,
         aim.grid(),
     );
-    let start_values: Vec<f64> = variables.iter().map(|v| v.start).collect();
-    let trace = |e: &mut Evaluator, values: &[f64]| -> Option<f64> {
-        let scene = variables::apply(&start, &variables, values)?;
-        let t = e
-            .trace(&scene, search::optimise::FIRST_STAGE_PHOTONS)
-            .ok()?;
-        Some(search::optimise::merit_of(
-            &aim,
-            &t,
-            lamp_flux_lm,
-            &t.opening,
-        ))
+    let plan = ProfilePlan::of(&start, &variables, &aim).ok();
+    let frame = history::Frame {
+        start: start.clone(),
+        variables: variables.clone(),
     };
-    let start_merit = trace(&mut evaluator, &start_values).ok_or_else(|| {
-        DesignError::Start(
-            evaluator
-                .check(&start)
-                .err()
-                .map_or("it is refused".to_owned(), |r| r.to_string()),
-        )
-    })?;
-    // The direct design, where it applies, replaces the start if it is
-    // better.
-    let direct = if request.direct {
-        model::direct::designs(&start, &variables, &request.target)
-            .into_iter()
-            .filter(|values| {
-                values
-                    .iter()
-                    .zip(&variables)
-                    .all(|(&x, v)| (v.lower..=v.upper).contains(&x))
-            })
-            .filter_map(|values| Some((values.clone(), trace(&mut evaluator, &values)?)))
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-    } else {
-        None
+    let mut ctx = Context {
+        request,
+        start: start.clone(),
+        scene_dir: scene_dir.clone(),
+        variables,
+        aim,
+        evaluator,
+        lamp_flux_lm,
+        history: History::new(began, frame),
+        interrupt,
+        progress,
+        best: None,
+        warnings,
     };
-    // The meridian model's global search, where the model applies: its
-    // best few traced, the best of them replaces the start if better.
-    let mut model_records = Vec::new();
-    let mut model_best: Option<(Vec<f64>, f64)> = None;
-    let mut corrected_records = Vec::new();
-    let mut corrected_best: Option<(Vec<f64>, f64)> = None;
-    let model_search = match (&request.target, request.direct) {
-        (Target::Distribution { table, .. }, true) => {
-            model::direct::meridian_model(&start, &variables, &request.target).and_then(
-                |(model, points)| {
-                    let goal = merit::axial(table);
-                    // With an evaluation budget (a design that must not depend
-                    // on the machine's speed) every run finishes.
-                    let deadline = began
-                        + if request.budget.evaluations.is_some() {
-                            request.budget.time
-                        } else {
-                            (request.budget.time / MODEL_TIME_SHARE).min(MODEL_TIME_MAX)
-                        };
-                    let values_of = |profile: &[[f64; 2]]| -> Vec<f64> {
-                        variables
-                            .iter()
-                            .map(|v| match v.place {
-                                variables::Place::ProfilePoint { point, coord, .. } => {
-                                    profile[point][coord]
-                                }
-                                variables::Place::Field { .. } => v.start,
-                            })
-                            .collect()
-                    };
-                    let mut heard = 0u64;
-                    let plan = search::global::Plan {
-                        survey_passes: SURVEY_PASSES,
-                        random_runs: MODEL_RUNS,
-                    };
-                    let mut finished_at = vec![
-                        0.0;
-                        search::global::CHORD_STARTS
-                            + plan.random_runs
-                            + search::global::SURVEY_STARTS
-                                * plan.survey_passes
-                    ];
-                    let mut best_heard = f64::INFINITY;
-                    let mut best_values = start_values.clone();
-                    let mut on_run = |run: usize, c: &search::global::Candidate| {
-                        heard += 1;
-                        if let Some(t) = finished_at.get_mut(run) {
-                            *t = began.elapsed().as_secs_f64();
-                        }
-                        let values = values_of(&c.profile);
-                        if c.model_l2 < best_heard {
-                            best_heard = c.model_l2;
-                            best_values = values.clone();
-                        }
-                        progress(&Progress {
-                            elapsed: began.elapsed(),
-                            evaluations: heard,
-                            stage: 0,
-                            photons: 0,
-                            best_merit: best_heard,
-                            noise: 0.0,
-                            best_values: best_values.clone(),
-                            record: Record {
-                                evaluation: run as u64,
-                                elapsed_s: began.elapsed().as_secs_f64(),
-                                photons: 0,
-                                merit: Some(c.model_l2),
-                                measure: "meridian model".to_owned(),
-                                values,
-                            },
-                        });
-                    };
-                    let model_found = search::global::search(
-                        &model,
-                        &points,
-                        &goal,
-                        request.seed,
-                        plan,
-                        deadline,
-                        interrupt,
-                        &mut on_run,
-                    )?;
-                    // One row per run, in the order they finished.
-                    let mut rows: Vec<(f64, &search::global::Candidate)> = model_found
-                        .candidates
-                        .iter()
-                        .map(|c| (finished_at.get(c.run).copied().unwrap_or(0.0), c))
-                        .collect();
-                    rows.sort_by(|a, b| a.0.total_cmp(&b.0));
-                    for (k, (t, c)) in rows.into_iter().enumerate() {
-                        model_records.push(Record {
-                            evaluation: k as u64,
-                            elapsed_s: t,
-                            photons: 0,
-                            merit: Some(c.model_l2),
-                            measure: "meridian model".to_owned(),
-                            values: values_of(&c.profile),
-                        });
-                    }
-                    let in_bounds = |values: &[f64]| {
-                        values
-                            .iter()
-                            .zip(&variables)
-                            .all(|(&x, v)| (v.lower..=v.upper).contains(&x))
-                    };
-                    // The best few traced; the best traced of each basin
-                    // (profiles more than BASIN_APART_M apart) refined.
-                    let mut traced: Vec<(Vec<f64>, f64, Vec<[f64; 2]>)> = Vec::new();
-                    for c in model_found.candidates.iter().take(MODEL_TRACED) {
-                        let values = values_of(&c.profile);
-                        if let Some(m) = in_bounds(&values)
-                            .then(|| trace(&mut evaluator, &values))
-                            .flatten()
-                        {
-                            traced.push((values, m, c.profile.clone()));
-                        }
-                    }
-                    traced.sort_by(|a, b| a.1.total_cmp(&b.1));
-                    model_best = traced.first().map(|(v, m, _)| (v.clone(), *m));
-                    let mut basins: Vec<Vec<[f64; 2]>> = Vec::new();
-                    for (_, _, p) in &traced {
-                        if basins.len() < BASINS
-                            && basins
-                                .iter()
-                                .all(|b| search::global::farthest_apart_m(b, p) > BASIN_APART_M)
-                        {
-                            basins.push(p.clone());
-                        }
-                    }
-                    // One round of the model corrected by the tracer from
-                    // each basin (a round's far search is where a basin
-                    // leads to another), then the best refined in the
-                    // rounds and time left.
-                    let seen = |e: &mut Evaluator, profile: &[[f64; 2]]| {
-                        let values = values_of(profile);
-                        if !in_bounds(&values) {
-                            return None;
-                        }
-                        let scene = variables::apply(&start, &variables, &values)?;
-                        let t = e.trace(&scene, CORRECTED_PHOTONS).ok()?;
-                        Some(search::corrected::Seen {
-                            merit: search::optimise::merit_of(&aim, &t, lamp_flux_lm, &t.opening),
-                            axial: merit::axial(&t.table),
-                        })
-                    };
-                    let timed = request.budget.evaluations.is_none();
-                    let correction_deadline = began
-                        + if timed {
-                            request.budget.time * CORRECTED_TIME_SHARE.0 / CORRECTED_TIME_SHARE.1
-                        } else {
-                            request.budget.time
-                        };
-                    let mut rounds = 0u64;
-                    let mut corrected_from: Option<f64> = None;
-                    let basin_count = basins.len();
-                    let mut on_round = |r: &search::corrected::Round| {
-                        rounds += 1;
-                        let values = values_of(&r.profile);
-                        let record = Record {
-                            evaluation: rounds,
-                            elapsed_s: began.elapsed().as_secs_f64(),
-                            photons: CORRECTED_PHOTONS,
-                            merit: r.merit,
-                            measure: "l2".to_owned(),
-                            values: values.clone(),
-                        };
-                        progress(&Progress {
-                            elapsed: began.elapsed(),
-                            evaluations: rounds,
-                            stage: 0,
-                            photons: CORRECTED_PHOTONS,
-                            best_merit: r.merit.unwrap_or(f64::INFINITY),
-                            noise: 0.0,
-                            best_values: values,
-                            record: record.clone(),
-                        });
-                        corrected_records.push(record);
-                    };
-                    let refine =
-                        |e: &mut Evaluator,
-                         profile: Vec<[f64; 2]>,
-                         first: search::corrected::Seen,
-                         count: usize,
-                         on_round: &mut dyn FnMut(&search::corrected::Round)| {
-                            search::corrected::refine(
-                                &model,
-                                &points,
-                                &goal,
-                                profile,
-                                first,
-                                request.seed,
-                                count,
-                                correction_deadline,
-                                interrupt,
-                                &mut |p| seen(e, p),
-                                on_round,
-                            )
-                        };
-                    let mut refined: Option<(Vec<[f64; 2]>, search::corrected::Seen)> = None;
-                    let mut keep = |found: (Vec<[f64; 2]>, search::corrected::Seen)| {
-                        if refined
-                            .as_ref()
-                            .is_none_or(|(_, b)| found.1.merit < b.merit)
-                        {
-                            refined = Some(found);
-                        }
-                    };
-                    for profile in basins {
-                        let Some(first) = seen(&mut evaluator, &profile) else {
-                            continue;
-                        };
-                        corrected_from =
-                            Some(corrected_from.map_or(first.merit, |m| m.min(first.merit)));
-                        keep(refine(&mut evaluator, profile, first, 1, &mut on_round));
-                    }
-                    // The best goes on (refine never returns worse than
-                    // its start).
-                    if let Some((profile, first)) = refined.take() {
-                        refined = Some(refine(
-                            &mut evaluator,
-                            profile,
-                            first,
-                            search::corrected::ROUNDS.saturating_sub(basin_count),
-                            &mut on_round,
-                        ));
-                    }
-                    corrected_best = refined.map(|(p, s)| (values_of(&p), s.merit));
-                    Some(ModelSearch {
-                        runs: model_found.candidates.len(),
-                        evaluations: model_found.evaluations,
-                        seconds: model_found.seconds,
-                        model_l2: model_found
-                            .candidates
-                            .first()
-                            .map_or(f64::INFINITY, |c| c.model_l2),
-                        traced_merit: model_best.as_ref().map(|b| b.1),
-                        corrected_basins: basin_count,
-                        corrected_rounds: rounds,
-                        corrected_from,
-                        corrected_merit: corrected_best.as_ref().map(|b| b.1),
-                    })
-                },
-            )
-        }
-        _ => None,
-    };
-    let chosen = [
-        Some((&start_values, start_merit)),
-        direct.as_ref().map(|(v, m)| (v, *m)),
-        model_best.as_ref().map(|(v, m)| (v, *m)),
-    ]
-    .into_iter()
-    .flatten()
-    .min_by(|a, b| a.1.total_cmp(&b.1))
-    .map_or(&start_values, |(v, _)| v);
-    // Where the corrected model refined the model's best, the tracer's
-    // loop starts from its result with its photons and a small simplex
-    // (a large one at few photons would leave its valley).
-    let (chosen, first) = match (&corrected_best, &model_best) {
-        (Some((values, _)), Some((model_values, _))) if chosen == model_values => (
-            values,
-            search::optimise::FirstStage {
-                photons: CORRECTED_PHOTONS,
-                step: CORRECTED_STEP,
-            },
-        ),
-        _ => (chosen, search::optimise::FirstStage::default()),
-    };
-    let x0: Vec<f64> = chosen
-        .iter()
-        .zip(&variables)
-        .map(|(&x, v)| v.fraction(x))
-        .collect();
-    // The tracer's loop has the time the search left.
-    let before_loop = began.elapsed();
-    let budget = Budget {
-        time: request
-            .budget
-            .time
-            .saturating_sub(before_loop)
-            .max(std::time::Duration::from_millis(1)),
-        ..request.budget
-    };
-    // A distribution is a sum of squares: damped least squares on its
-    // residuals; a spec's terms are not, Nelder–Mead on its merit.
-    let found = match &request.target {
-        Target::Distribution { .. } if request.least_squares => search::least_squares::fit(
-            &start,
-            &variables,
-            x0,
-            &aim,
-            &mut evaluator,
-            budget,
-            interrupt,
-            progress,
-        ),
-        _ => search::optimise::optimise(
-            &start,
-            &variables,
-            x0,
-            &aim,
-            &mut evaluator,
-            lamp_flux_lm,
-            budget,
-            first,
-            interrupt,
-            progress,
-        ),
-    };
-    // design.csv lists the model's runs first, then the traced
-    // candidates, on one clock.
-    let mut found = found;
-    for (k, r) in corrected_records.iter_mut().enumerate() {
-        r.evaluation = (model_records.len() + k) as u64;
-    }
-    model_records.append(&mut corrected_records);
-    let offset = model_records.len() as u64;
-    for r in &mut found.history {
-        r.evaluation += offset;
-        r.elapsed_s += before_loop.as_secs_f64();
-    }
-    model_records.append(&mut found.history);
-    found.history = model_records;
+    let outcome = run(&mut ctx, plan.as_ref())?;
+    let Context {
+        variables,
+        aim,
+        history,
+        start: working_start,
+        warnings,
+        ..
+    } = ctx;
+    let mut found = outcome.found;
+    found.history = history.into_records();
     let values = output::rounded(&variables, &found.values);
-    let scene = variables::apply(&start, &variables, &values)
+    let scene = variables::apply(&working_start, &variables, &values)
         .ok_or_else(|| DesignError::Output("the designed values do not apply".to_owned()))?;
     Ok(Design {
         start,
         start_text,
         scene_dir,
         variables,
-        start_merit,
-        direct,
-        model_search,
+        start_merit: outcome.start_merit,
+        reach: outcome.reach,
+        points: outcome.points,
+        direct: outcome.direct,
+        corrections: outcome.corrections,
+        model_search: outcome.model_search,
         found: Found { values, ..found },
         scene,
         aim,
@@ -648,5 +317,238 @@ pub fn design_scene(
         seed: request.seed,
         resolution: request.resolution,
         lamp_flux_lm,
+        warnings,
+    })
+}
+
+/// What the phases give the design.
+struct Outcome {
+    start_merit: f64,
+    reach: Option<Reachability>,
+    points: Option<usize>,
+    direct: Option<(Vec<f64>, f64)>,
+    corrections: Vec<Iteration>,
+    model_search: Option<ModelSearch>,
+    found: Found,
+}
+
+/// The phases in order.
+fn run(ctx: &mut Context, plan: Option<&ProfilePlan>) -> Result<Outcome, DesignError> {
+    // The direct design's preparation first: it decides the profile's
+    // point count, which every candidate then has (the start too).
+    let prepared = plan
+        .filter(|_| ctx.request.direct)
+        .and_then(|p| phases::direct::prepare(ctx, p, ctx.request.points));
+    if let Some(p) = &prepared {
+        ctx.history.set_reach(p.reach.clone());
+    }
+    let points = match (plan, &prepared) {
+        (Some(p), Some(prep)) => {
+            phases::direct::resample(ctx, p, prep.points)?;
+            Some(prep.points)
+        }
+        (Some(p), None) => {
+            if let Some(n) = ctx.request.points {
+                phases::direct::resample(ctx, p, n)?;
+            }
+            variables::profile(&ctx.start.parts[p.geometry.part].shape).map(<[_]>::len)
+        }
+        _ => None,
+    };
+    let (start_values, start_merit) = phases::start::start(ctx)?;
+    let mut out = Outcome {
+        start_merit,
+        reach: prepared.as_ref().map(|p| p.reach.clone()),
+        points,
+        direct: None,
+        corrections: Vec::new(),
+        model_search: None,
+        found: Found {
+            values: start_values.clone(),
+            merit: start_merit,
+            photons: PHASE_PHOTONS,
+            noise: 0.0,
+            history: Vec::new(),
+            stopped: Stopped::Converged,
+        },
+    };
+    let mut best = (start_values, start_merit);
+    if let (Some(plan), Some(prepared)) = (plan, &prepared) {
+        let designs = phases::direct::direct(ctx, plan, prepared);
+        if let Some(first) = designs.first() {
+            out.direct = Some((first.values.clone(), first.judged.merit));
+            if first.judged.merit < best.1 {
+                best = (first.values.clone(), first.judged.merit);
+            }
+            let corrected = phases::correction::correction(ctx, plan, first);
+            out.corrections = corrected.iterations;
+            if corrected.merit < best.1 {
+                best = (corrected.values, corrected.merit);
+            }
+        }
+    }
+    let Some(plan) = plan else {
+        out.found = match ctx.spent() {
+            Some(why) => stopped_at(best, why, out.found),
+            None => phases::refinement::refine_generic(ctx, &best.0),
+        };
+        return Ok(out);
+    };
+    // Where the direct design, corrected, stays far from what the
+    // geometry allows, the fallback's global search for another basin;
+    // the refinement then goes on from the best of them.
+    // A mirror may reach into the direct cone: the bound of every mirror
+    // is the lesser.
+    let bound = out.reach.as_ref().map_or(0.0, |r| r.bound.min(r.with_cap));
+    let time_left = ctx.deadline().saturating_duration_since(Instant::now());
+    if ctx.request.direct
+        && best.1 > FALLBACK_ABOVE.max(2.0 * bound)
+        && time_left > ctx.budget().time.mul_f64(FALLBACK_TIME_LEFT)
+        && ctx.spent().is_none()
+        && let Some((search, found)) = phases::fallback::fallback(ctx, plan, ctx.request.fallback)
+    {
+        out.model_search = Some(search);
+        if let Some(f) = found.filter(|f| f.1 < best.1) {
+            best = f;
+        }
+    }
+    out.found = match ctx.spent() {
+        Some(why) => stopped_at(best, why, out.found),
+        None => phases::refinement::refine_profile(ctx, plan, best.0, best.1, None),
+    };
+    Ok(out)
+}
+
+/// A design stopped before its refinement: the best so far.
+fn stopped_at(best: (Vec<f64>, f64), why: Stopped, found: Found) -> Found {
+    Found {
+        values: best.0,
+        merit: best.1,
+        stopped: why,
+        ..found
+    }
+}
+
+/// Where a profile's direct design, corrected, is above this (or above
+/// twice the bound, if higher), the fallback's global search runs: 0.02
+/// is what a design of a reachable target should come within. It runs
+/// only with this share of the design's time left.
+const FALLBACK_ABOVE: f64 = 0.02;
+const FALLBACK_TIME_LEFT: f64 = 0.3;
+
+/// Refuses what cannot be designed as asked: a point count out of range
+/// or on no profile, free ends on no profile.
+fn check_request(
+    start: &Scene,
+    variables: &[Variable],
+    request: &DesignRequest,
+) -> Result<(), DesignError> {
+    let varies_profile = variables
+        .iter()
+        .any(|v| matches!(v.place, Place::ProfilePoint { .. }));
+    if let Some(points) = request.points {
+        if !(MIN_POINTS..=MAX_POINTS).contains(&points) {
+            return Err(DesignError::Points {
+                points,
+                why: format!("a designed profile has {MIN_POINTS} to {MAX_POINTS} control points"),
+            });
+        }
+        if !varies_profile {
+            return Err(DesignError::Points {
+                points,
+                why: "the design varies no profile (--vary PART.profile)".to_owned(),
+            });
+        }
+    }
+    if request.free_ends && !varies_profile {
+        let shapes: Vec<&str> = variables
+            .iter()
+            .filter_map(|v| v.place.part())
+            .map(|p| start.parts[p].shape.kind())
+            .collect();
+        return Err(DesignError::FreeEnds(format!(
+            "only a profile has ends to free, and the design varies none ({})",
+            if shapes.is_empty() {
+                "no part's shape".to_owned()
+            } else {
+                shapes.join(", ")
+            }
+        )));
+    }
+    Ok(())
+}
+
+/// Whether every variable keeps the luminaire's symmetry about the axis:
+/// a surface of revolution about it changed, or a placement along it.
+fn keeps_symmetry(start: &Scene, variables: &[Variable]) -> bool {
+    variables.iter().all(|v| match &v.place {
+        Place::Transform { owner, axis, .. } => {
+            let t = match owner {
+                Owner::Part(i) => &start.parts[*i].transform,
+                Owner::Emitter(i) => &start.emitters[*i].transform,
+            };
+            *axis == 2 && t.translate[0] == 0.0 && t.translate[1] == 0.0
+        }
+        place => {
+            let Some(p) = place.part() else {
+                return false;
+            };
+            let part = &start.parts[p];
+            let about_axis = part.transform.translate[0] == 0.0
+                && part.transform.translate[1] == 0.0
+                && part.transform.rotate_deg[0] == 0.0
+                && part.transform.rotate_deg[1] == 0.0;
+            about_axis
+                && matches!(
+                    part.shape,
+                    Shape::Paraboloid(_)
+                        | Shape::Ellipsoid(_)
+                        | Shape::Revolved(_)
+                        | Shape::Dome(_)
+                        | Shape::Cylinder(_)
+                        | Shape::Disk(_)
+                )
+        }
+    })
+}
+
+/// The target as the design aims at it: a distribution whose C-planes
+/// differ, toward a luminaire round about its axis, is designed to its
+/// mean over C with a warning, or refused past [`ASYMMETRY_LIMIT`].
+fn aimed_target(
+    request: &DesignRequest,
+    round: bool,
+    warnings: &mut Vec<String>,
+) -> Result<Target, DesignError> {
+    let Target::Distribution {
+        table,
+        absolute,
+        name,
+    } = &request.target
+    else {
+        return Ok(request.target.clone());
+    };
+    if !round || request.target.rotationally_symmetric() {
+        return Ok(request.target.clone());
+    }
+    let asymmetry = target::rotational_asymmetry(table);
+    if asymmetry > ASYMMETRY_LIMIT {
+        return Err(DesignError::Target {
+            path: name.clone(),
+            why: format!(
+                "its C-planes differ by {:.1} % of its peak (root mean square over γ), more than the {:.0} % a design of a luminaire round about its axis accepts: a round luminaire cannot make it",
+                100.0 * asymmetry,
+                100.0 * ASYMMETRY_LIMIT
+            ),
+        });
+    }
+    warnings.push(format!(
+        "the target's C-planes differ by {:.1} % of its peak: designed to their mean over C",
+        100.0 * asymmetry
+    ));
+    Ok(Target::Distribution {
+        table: target::c_mean(table),
+        absolute: *absolute,
+        name: name.clone(),
     })
 }

@@ -501,3 +501,193 @@ fn sphere_integral_of_square(grid: &CandelaTable, value: impl Fn(usize) -> f64) 
     }
     total
 }
+
+/// A rotationally symmetric target as the refinement compares with it:
+/// its mean over C at each of its γ nodes, each node weighted by the
+/// solid angle of its cell ([`crate::model::reach::node_solid_angles`]).
+/// Residuals on these nodes have a sum of squares close to the square of
+/// [`Aim::relative_l2`] (which integrates the same interpolant exactly).
+#[derive(Debug, Clone, PartialEq)]
+pub struct AxialTarget {
+    pub gammas_deg: Vec<f64>,
+    /// Target candela at each node (the mean over C).
+    pub intensity: Vec<f64>,
+    pub solid_angle_sr: Vec<f64>,
+    pub absolute: bool,
+    norm: f64,
+}
+
+impl AxialTarget {
+    /// The target's axial light, or None for a spec or a table with no
+    /// light.
+    pub fn of(target: &Target) -> Option<AxialTarget> {
+        let Target::Distribution {
+            table, absolute, ..
+        } = target
+        else {
+            return None;
+        };
+        let intensity = axial_nodes(table);
+        let solid_angle_sr = crate::model::reach::node_solid_angles(&table.gammas_deg);
+        let norm = intensity
+            .iter()
+            .zip(&solid_angle_sr)
+            .map(|(t, w)| w * t * t)
+            .sum::<f64>()
+            .sqrt();
+        (norm > 0.0).then(|| AxialTarget {
+            gammas_deg: table.gammas_deg.clone(),
+            intensity,
+            solid_angle_sr,
+            absolute: *absolute,
+            norm,
+        })
+    }
+
+    /// The same nodes aiming at other light (the corrected target of a
+    /// feedback).
+    pub fn aiming_at(&self, intensity: Vec<f64>) -> AxialTarget {
+        let norm = intensity
+            .iter()
+            .zip(&self.solid_angle_sr)
+            .map(|(t, w)| w * t * t)
+            .sum::<f64>()
+            .sqrt();
+        AxialTarget {
+            intensity,
+            norm,
+            ..self.clone()
+        }
+    }
+
+    /// Flux of light on these nodes.
+    pub fn flux(&self, light: &[f64]) -> f64 {
+        light
+            .iter()
+            .zip(&self.solid_angle_sr)
+            .map(|(i, w)| i * w)
+            .sum()
+    }
+
+    /// The scale that brings `light` to the target's flux (1 when
+    /// absolute).
+    pub fn scale_of(&self, light: &[f64]) -> f64 {
+        let f = self.flux(light);
+        if self.absolute || !(f > 0.0) {
+            1.0
+        } else {
+            self.flux(&self.intensity) / f
+        }
+    }
+
+    /// √w (s·light − target) / ‖target‖ at each node.
+    pub fn residuals(&self, light: &[f64]) -> Vec<f64> {
+        let s = self.scale_of(light);
+        light
+            .iter()
+            .zip(&self.intensity)
+            .zip(&self.solid_angle_sr)
+            .map(|((l, t), w)| w.sqrt() * (s * l - t) / self.norm)
+            .collect()
+    }
+}
+
+impl AxialTarget {
+    /// The relative L2 difference of `light` from `reference` on these
+    /// nodes (scaled to its flux unless absolute).
+    pub fn relative_l2_between(&self, light: &[f64], reference: &[f64]) -> f64 {
+        let f = self.flux(light);
+        let s = if self.absolute || !(f > 0.0) {
+            1.0
+        } else {
+            self.flux(reference) / f
+        };
+        let (mut diff, mut norm) = (0.0, 0.0);
+        for ((l, r), w) in light.iter().zip(reference).zip(&self.solid_angle_sr) {
+            diff += w * (s * l - r).powi(2);
+            norm += w * r * r;
+        }
+        if norm > 0.0 {
+            (diff / norm).sqrt()
+        } else {
+            f64::INFINITY
+        }
+    }
+}
+
+/// A table's mean over C (C-weighted) at each of its γ nodes.
+pub fn axial_nodes(table: &CandelaTable) -> Vec<f64> {
+    let n = table.gammas_deg.len();
+    let weights = table.c_weights();
+    let total: f64 = weights.iter().sum();
+    (0..n)
+        .map(|j| {
+            weights
+                .iter()
+                .enumerate()
+                .map(|(i, w)| w * table.candela[i * n + j])
+                .sum::<f64>()
+                / total
+        })
+        .collect()
+}
+
+/// Quantiles of the γ distribution of flux the 2-Wasserstein residuals
+/// compare, and the γ step they are read on (degrees).
+const QUANTILES: usize = 200;
+const QUANTILE_STEP_DEG: f64 = 0.05;
+
+impl AxialTarget {
+    /// The residuals whose sum of squares is the square of the
+    /// 2-Wasserstein distance (radians) between the γ distributions of
+    /// flux of `light` and of the target: where the light goes, smooth in
+    /// the geometry even where the intensity's L2 is a needle.
+    pub fn quantile_residuals(&self, light: &[f64]) -> Option<Vec<f64>> {
+        let a = self.quantiles(light)?;
+        let b = self.quantiles(&self.intensity)?;
+        let n = (QUANTILES as f64).sqrt();
+        Some(
+            a.iter()
+                .zip(&b)
+                .map(|(a, b)| (a - b).to_radians() / n)
+                .collect(),
+        )
+    }
+
+    /// γ (degrees) at each quantile of `light`'s flux.
+    fn quantiles(&self, light: &[f64]) -> Option<Vec<f64>> {
+        use crate::model::direct::linear_at;
+        let steps = (180.0 / QUANTILE_STEP_DEG).round() as usize;
+        let h = QUANTILE_STEP_DEG.to_radians();
+        let density = |k: usize| {
+            let g = k as f64 * QUANTILE_STEP_DEG;
+            linear_at(&self.gammas_deg, light, g) * g.to_radians().sin()
+        };
+        let mut c = vec![0.0; steps + 1];
+        let mut previous = density(0);
+        for k in 1..=steps {
+            let d = density(k);
+            c[k] = c[k - 1] + 0.5 * (previous + d) * h;
+            previous = d;
+        }
+        let total = c[steps];
+        if !(total > 0.0) {
+            return None;
+        }
+        Some(
+            (0..QUANTILES)
+                .map(|i| {
+                    let goal = (i as f64 + 0.5) / QUANTILES as f64 * total;
+                    let j = c.partition_point(|&x| x < goal).clamp(1, steps);
+                    let (c0, c1) = (c[j - 1], c[j]);
+                    let t = if c1 > c0 {
+                        (goal - c0) / (c1 - c0)
+                    } else {
+                        0.0
+                    };
+                    (j as f64 - 1.0 + t) * QUANTILE_STEP_DEG
+                })
+                .collect(),
+        )
+    }
+}

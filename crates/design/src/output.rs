@@ -18,7 +18,7 @@ use toml_edit::{Array, DocumentMut, Item, Value};
 
 pub use crate::outcome::Outcome;
 use crate::traced::evaluate::Evaluator;
-use crate::variables::{Place, Variable};
+use crate::variables::{Owner, Place, Variable};
 use crate::{Design, DesignError, Target};
 
 /// Lengths are written to the nanometre, angles to 10⁻⁹°: finer than any
@@ -38,8 +38,8 @@ pub fn scene_text(design: &Design) -> Result<String, DesignError> {
     let edited = edit_in_place(
         &design.start_text,
         &design.start,
+        &design.scene,
         &design.variables,
-        &design.found.values,
     );
     let text = match edited {
         Some(t) => t,
@@ -58,48 +58,81 @@ pub fn scene_text(design: &Design) -> Result<String, DesignError> {
     Ok(text)
 }
 
+/// The start's text with each varied value set to the designed scene's
+/// (a varied profile written whole: a design may give it more points);
+/// None where the text's layout cannot take the edit.
 fn edit_in_place(
     text: &str,
     start: &Scene,
+    designed: &Scene,
     variables: &[Variable],
-    values: &[f64],
 ) -> Option<String> {
     let mut doc: DocumentMut = text.parse().ok()?;
-    let parts = doc.get_mut("part")?.as_array_of_tables_mut()?;
-    for (v, &x) in variables.iter().zip(values) {
-        let (part, name) = match &v.place {
-            Place::Field { part, .. } | Place::ProfilePoint { part, .. } => {
-                (*part, &start.parts[*part].name)
+    for v in variables {
+        let (section, index, name) = match &v.place {
+            Place::Transform {
+                owner: Owner::Emitter(i),
+                ..
+            } => ("emitter", *i, &start.emitters.get(*i)?.name),
+            place => {
+                let part = place.part()?;
+                ("part", part, &start.parts.get(part)?.name)
             }
         };
-        let table = parts
+        let table = doc
+            .get_mut(section)?
+            .as_array_of_tables_mut()?
             .iter_mut()
-            .nth(part)
+            .nth(index)
             .filter(|t| t.get("name").and_then(Item::as_str) == Some(name))?;
-        let shape = table.get_mut("shape")?;
-        let shape: &mut dyn toml_edit::TableLike = match shape {
-            Item::Table(t) => t,
-            Item::Value(Value::InlineTable(t)) => t,
-            _ => return None,
-        };
         match &v.place {
-            Place::Field { field, .. } => {
+            Place::Field { part, field } => {
+                let shape = table_like(table.get_mut("shape")?)?;
+                let value = crate::variables::value_at(designed, &v.place)?;
+                let _ = part;
                 let old = shape
                     .get(field)
                     .and_then(|i| i.as_value())
                     .map(|v| v.decor().clone());
-                let mut value = Value::from(x);
+                let mut value = Value::from(value);
                 if let Some(decor) = old {
                     *value.decor_mut() = decor;
                 }
                 shape.insert(field, Item::Value(value));
             }
-            Place::ProfilePoint { point, coord, .. } => {
+            Place::ProfilePoint { part, .. } => {
+                let shape = table_like(table.get_mut("shape")?)?;
+                let points = crate::variables::profile(&designed.parts.get(*part)?.shape)?;
                 let array: &mut Array = shape.get_mut("profile")?.as_array_mut()?;
-                let pair = array.get_mut(*point)?.as_array_mut()?;
-                let slot = pair.get_mut(*coord)?;
+                if array.len() != points.len() {
+                    let mut whole = Array::new();
+                    for p in points {
+                        let mut pair = Array::new();
+                        pair.push(p[0]);
+                        pair.push(p[1]);
+                        whole.push(pair);
+                    }
+                    *array = whole;
+                    continue;
+                }
+                for (k, p) in points.iter().enumerate() {
+                    let pair = array.get_mut(k)?.as_array_mut()?;
+                    for (coord, x) in p.iter().enumerate() {
+                        let slot = pair.get_mut(coord)?;
+                        let decor = slot.decor().clone();
+                        *slot = Value::from(*x);
+                        *slot.decor_mut() = decor;
+                    }
+                }
+            }
+            Place::Transform { rotate, axis, .. } => {
+                let transform = table_like(table.get_mut("transform")?)?;
+                let key = if *rotate { "rotate_deg" } else { "translate" };
+                let value = crate::variables::value_at(designed, &v.place)?;
+                let array: &mut Array = transform.get_mut(key)?.as_array_mut()?;
+                let slot = array.get_mut(*axis)?;
                 let decor = slot.decor().clone();
-                *slot = Value::from(x);
+                *slot = Value::from(value);
                 *slot.decor_mut() = decor;
             }
         }
@@ -107,10 +140,20 @@ fn edit_in_place(
     Some(doc.to_string())
 }
 
-/// `design.csv`: evaluation, seconds, photons, merit (empty where the
-/// candidate was refused), what the merit measures, each variable.
+/// A table or an inline table.
+fn table_like(item: &mut Item) -> Option<&mut dyn toml_edit::TableLike> {
+    match item {
+        Item::Table(t) => Some(t),
+        Item::Value(Value::InlineTable(t)) => Some(t),
+        _ => None,
+    }
+}
+
+/// `design.csv`: evaluation, seconds, photons (0: judged by a model),
+/// merit (empty where the candidate was refused), what the merit
+/// measures, the phase that judged it, each variable.
 pub fn history_csv(design: &Design) -> String {
-    let mut out = String::from("evaluation,elapsed_s,photons,merit,measure");
+    let mut out = String::from("evaluation,elapsed_s,photons,merit,measure,phase");
     for v in &design.variables {
         let _ = write!(out, ",{}", v.name);
     }
@@ -118,12 +161,13 @@ pub fn history_csv(design: &Design) -> String {
     for r in &design.found.history {
         let _ = write!(
             out,
-            "{},{:.3},{},{},{}",
+            "{},{:.3},{},{},{},{}",
             r.evaluation,
             r.elapsed_s,
             r.photons,
             r.merit.map_or(String::new(), |m| format!("{m:.6}")),
-            r.measure
+            r.measure,
+            r.phase.name()
         );
         for x in &r.values {
             let _ = write!(out, ",{x:.9}");

@@ -72,7 +72,7 @@ impl Target {
     pub fn rotationally_symmetric(&self) -> bool {
         match self {
             Target::Distribution { table, .. } => {
-                table.c_planes_deg.len() == 1 || rotational_asymmetry(table) < 0.02
+                table.c_planes_deg.len() == 1 || rotational_asymmetry(table) < SYMMETRIC_ENOUGH
             }
             Target::Spec(_) => true,
         }
@@ -231,10 +231,27 @@ impl Spec {
     }
 }
 
-/// How far a table's intensity varies across C, as the root mean square
-/// over γ of each angle's spread around its mean across C, over the
-/// peak: 0 for a distribution the same in every C-plane; a bake of a
-/// surface of revolution keeps a few per cent of photon noise.
+/// The asymmetry (see [`rotational_asymmetry`]) below which a target
+/// counts as the same in every C-plane: a bake of a surface of
+/// revolution keeps a few per cent of photon noise across C... of its
+/// peak's texels only, so its root mean square over γ stays below this.
+pub const SYMMETRIC_ENOUGH: f64 = 0.02;
+
+/// The table's mean over C (C-weighted), as one plane.
+pub fn c_mean(table: &CandelaTable) -> CandelaTable {
+    CandelaTable {
+        c_planes_deg: vec![0.0],
+        gammas_deg: table.gammas_deg.clone(),
+        candela: crate::merit::axial_nodes(table),
+    }
+}
+
+/// How far a table's intensity varies across C: the root mean square,
+/// over the γ angles where the light is (the mean over C at 1 % of the
+/// peak or more), of each angle's spread around its mean across C, over
+/// the peak. 0 for a distribution the same in every C-plane; a bake of a
+/// surface of revolution keeps a little photon noise; a beam whose planes
+/// differ by a tenth of its peak where it is lit, 0.1.
 pub fn rotational_asymmetry(table: &CandelaTable) -> f64 {
     let peak = table.peak().0;
     if !(peak > 0.0) {
@@ -242,11 +259,18 @@ pub fn rotational_asymmetry(table: &CandelaTable) -> f64 {
     }
     let n = table.gammas_deg.len();
     let planes = table.c_planes_deg.len();
-    let mut sum = 0.0;
+    let (mut sum, mut lit) = (0.0, 0usize);
     for j in 0..n {
         let column: Vec<f64> = (0..planes).map(|i| table.candela[i * n + j]).collect();
         let mean = column.iter().sum::<f64>() / planes as f64;
+        if mean < 0.01 * peak {
+            continue;
+        }
         sum += column.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / planes as f64;
+        lit += 1;
     }
-    (sum / n as f64).sqrt() / peak
+    if lit == 0 {
+        return 0.0;
+    }
+    (sum / lit as f64).sqrt() / peak
 }

@@ -12,6 +12,13 @@ use crate::DesignError;
 pub enum Place {
     /// A number of the part's `shape` table.
     Field { part: usize, field: String },
+    /// A part's or an emitter's placement: `translate` (m) or `rotate_deg`
+    /// along `axis` (0: x, 1: y, 2: z).
+    Transform {
+        owner: Owner,
+        rotate: bool,
+        axis: usize,
+    },
     /// Coordinate `coord` (0: r or x, 1: z) of profile point `point`.
     ProfilePoint {
         part: usize,
@@ -19,6 +26,33 @@ pub enum Place {
         coord: usize,
     },
 }
+
+/// What a placement belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Owner {
+    Part(usize),
+    Emitter(usize),
+}
+
+impl Place {
+    /// The part whose shape or placement this changes (None: an emitter).
+    pub fn part(&self) -> Option<usize> {
+        match self {
+            Place::Field { part, .. } | Place::ProfilePoint { part, .. } => Some(*part),
+            Place::Transform {
+                owner: Owner::Part(part),
+                ..
+            } => Some(*part),
+            Place::Transform { .. } => None,
+        }
+    }
+}
+
+/// How far a placement may move either way from the start: millimetres
+/// for a translation (a design nudges an LED or a cap, it does not
+/// rebuild the luminaire), degrees for a rotation.
+const TRANSLATE_RANGE_M: f64 = 0.01;
+const ROTATE_RANGE_DEG: f64 = 45.0;
 
 /// One number a design varies, with its bounds.
 #[derive(Debug, Clone, PartialEq)]
@@ -72,11 +106,17 @@ pub fn parse(
         let Some((part_name, field)) = spec.rsplit_once('.') else {
             return Err(bad("write it as PART.FIELD or PART.profile".to_owned()));
         };
+        if let Some(v) = placement(scene, spec, part_name, field) {
+            out.push(v.map_err(bad)?);
+            continue;
+        }
         let Some(part) = scene.parts.iter().position(|p| p.name == part_name) else {
             let names: Vec<&str> = scene.parts.iter().map(|p| p.name.as_str()).collect();
+            let emitters: Vec<&str> = scene.emitters.iter().map(|e| e.name.as_str()).collect();
             return Err(bad(format!(
-                "the scene has no part '{part_name}' (its parts: {})",
-                names.join(", ")
+                "the scene has no part '{part_name}' (its parts: {}; an emitter ({}) takes only translate_x/y/z and rotate_x/y/z)",
+                names.join(", "),
+                emitters.join(", ")
             )));
         };
         if field == "profile" || field.starts_with("profile[") {
@@ -144,6 +184,53 @@ pub fn parse(
     Ok(out)
 }
 
+/// A placement variable (`NAME.translate_z`, `NAME.rotate_x`: degrees) of
+/// the part or emitter called `name`; None where `field` is not one.
+fn placement(
+    scene: &Scene,
+    spec: &str,
+    name: &str,
+    field: &str,
+) -> Option<Result<Variable, String>> {
+    let (rotate, axis) = match field {
+        "translate_x" => (false, 0),
+        "translate_y" => (false, 1),
+        "translate_z" => (false, 2),
+        "rotate_x" => (true, 0),
+        "rotate_y" => (true, 1),
+        "rotate_z" => (true, 2),
+        _ => return None,
+    };
+    let (owner, transform) = if let Some(i) = scene.parts.iter().position(|p| p.name == name) {
+        (Owner::Part(i), &scene.parts[i].transform)
+    } else if let Some(i) = scene.emitters.iter().position(|e| e.name == name) {
+        (Owner::Emitter(i), &scene.emitters[i].transform)
+    } else {
+        return Some(Err(format!("the scene has no part or emitter '{name}'")));
+    };
+    let start = if rotate {
+        transform.rotate_deg[axis]
+    } else {
+        transform.translate[axis]
+    };
+    let reach = if rotate {
+        ROTATE_RANGE_DEG
+    } else {
+        TRANSLATE_RANGE_M
+    };
+    Some(Ok(Variable {
+        name: spec.to_owned(),
+        place: Place::Transform {
+            owner,
+            rotate,
+            axis,
+        },
+        start,
+        lower: start - reach,
+        upper: start + reach,
+    }))
+}
+
 /// The variables of profile points `range` of `part` (both coordinates
 /// each), bounded by the profile's box grown by half its extent either
 /// way (a revolved profile's r by the axis).
@@ -190,7 +277,8 @@ pub fn profile(shape: &Shape) -> Option<&[[f64; 2]]> {
     }
 }
 
-fn profile_mut(shape: &mut Shape) -> Option<&mut Vec<[f64; 2]>> {
+/// The profile's control points of a revolved or extruded shape, to edit.
+pub fn profile_mut(shape: &mut Shape) -> Option<&mut Vec<[f64; 2]>> {
     match shape {
         Shape::Revolved(s) => Some(&mut s.profile),
         Shape::Extruded(s) => Some(&mut s.profile),
@@ -266,6 +354,31 @@ fn field_value(shape: &Shape, field: &str) -> Result<f64, String> {
     }
 }
 
+/// The value at `place` in `scene`.
+pub fn value_at(scene: &Scene, place: &Place) -> Option<f64> {
+    match place {
+        Place::Field { part, field } => field_value(&scene.parts.get(*part)?.shape, field).ok(),
+        Place::ProfilePoint { part, point, coord } => {
+            Some(profile(&scene.parts.get(*part)?.shape)?.get(*point)?[*coord])
+        }
+        Place::Transform {
+            owner,
+            rotate,
+            axis,
+        } => {
+            let t = match owner {
+                Owner::Part(i) => &scene.parts.get(*i)?.transform,
+                Owner::Emitter(i) => &scene.emitters.get(*i)?.transform,
+            };
+            Some(if *rotate {
+                t.rotate_deg[*axis]
+            } else {
+                t.translate[*axis]
+            })
+        }
+    }
+}
+
 /// `scene` with `place` set to `value`; None if the shape refuses it.
 pub fn set(scene: &mut Scene, place: &Place, value: f64) -> Option<()> {
     match place {
@@ -278,6 +391,24 @@ pub fn set(scene: &mut Scene, place: &Place, value: f64) -> Option<()> {
         Place::ProfilePoint { part, point, coord } => {
             let points = profile_mut(&mut scene.parts.get_mut(*part)?.shape)?;
             points.get_mut(*point)?[*coord] = value;
+        }
+        Place::Transform {
+            owner,
+            rotate,
+            axis,
+        } => {
+            let transform = match owner {
+                Owner::Part(i) => &mut scene.parts.get_mut(*i)?.transform,
+                Owner::Emitter(i) => &mut scene.emitters.get_mut(*i)?.transform,
+            };
+            if !value.is_finite() {
+                return None;
+            }
+            if *rotate {
+                transform.rotate_deg[*axis] = value;
+            } else {
+                transform.translate[*axis] = value;
+            }
         }
     }
     Some(())

@@ -63,9 +63,7 @@ impl EditorState {
             Ok(run) => {
                 // The varied part is shown (its parameters in the scene
                 // panel, its profile in the Profile pane) as it changes.
-                if let Some(v) = run.variables.first() {
-                    let (lucerna_design::variables::Place::Field { part, .. }
-                    | lucerna_design::variables::Place::ProfilePoint { part, .. }) = v.place;
+                if let Some(part) = run.variables.iter().find_map(|v| v.place.part()) {
                     self.doc.selection = Some(crate::command::Selection::Part(part));
                 }
                 self.design.run = Some(run);
@@ -124,6 +122,8 @@ impl EditorState {
             resolution: DEFAULT_RESOLUTION,
             direct: true,
             least_squares: false,
+            points: None,
+            fallback: Default::default(),
         };
         let interrupt = Arc::new(AtomicBool::new(false));
         let (send, messages) = channel();
@@ -159,6 +159,7 @@ impl EditorState {
             began: Instant::now(),
             history: Vec::new(),
             latest: None,
+            reach: None,
             shown: None,
             stopping: false,
         })
@@ -182,9 +183,7 @@ impl EditorState {
         loop {
             match run.messages.try_recv() {
                 Ok(Message::Progress(p)) => {
-                    if let Some(merit) = p.record.merit
-                        && p.photons > 0
-                    {
+                    if let Some(merit) = p.record.merit {
                         run.history.push(MeritPoint {
                             elapsed_s: p.elapsed.as_secs_f64(),
                             merit,
@@ -192,7 +191,11 @@ impl EditorState {
                             noise: p.noise,
                             stage: p.stage,
                             photons: p.photons,
+                            phase: p.phase,
                         });
+                    }
+                    if p.reach.is_some() {
+                        run.reach.clone_from(&p.reach);
                     }
                     run.latest = Some(*p);
                 }
@@ -215,17 +218,18 @@ impl EditorState {
         }
         // The best so far, shown when it changed (at most every
         // SHOW_EVERY: each restarts the live run).
+        // In every phase, the model's candidates too: the profile moves
+        // from the first seconds.
         let Some(latest) = &run.latest else { return };
         let values = &latest.best_values;
         let due = run
             .shown
             .as_ref()
             .is_none_or(|(v, at)| v != values && at.elapsed() >= SHOW_EVERY);
-        if !due || values.len() != run.variables.len() {
+        if !due {
             return;
         }
-        let Some(scene) = lucerna_design::variables::apply(&run.start, &run.variables, values)
-        else {
+        let Some(scene) = latest.frame.scene(values) else {
             return;
         };
         run.shown = Some((values.clone(), Instant::now()));
@@ -255,6 +259,8 @@ impl EditorState {
                     photons: design.found.photons,
                     variables: design.changes(),
                     history: run.history,
+                    reach: design.reach.clone(),
+                    points: design.points,
                     scene: design.scene.clone(),
                     scene_text: scene_text.unwrap_or_default(),
                     target: design.aim.target().clone(),

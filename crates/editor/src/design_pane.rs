@@ -4,7 +4,7 @@
 
 use egui::{DragValue, RichText, Ui};
 use egui_plot::{Line, Plot, PlotPoints, Points, Polygon};
-use lucerna_design::{Maximise, Stopped};
+use lucerna_design::{Maximise, Phase, Reachability, Stopped};
 use lucerna_scene::Shape;
 
 use crate::command::{Command, DialogKind};
@@ -50,6 +50,7 @@ pub fn design_pane_ui(ui: &mut Ui, state: &mut EditorState, views: &mut ViewsSta
                         && let Ok(mut r) = Reference::load(path)
                     {
                         r.name = format!("design target {}", r.name);
+                        r.at_shown_flux = !state.design.setup.absolute;
                         views.reference = Some(r);
                         views.reference_error = None;
                     }
@@ -329,31 +330,60 @@ fn progress_ui(ui: &mut Ui, state: &mut EditorState, commands: &mut Vec<Command>
     }
     if let Some(run) = &state.design.run {
         let elapsed = run.began.elapsed().as_secs_f64();
+        let doing = if run.stopping { "Stopping" } else { "Running" };
         match &run.latest {
-            Some(p) if p.photons > 0 => {
+            Some(p) => {
+                let what = match (p.phase, p.photons) {
+                    (Phase::Start, _) => "tracing the start".to_owned(),
+                    (Phase::Direct, 0) => {
+                        "direct design: the energy-balance mappings polished in the meridian model"
+                            .to_owned()
+                    }
+                    (Phase::Direct, _) => "direct design: the best mappings traced".to_owned(),
+                    (Phase::Correction, _) => {
+                        "correcting for the extended source (traced, aimed again)".to_owned()
+                    }
+                    (Phase::Refinement, photons) => format!(
+                        "refining with the tracer in the loop ({} photons a candidate)",
+                        photons
+                    ),
+                    (Phase::Fallback, 0) => {
+                        "fallback: the meridian model's global search".to_owned()
+                    }
+                    (Phase::Fallback, _) => "fallback: its best traced".to_owned(),
+                };
                 ui.label(format!(
-                    "{} {elapsed:.1} s of {:.0} s toward {}: stage {} ({} photons a candidate), {} candidates traced; best merit {:.4} ± {:.4}",
-                    if run.stopping { "Stopping," } else { "Running," },
+                    "{doing}, {elapsed:.1} s of {:.0} s toward {}: {what}; {} candidates; best {:.4}{}",
                     state.design.setup.time_s,
                     run.target_name,
-                    p.stage + 1,
-                    p.photons,
-                    run.history.len(),
+                    p.evaluations,
                     p.best_merit,
-                    p.noise
+                    if p.photons == 0 { " (model)" } else { "" }
                 ));
-                for (v, x) in run.variables.iter().zip(&p.best_values) {
+                for (v, x) in p
+                    .frame
+                    .variables
+                    .iter()
+                    .zip(&p.best_values)
+                    .take(SHOWN_VALUES)
+                {
                     ui.weak(format!("{} = {}", v.name, value_text(&v.name, *x)));
                 }
-            }
-            Some(_) => {
-                ui.label(format!(
-                    "Running, {elapsed:.1} s: the meridian model's search for a start…"
-                ));
+                if p.frame.variables.len() > SHOWN_VALUES {
+                    ui.weak(format!(
+                        "… and {} more (the Profile pane shows them all)",
+                        p.frame.variables.len() - SHOWN_VALUES
+                    ));
+                }
             }
             None => {
-                ui.label(format!("Running, {elapsed:.1} s: tracing the start…"));
+                ui.label(format!(
+                    "{doing}, {elapsed:.1} s: what the geometry can reach…"
+                ));
             }
+        }
+        if let Some(r) = &run.reach {
+            reach_ui(ui, r, None);
         }
         merit_plot_ui(ui, &run.history);
         return;
@@ -392,6 +422,12 @@ fn progress_ui(ui: &mut Ui, state: &mut EditorState, commands: &mut Vec<Command>
             outcome.photons, outcome.merit, outcome.noise
         ));
     }
+    if let Some(n) = outcome.points {
+        ui.label(format!("The designed profile has {n} control points."));
+    }
+    if let Some(r) = &outcome.reach {
+        reach_ui(ui, r, Some(outcome.merit));
+    }
     let current = state.scene() == Some(&outcome.scene);
     if ui
         .add_enabled(
@@ -404,6 +440,31 @@ fn progress_ui(ui: &mut Ui, state: &mut EditorState, commands: &mut Vec<Command>
         commands.push(Command::Undo);
     }
     merit_plot_ui(ui, &outcome.history);
+}
+
+/// Values listed while a design runs, at most (a profile of 33 points
+/// has 62).
+const SHOWN_VALUES: usize = 8;
+
+/// What the geometry can reach, and, with the design's result, what
+/// would help.
+fn reach_ui(ui: &mut Ui, r: &Reachability, result: Option<f64>) {
+    ui.add_space(4.0);
+    ui.strong("What this geometry can reach");
+    ui.label(format!(
+        "The LED's direct light leaves through a {:.1}° cone: at least {:.1} % of any design's light is there; the target has {:.1} % there.",
+        r.direct_cone_deg,
+        100.0 * r.design_cone_share_min,
+        100.0 * r.target_cone_share
+    ));
+    ui.label(format!(
+        "No mirror between these ends that stays out of that cone can come closer than {:.4}; one reaching into it shades the direct light and could come down to {:.4}.",
+        r.bound, r.with_cap
+    ));
+    let aim = result.unwrap_or(0.02).min(0.02);
+    for a in r.advice(aim) {
+        ui.weak(format!("What would help: {a}"));
+    }
 }
 
 /// A merit with two significant digits (the log plot's marks).
@@ -434,8 +495,11 @@ fn merit_plot_ui(ui: &mut Ui, history: &[MeritPoint]) {
     let accent = ui.visuals().selection.bg_fill;
     // Logarithmic: a design takes its merit down by decades.
     let log = |m: f64| m.max(1e-6).log10();
+    // The whole plot in view: what the pane has left, within reason.
+    let height = ui.available_height().clamp(140.0, 220.0);
     Plot::new("design merit")
-        .height(220.0)
+        .height(height)
+        .legend(egui_plot::Legend::default())
         .x_axis_label("s")
         .y_axis_label("merit (log)")
         .y_axis_formatter(|mark, _| significant(10f64.powf(mark.value)))
@@ -448,21 +512,41 @@ fn merit_plot_ui(ui: &mut Ui, history: &[MeritPoint]) {
         })
         .allow_scroll(false)
         .show(ui, |plot| {
-            let points: Vec<[f64; 2]> = history
+            let traced: Vec<[f64; 2]> = history
                 .iter()
+                .filter(|p| p.photons > 0)
                 .map(|p| [p.elapsed_s, log(p.merit)])
                 .collect();
+            let modelled: Vec<[f64; 2]> = history
+                .iter()
+                .filter(|p| p.photons == 0)
+                .map(|p| [p.elapsed_s, log(p.merit)])
+                .collect();
+            if !modelled.is_empty() {
+                plot.points(
+                    Points::new("meridian model", PlotPoints::from(modelled))
+                        .radius(1.5)
+                        .filled(false)
+                        .color(colour.gamma_multiply(0.6)),
+                );
+            }
             plot.points(
-                Points::new("candidates", PlotPoints::from(points))
+                Points::new("traced candidates", PlotPoints::from(traced))
                     .radius(1.5)
                     .color(colour),
             );
+            // The best of each run of traced candidates at one phase and
+            // photon count, with its photon noise as a band.
+            let traced: Vec<&MeritPoint> = history.iter().filter(|p| p.photons > 0).collect();
             let mut stage_start = 0;
-            for k in 1..=history.len() {
-                if k < history.len() && history[k].stage == history[stage_start].stage {
+            for k in 1..=traced.len() {
+                let same = |a: &MeritPoint, b: &MeritPoint| {
+                    a.phase == b.phase && a.photons == b.photons && a.stage == b.stage
+                };
+                if k < traced.len() && same(traced[k], traced[stage_start]) {
                     continue;
                 }
-                let stage = &history[stage_start..k];
+                let stage = &traced[stage_start..k];
                 let best: Vec<[f64; 2]> =
                     stage.iter().map(|p| [p.elapsed_s, log(p.best)]).collect();
                 let band: Vec<[f64; 2]> = stage
@@ -476,11 +560,11 @@ fn merit_plot_ui(ui: &mut Ui, history: &[MeritPoint]) {
                     )
                     .collect();
                 let name = format!(
-                    "best, stage {} ({} photons)",
-                    stage[0].stage + 1,
+                    "best, {} ({} photons)",
+                    stage[0].phase.name(),
                     stage[0].photons
                 );
-                if stage.len() > 1 {
+                if stage.len() > 1 && stage.iter().any(|p| p.noise > 0.0) {
                     plot.polygon(
                         Polygon::new(format!("{name} noise"), PlotPoints::from(band))
                             .fill_color(accent.gamma_multiply(0.3))

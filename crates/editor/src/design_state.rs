@@ -14,7 +14,9 @@ use std::sync::atomic::AtomicBool;
 use std::sync::mpsc::Receiver;
 use std::time::{Duration, Instant};
 
-use lucerna_design::{Design, DesignError, Maximise, Progress, Spec, Stopped, Target, Variable};
+use lucerna_design::{
+    Design, DesignError, Maximise, Phase, Progress, Reachability, Spec, Stopped, Target, Variable,
+};
 use lucerna_scene::Scene;
 
 /// How often an improvement is shown at most: each one restarts the live
@@ -242,7 +244,9 @@ pub struct MeritPoint {
     pub best: f64,
     pub noise: f64,
     pub stage: usize,
+    /// Photons a candidate traced (0: judged by the meridian model).
     pub photons: u64,
+    pub phase: Phase,
 }
 
 /// What the design thread tells the editor.
@@ -264,6 +268,8 @@ pub struct DesignRun {
     pub history: Vec<MeritPoint>,
     /// The newest progress report.
     pub latest: Option<Progress>,
+    /// What the geometry can reach, once the design has said.
+    pub reach: Option<Reachability>,
     /// The values shown (the scene's) and when.
     pub(crate) shown: Option<(Vec<f64>, Instant)>,
     /// Stop was pressed.
@@ -284,6 +290,9 @@ pub struct DesignOutcome {
     /// Each variable's name, start value and designed value.
     pub variables: Vec<(String, f64, f64)>,
     pub history: Vec<MeritPoint>,
+    pub reach: Option<Reachability>,
+    /// The designed profile's control points, where one was designed.
+    pub points: Option<usize>,
     /// The designed scene, and its file's text as `lucerna design` writes
     /// it (`STEM.toml`).
     pub scene: Scene,

@@ -18,6 +18,9 @@ pub struct Reference {
     /// The flux cd/klm is relative to: the file's lamps, or the pinned
     /// run's emitters (lm).
     pub lamp_flux_lm: f64,
+    /// Drawn scaled to the shown table's flux (a design toward its shape:
+    /// what the design matches), not in its own candela.
+    pub at_shown_flux: bool,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -62,7 +65,25 @@ impl Reference {
             name,
             table: Arc::new(photometry.table),
             lamp_flux_lm,
+            at_shown_flux: false,
         })
+    }
+
+    /// The factor its candela are drawn with beside `shown` (a table in
+    /// candela drawn with `shown_factor`, for a lamp flux of
+    /// `lamp_flux_lm`): the unit's, or scaled to the shown table's flux.
+    pub fn factor(
+        &self,
+        unit: crate::views::IntensityUnit,
+        shown: &CandelaTable,
+        shown_factor: f64,
+    ) -> f64 {
+        let own = self.table.flux_lm();
+        if self.at_shown_flux && own > 0.0 {
+            shown_factor * shown.flux_lm() / own
+        } else {
+            unit.factor(self.lamp_flux_lm)
+        }
     }
 
     /// The snapshot's exported table, kept as the "A" of an A/B
@@ -75,6 +96,7 @@ impl Reference {
             ),
             table: snapshot.table.clone(),
             lamp_flux_lm: snapshot.map.emitter_flux_lm,
+            at_shown_flux: false,
         }
     }
 }

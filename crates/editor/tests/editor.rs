@@ -581,6 +581,8 @@ fn a_design_run_in_the_pane_gives_the_command_lines_scene_and_undoes_in_one_step
         resolution: lucerna_design::DEFAULT_RESOLUTION,
         direct: true,
         least_squares: false,
+        points: None,
+        fallback: Default::default(),
     };
     let cli = lucerna_design::design(
         &request,
@@ -637,4 +639,83 @@ fn the_design_pane_refuses_what_cannot_start_and_says_why() {
     start(&mut h);
     // Said twice: under the spec as it is edited, and as Start's refusal.
     assert_eq!(h.get_all_by_label_contains("states no term").count(), 2);
+}
+
+/// A design toward a file's shape draws the file at the design's flux:
+/// a target of a tenth of the scene's flux would be a tenth of its size,
+/// invisible beside the design, although its shape is what is matched.
+/// The polar view's label gives the plotted peak; "Match absolute
+/// candela" draws it in its own candela.
+#[test]
+fn the_design_target_is_drawn_at_the_designs_flux_in_shape_mode() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_path = dir.path().join("cone.toml");
+    std::fs::copy(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/designs/revolved_cone_start.toml"),
+        &scene_path,
+    )
+    .unwrap();
+    // A 10° Gaussian beam of about 60 lm, absolute photometry.
+    let target = dir.path().join("narrow.ies");
+    let gammas: Vec<String> = (0..=180).map(|g| g.to_string()).collect();
+    let candela: Vec<String> = (0..=180)
+        .map(|g| {
+            format!(
+                "{:.3}",
+                800.0 * (-0.5 * (f64::from(g) / 4.25).powi(2)).exp()
+            )
+        })
+        .collect();
+    std::fs::write(
+        &target,
+        format!(
+            "IESNA:LM-63-2002\n[TEST] synthetic 10 degree beam\nTILT=NONE\n1 -1 1 181 1 1 2 0.08 0.08 0\n1 1 0\n{}\n0\n{}\n",
+            gammas.join(" "),
+            candela.join(" ")
+        ),
+    )
+    .unwrap();
+    let reference = lucerna_photometry::read_photometry(&std::fs::read(&target).unwrap())
+        .unwrap()
+        .table;
+    let mut h = editor_at(Some(scene_path), 32);
+    h.state_mut().show_pane(lucerna_editor::dock::Pane::Design);
+    common::steps(&mut h, 3);
+    command(&mut h, lucerna_editor::Command::SetDesignTarget(target));
+    common::click(&mut h, "Vary the interior points of reflector");
+    common::click(&mut h, "Stop after");
+    common::set(&mut h, "Candidates at most", 2.0);
+    common::click(&mut h, "Start design");
+    let deadline = Instant::now() + Duration::from_secs(300);
+    while h.state().state.is_designing() {
+        h.step();
+        assert!(Instant::now() < deadline, "the design did not end");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    h.state_mut().show_pane(lucerna_editor::dock::Pane::View(
+        lucerna_editor::View::Polar,
+    ));
+    common::steps(&mut h, 3);
+    let plotted = |h: &Harness<'_, EditorApp>| -> (f64, f64) {
+        let node = h.get_by_label_contains("Reference peak");
+        let text = node.value().unwrap_or_default();
+        let number: f64 = text
+            .split_whitespace()
+            .nth(2)
+            .and_then(|v| v.parse().ok())
+            .unwrap_or_else(|| panic!("no peak in {text}"));
+        let shown = h.state().state.snapshot().unwrap().table.flux_lm();
+        (number, shown)
+    };
+    h.step();
+    let (peak, shown_flux) = plotted(&h);
+    let expected = reference.peak().0 * shown_flux / reference.flux_lm();
+    assert!(
+        (peak - expected).abs() <= 0.01 * expected + 1.0,
+        "plotted {peak} cd, the target's shape at {shown_flux:.0} lm is {expected:.0} cd"
+    );
+    // Far from the file's own candela: what the design matches is its
+    // shape at the design's flux.
+    assert!(peak > 5.0 * reference.peak().0, "{peak}");
+    h.get_by_label_contains("as the design matches it");
 }

@@ -44,13 +44,16 @@ pub struct DesignArgs {
     /// the package around the LED and the aperture).
     #[arg(long)]
     pub free_ends: bool,
-    /// Skip the point-source direct design of a revolved profile and the
-    /// meridian model's global search, and start from the scene as it is.
+    /// Skip the point-source direct design of a revolved profile, its
+    /// correction and the fallback search, and refine the scene as it is.
     #[arg(long)]
     pub no_direct: bool,
-    /// Fit a distribution by damped least squares (Levenberg–Marquardt)
-    /// instead of Nelder–Mead: faster near the answer, but it stays in
-    /// the nearest valley (BENCHMARKS.md, "Design").
+    /// The designed profile's control points (3 to 33; by default as many
+    /// as the target's detail needs).
+    #[arg(long)]
+    pub points: Option<usize>,
+    /// For designs other than a revolved profile's: fit a distribution by
+    /// damped least squares (Levenberg–Marquardt) instead of Nelder–Mead.
     #[arg(long)]
     pub least_squares: bool,
     /// Texels per cube-face edge of every candidate's map.
@@ -80,8 +83,13 @@ struct Report<'a> {
     evaluations: usize,
     variables: Vec<(String, f64, f64)>,
     start_merit: f64,
+    reachability: Option<&'a lucerna_design::Reachability>,
+    advice: Vec<String>,
+    points: Option<usize>,
     direct_design_merit: Option<f64>,
+    corrections: &'a [lucerna_design::Iteration],
     meridian_model_search: Option<lucerna_design::ModelSearch>,
+    warnings: &'a [String],
     merit: f64,
     merit_noise: f64,
     outcome: &'a Outcome,
@@ -128,6 +136,8 @@ pub fn design(args: &DesignArgs) -> Result<()> {
         resolution: args.resolution,
         direct: !args.no_direct,
         least_squares: args.least_squares,
+        points: args.points,
+        fallback: Default::default(),
     };
     let interrupt = Arc::new(AtomicBool::new(false));
     {
@@ -136,39 +146,38 @@ pub fn design(args: &DesignArgs) -> Result<()> {
         let _ = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst));
     }
     let mut last_line = std::time::Instant::now() - Duration::from_secs(1);
+    let mut last_phase = None;
     let mut progress = |p: &Progress| {
-        if p.photons == 0 {
-            // The meridian model's global search: a line per run.
-            eprintln!(
-                "{:6.1} s  meridian model run {:2} done  model L2 {:.4}  best {:.4}",
-                p.elapsed.as_secs_f64(),
-                p.record.evaluation + 1,
-                p.record.merit.unwrap_or(f64::NAN),
-                p.best_merit,
-            );
+        let new_phase = last_phase != Some(p.phase);
+        if !new_phase && last_line.elapsed() < Duration::from_millis(500) {
             return;
         }
-        if last_line.elapsed() < Duration::from_millis(500) {
-            return;
-        }
+        last_phase = Some(p.phase);
         last_line = std::time::Instant::now();
+        let measured = if p.photons == 0 {
+            format!("model {:.4}", p.record.merit.unwrap_or(f64::NAN))
+        } else {
+            format!(
+                "{:.2} M photons  merit {}",
+                p.photons as f64 / 1e6,
+                p.record
+                    .merit
+                    .map_or("refused".to_owned(), |m| format!("{m:.5}"))
+            )
+        };
         eprintln!(
-            "{:6.1} s  {:5} candidates  stage {} ({} photons)  merit {:.5} ± {:.5}  best {}",
+            "{:6.1} s  {:<10}  {:5} candidates  {measured}  best {:.5}",
             p.elapsed.as_secs_f64(),
+            p.phase.name(),
             p.evaluations,
-            p.stage + 1,
-            p.photons,
             p.best_merit,
-            p.noise,
-            p.best_values
-                .iter()
-                .map(|v| format!("{v:.6}"))
-                .collect::<Vec<_>>()
-                .join(" ")
         );
     };
     let design = lucerna_design::design(&request, &interrupt, &mut progress)
         .with_context(|| format!("design of {}", args.scene.display()))?;
+    for w in &design.warnings {
+        eprintln!("warning: {w}");
+    }
     match design.found.stopped {
         Stopped::Interrupted => eprintln!("interrupted: writing the best design so far"),
         Stopped::Time => eprintln!("the time is up: writing the best design found"),
@@ -197,8 +206,13 @@ pub fn design(args: &DesignArgs) -> Result<()> {
             evaluations: design.found.history.len(),
             variables: design.changes(),
             start_merit: design.start_merit,
+            reachability: design.reach.as_ref(),
+            advice: advice(&design, outcome),
+            points: design.points,
             direct_design_merit: design.direct.as_ref().map(|d| d.1),
+            corrections: &design.corrections,
             meridian_model_search: design.model_search.clone(),
+            warnings: &design.warnings,
             merit: design.found.merit,
             merit_noise: design.found.noise,
             outcome,
@@ -207,32 +221,44 @@ pub fn design(args: &DesignArgs) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&report)?);
         return Ok(());
     }
+    if let Some(r) = &design.reach {
+        print_reach(r);
+    }
+    if let Some((_, m)) = &design.direct {
+        println!(
+            "direct design (point source, {} control points): {m:.4} (the start: {:.4})",
+            design.points.unwrap_or(0),
+            design.start_merit
+        );
+    }
+    if !design.corrections.is_empty() {
+        let merits: Vec<String> = design
+            .corrections
+            .iter()
+            .map(|i| {
+                let m = i.merit.map_or("refused".to_owned(), |m| format!("{m:.4}"));
+                if i.kept { m } else { format!("{m} (not kept)") }
+            })
+            .collect();
+        println!("extended-source correction: {}", merits.join(" -> "));
+    }
     if let Some(m) = &design.model_search {
         println!(
-            "meridian model search: {} runs, {} model candidates in {:.1} s, best model L2 {:.4}; traced (100 k photons): {}",
+            "fallback: meridian model search, {} runs, {} model candidates in {:.1} s, best model L2 {:.4}; traced: {}",
             m.runs,
             m.evaluations,
             m.seconds,
             m.model_l2,
-            m.traced_merit.map_or("refused".to_owned(), |t| format!(
-                "{t:.4} (the start: {:.4})",
-                design.start_merit
-            ))
+            m.traced_merit
+                .map_or("refused".to_owned(), |t| format!("{t:.4}")),
         );
-        if let (Some(from), Some(to)) = (m.corrected_from, m.corrected_merit) {
-            println!(
-                "corrected by the tracer: {} rounds from {} {}, {from:.4} -> {to:.4} ({} M photons)",
-                m.corrected_rounds,
-                m.corrected_basins,
-                if m.corrected_basins == 1 {
-                    "basin"
-                } else {
-                    "basins"
-                },
-                lucerna_design::CORRECTED_PHOTONS as f64 / 1e6
-            );
-        }
     }
+    println!(
+        "refined with the tracer: {:.4} ± {:.4} ({} M photons)",
+        design.found.merit,
+        design.found.noise,
+        design.found.photons as f64 / 1e6
+    );
     for (v, &x) in design.variables.iter().zip(&design.found.values) {
         println!(
             "{:<28} {:>14.6} -> {:>14.6}   (bounds {:.6} … {:.6})",
@@ -259,8 +285,52 @@ pub fn design(args: &DesignArgs) -> Result<()> {
             t.term, t.value, t.wanted
         );
     }
+    for a in advice(&design, outcome) {
+        println!("what would help: {a}");
+    }
     for n in &names {
         println!("wrote {n}");
     }
     Ok(())
+}
+
+/// What the fixed parts make impossible, in a few lines.
+fn print_reach(r: &lucerna_design::Reachability) {
+    println!(
+        "reachability: the LED's direct light leaves through a {:.1}° cone: at least {:.1} % of any design's light is there, the target has {:.1} % there",
+        r.direct_cone_deg,
+        100.0 * r.design_cone_share_min,
+        100.0 * r.target_cone_share
+    );
+    println!(
+        "reachability: the LED sends {:.1} % of its flux out directly; the mirror can send out at most {:.1} %",
+        100.0 * r.direct_share,
+        100.0 * r.mirror_share_max
+    );
+    println!(
+        "reachability: no mirror between these ends that stays out of that cone can come closer than {:.4} (relative L2); one reaching into it shades the LED's direct light, and could come down to {:.4}",
+        r.bound, r.with_cap
+    );
+}
+
+/// What would help the design reach further: where the result is well
+/// above the bound, more control points; where the bound itself is
+/// high, what frees it.
+fn advice(design: &lucerna_design::Design, outcome: &Outcome) -> Vec<String> {
+    let Some(r) = &design.reach else {
+        return Vec::new();
+    };
+    let result = outcome.remaining_difference.unwrap_or(design.found.merit);
+    let mut out = r.advice(result.min(0.02));
+    if let Some(n) = design.points
+        && n < lucerna_design::MAX_POINTS
+        && result > 2.0 * r.bound + 0.01
+    {
+        out.push(format!(
+            "more profile points (--points {}): the result is {result:.3}, the bound {:.3}",
+            (2 * n - 1).min(lucerna_design::MAX_POINTS),
+            r.bound
+        ));
+    }
+    out
 }

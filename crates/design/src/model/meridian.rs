@@ -58,6 +58,63 @@ impl MeridianModel {
     /// 180° (linear between the model's bins); None where the profile
     /// cannot be sampled.
     pub fn intensity(&self, profile: &[[f64; 2]], step_deg: f64) -> Option<Vec<f64>> {
+        let bins = self.bins(profile)?;
+        let n = (180.0 / step_deg).round() as usize;
+        if self.gammas_deg.len() < 2 {
+            return Some((0..=n).map(|k| bins.at(k as f64 * step_deg)).collect());
+        }
+        let cells = self.cells(&bins);
+        let g = &self.gammas_deg;
+        Some(
+            (0..=n)
+                .map(|k| {
+                    let gamma = k as f64 * step_deg;
+                    if gamma < g[0] || gamma > g[g.len() - 1] {
+                        return 0.0;
+                    }
+                    let j = g.partition_point(|&x| x <= gamma).clamp(1, g.len() - 1);
+                    let t = (gamma - g[j - 1]) / (g[j] - g[j - 1]);
+                    cells[j - 1] * (1.0 - t) + cells[j] * t
+                })
+                .collect(),
+        )
+    }
+
+    /// The relative intensity at each of [`MeridianModel::gammas_deg`],
+    /// each the mean of its cell's solid angle, as a bake tabulates it.
+    pub fn at_nodes(&self, profile: &[[f64; 2]]) -> Option<Vec<f64>> {
+        if self.gammas_deg.len() < 2 {
+            return None;
+        }
+        Some(self.cells(&self.bins(profile)?))
+    }
+
+    /// Each γ cell's mean over its solid angle (midpoints at most
+    /// CELL_STEP_DEG apart).
+    fn cells(&self, bins: &Bins) -> Vec<f64> {
+        gamma_cell_edges(&self.gammas_deg)
+            .windows(2)
+            .map(|e| {
+                let parts = ((e[1] - e[0]) / CELL_STEP_DEG).ceil().max(1.0) as usize;
+                let h = (e[1] - e[0]) / parts as f64;
+                let (mut sum, mut weight) = (0.0, 0.0);
+                for m in 0..parts {
+                    let gamma = e[0] + (m as f64 + 0.5) * h;
+                    let w = gamma.to_radians().sin();
+                    sum += w * bins.at(gamma);
+                    weight += w;
+                }
+                if weight > 0.0 {
+                    sum / weight
+                } else {
+                    bins.at(0.5 * (e[0] + e[1]))
+                }
+            })
+            .collect()
+    }
+
+    /// The model's own bins of intensity.
+    fn bins(&self, profile: &[[f64; 2]]) -> Option<Bins> {
         if profile.len() < 2 {
             return None;
         }
@@ -156,51 +213,23 @@ impl MeridianModel {
         for v in &mut intensity[..cap] {
             *v = mean;
         }
-        let n = (180.0 / step_deg).round() as usize;
-        let fine = |gamma_deg: f64| {
-            let x = (gamma_deg / BIN_DEG).clamp(0.0, bins as f64);
-            let i = (x.floor() as usize).min(bins - 1);
-            let f = x - i as f64;
-            intensity[i] * (1.0 - f) + intensity[i + 1] * f
-        };
-        if self.gammas_deg.len() < 2 {
-            return Some((0..=n).map(|k| fine(k as f64 * step_deg)).collect());
-        }
-        // Each cell's mean over its solid angle (midpoints at most
-        // CELL_STEP_DEG apart), then linear between the angles.
-        let g = &self.gammas_deg;
-        let cells: Vec<f64> = gamma_cell_edges(g)
-            .windows(2)
-            .map(|e| {
-                let parts = ((e[1] - e[0]) / CELL_STEP_DEG).ceil().max(1.0) as usize;
-                let h = (e[1] - e[0]) / parts as f64;
-                let (mut sum, mut weight) = (0.0, 0.0);
-                for m in 0..parts {
-                    let gamma = e[0] + (m as f64 + 0.5) * h;
-                    let w = gamma.to_radians().sin();
-                    sum += w * fine(gamma);
-                    weight += w;
-                }
-                if weight > 0.0 {
-                    sum / weight
-                } else {
-                    fine(0.5 * (e[0] + e[1]))
-                }
-            })
-            .collect();
-        Some(
-            (0..=n)
-                .map(|k| {
-                    let gamma = k as f64 * step_deg;
-                    if gamma < g[0] || gamma > g[g.len() - 1] {
-                        return 0.0;
-                    }
-                    let j = g.partition_point(|&x| x <= gamma).clamp(1, g.len() - 1);
-                    let t = (gamma - g[j - 1]) / (g[j] - g[j - 1]);
-                    cells[j - 1] * (1.0 - t) + cells[j] * t
-                })
-                .collect(),
-        )
+        Some(Bins { intensity })
+    }
+}
+
+/// The model's intensity on its own [`BIN_DEG`] bins.
+struct Bins {
+    intensity: Vec<f64>,
+}
+
+impl Bins {
+    /// Linear between the bins.
+    fn at(&self, gamma_deg: f64) -> f64 {
+        let bins = self.intensity.len() - 1;
+        let x = (gamma_deg / BIN_DEG).clamp(0.0, bins as f64);
+        let i = (x.floor() as usize).min(bins - 1);
+        let f = x - i as f64;
+        self.intensity[i] * (1.0 - f) + self.intensity[i + 1] * f
     }
 }
 

@@ -3,4 +3,6 @@
 //! mirror. Milliseconds where the tracer takes seconds.
 
 pub mod direct;
+pub mod mapping;
 pub mod meridian;
+pub mod reach;

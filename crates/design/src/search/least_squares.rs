@@ -16,10 +16,13 @@ use std::time::Instant;
 
 use lucerna_scene::Scene;
 
+use crate::history::{Frame, Phase, Progress, Record};
 use crate::merit::Aim;
-use crate::search::optimise::{Budget, FIRST_STAGE_PHOTONS, Found, Progress, Record, Stopped};
+use crate::search::optimise::FIRST_STAGE_PHOTONS;
+use crate::search::refine::solve;
 use crate::traced::evaluate::Evaluator;
 use crate::variables::{Variable, apply};
+use crate::{Budget, Found, Stopped};
 
 /// The blur of each stage's comparison (degrees of γ; negative: the
 /// cumulative flux against γ).
@@ -37,6 +40,7 @@ struct Run<'a> {
     interrupt: &'a AtomicBool,
     history: Vec<Record>,
     progress: &'a mut dyn FnMut(&Progress),
+    frame: std::sync::Arc<Frame>,
     stage: usize,
     photons: u64,
     blur: f64,
@@ -83,11 +87,13 @@ impl Run<'_> {
                 b if b > 0.0 => format!("l2 blur {b}°"),
                 _ => "l2".to_owned(),
             },
+            phase: Phase::Refinement,
             values,
         };
         self.history.push(record.clone());
         let report = Progress {
             elapsed: self.began.elapsed(),
+            phase: Phase::Refinement,
             evaluations: self.history.len() as u64,
             stage: self.stage,
             photons: self.photons,
@@ -95,6 +101,8 @@ impl Run<'_> {
             noise: self.noise,
             best_values: self.values(&self.best.1),
             record,
+            frame: self.frame.clone(),
+            reach: None,
         };
         (self.progress)(&report);
         Ok(r)
@@ -117,6 +125,7 @@ pub fn fit(
     budget: Budget,
     interrupt: &AtomicBool,
     progress: &mut dyn FnMut(&Progress),
+    frame: std::sync::Arc<Frame>,
 ) -> Found {
     let n = variables.len();
     let mut run = Run {
@@ -129,6 +138,7 @@ pub fn fit(
         interrupt,
         history: Vec::new(),
         progress,
+        frame,
         stage: 0,
         photons: FIRST_STAGE_PHOTONS,
         blur: STAGE_BLUR_DEG[0],
@@ -242,53 +252,5 @@ pub fn fit(
         noise: run.noise,
         history: run.history,
         stopped,
-    }
-}
-
-/// Solves `a x = b` by Gaussian elimination with partial pivoting.
-fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
-    let n = b.len();
-    for col in 0..n {
-        let pivot = (col..n).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
-        if a[pivot][col].abs() < 1e-300 {
-            return None;
-        }
-        a.swap(col, pivot);
-        b.swap(col, pivot);
-        for row in col + 1..n {
-            let f = a[row][col] / a[col][col];
-            for k in col..n {
-                a[row][k] -= f * a[col][k];
-            }
-            b[row] -= f * b[col];
-        }
-    }
-    let mut x = vec![0.0; n];
-    for row in (0..n).rev() {
-        let s: f64 = (row + 1..n).map(|k| a[row][k] * x[k]).sum();
-        x[row] = (b[row] - s) / a[row][row];
-    }
-    x.iter().all(|v| v.is_finite()).then_some(x)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::solve;
-
-    #[test]
-    fn solves_a_small_system() {
-        let x = solve(
-            vec![
-                vec![2.0, 1.0, 0.0],
-                vec![1.0, 3.0, 1.0],
-                vec![0.0, 1.0, 4.0],
-            ],
-            vec![3.0, 5.0, 5.0],
-        )
-        .unwrap();
-        for (a, b) in x.iter().zip([1.0, 1.0, 1.0]) {
-            assert!((a - b).abs() < 1e-12, "{x:?}");
-        }
-        assert!(solve(vec![vec![1.0, 2.0], vec![2.0, 4.0]], vec![1.0, 2.0]).is_none());
     }
 }

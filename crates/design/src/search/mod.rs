@@ -2,7 +2,8 @@
 //! or damped least squares), and the meridian model's global search with
 //! its correction by the tracer.
 
-pub mod corrected;
 pub mod global;
 pub mod least_squares;
 pub mod optimise;
+pub mod polish;
+pub mod refine;

@@ -7,17 +7,19 @@
 //! best with four times the photons and half the simplex.
 
 use std::cell::RefCell;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
 
 use argmin::core::{CostFunction, Error as ArgminError, Executor};
 use argmin::solver::neldermead::NelderMead;
 use lucerna_photometry::Dimensions;
 use lucerna_scene::Scene;
 
+use crate::history::{Frame, Phase, Progress, Record};
 use crate::merit::Aim;
 use crate::traced::evaluate::{Evaluator, Refused, Traced};
 use crate::variables::{Variable, apply};
+use crate::{Budget, Found, Stopped};
 
 /// Photons of the first stage, and the most any stage traces.
 pub const FIRST_STAGE_PHOTONS: u64 = 100_000;
@@ -40,95 +42,6 @@ impl Default for FirstStage {
     }
 }
 
-/// When a design stops.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Budget {
-    pub time: Duration,
-    /// Traced candidates at most (a budget that does not depend on the
-    /// machine's speed: the same seed and budget give the same design).
-    pub evaluations: Option<u64>,
-    /// Photons of the last stage (default [`LAST_STAGE_PHOTONS`]).
-    pub max_photons: Option<u64>,
-}
-
-impl Budget {
-    /// Why a design that began at `began` and has traced `traced`
-    /// candidates must stop now, if it must.
-    pub fn spent(&self, began: Instant, traced: usize, interrupt: &AtomicBool) -> Option<Stopped> {
-        if interrupt.load(Ordering::Relaxed) {
-            return Some(Stopped::Interrupted);
-        }
-        if began.elapsed() >= self.time {
-            return Some(Stopped::Time);
-        }
-        if self.evaluations.is_some_and(|n| traced as u64 >= n) {
-            return Some(Stopped::Evaluations);
-        }
-        None
-    }
-
-    /// The photons of the last stage.
-    pub fn last_stage_photons(&self) -> u64 {
-        self.max_photons
-            .unwrap_or(LAST_STAGE_PHOTONS)
-            .max(FIRST_STAGE_PHOTONS)
-    }
-}
-
-/// Why a design stopped.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Stopped {
-    /// The last stage's simplex agrees within the merit's noise.
-    Converged,
-    Time,
-    Evaluations,
-    /// Interrupted (Ctrl+C, or Stop in the editor): the best so far.
-    Interrupted,
-}
-
-/// One traced candidate, as `design.csv` lists it.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Record {
-    pub evaluation: u64,
-    pub elapsed_s: f64,
-    pub photons: u64,
-    /// The stage's merit (None: refused).
-    pub merit: Option<f64>,
-    /// What the stage's merit measures: "l2" (the relative L2 difference
-    /// on the sphere), "l2 blur 0.5°", "cumulative" (the cumulative flux
-    /// against γ), "spec".
-    pub measure: String,
-    pub values: Vec<f64>,
-}
-
-/// Where a design stands, for a progress line or a plot.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Progress {
-    pub elapsed: Duration,
-    pub evaluations: u64,
-    pub stage: usize,
-    pub photons: u64,
-    /// The best merit of this stage and its photon noise (one standard
-    /// deviation, from a second seed).
-    pub best_merit: f64,
-    pub noise: f64,
-    pub best_values: Vec<f64>,
-    /// The newest record.
-    pub record: Record,
-}
-
-/// What the loop found.
-#[derive(Debug, Clone)]
-pub struct Found {
-    pub values: Vec<f64>,
-    pub merit: f64,
-    pub photons: u64,
-    pub noise: f64,
-    pub history: Vec<Record>,
-    pub stopped: Stopped,
-}
-
 /// The state shared by the cost function's calls.
 struct Loop<'a> {
     start: &'a Scene,
@@ -146,6 +59,7 @@ struct Loop<'a> {
     stage: usize,
     noise: f64,
     progress: RefCell<&'a mut dyn FnMut(&Progress)>,
+    frame: std::sync::Arc<Frame>,
     halted: std::cell::Cell<Option<Stopped>>,
 }
 
@@ -239,6 +153,7 @@ impl CostFunction for Loop<'_> {
                     _ => "l2".to_owned(),
                 },
             },
+            phase: Phase::Refinement,
             values: values.clone(),
         };
         self.history.borrow_mut().push(record.clone());
@@ -258,6 +173,7 @@ impl CostFunction for Loop<'_> {
         let best = self.best.borrow();
         (self.progress.borrow_mut())(&Progress {
             elapsed: self.began.elapsed(),
+            phase: Phase::Refinement,
             evaluations: evaluation + 1,
             stage: self.stage,
             photons: self.photons,
@@ -265,6 +181,8 @@ impl CostFunction for Loop<'_> {
             noise: self.noise,
             best_values: self.values(&best.1),
             record,
+            frame: self.frame.clone(),
+            reach: None,
         });
         Ok(cost)
     }
@@ -284,6 +202,7 @@ pub fn optimise(
     first: FirstStage,
     interrupt: &AtomicBool,
     progress: &mut dyn FnMut(&Progress),
+    frame: std::sync::Arc<Frame>,
 ) -> Found {
     let began = Instant::now();
     let n = variables.len();
@@ -345,6 +264,7 @@ pub fn optimise(
             stage,
             noise,
             progress: RefCell::new(&mut *progress),
+            frame: frame.clone(),
             halted: std::cell::Cell::new(None),
         };
         let tolerance = noise.max(1e-6 * stage_merit.abs()).max(1e-12);

@@ -18,7 +18,7 @@ use lucerna_simulation::Luminaire;
 use lucerna_tracer::Session;
 use lucerna_tracer::cpu::TraceSettings;
 
-use crate::variables::{Place, Variable};
+use crate::variables::Variable;
 
 /// The grid candidates are tabulated on for a spec: 5° C-planes, 0.25° γ.
 /// (A distribution's candidates are tabulated on its own grid.)
@@ -83,8 +83,10 @@ pub struct Evaluator {
     /// The last candidate built, whose BVH a candidate with the same
     /// triangles (only moved) refits.
     previous: Option<Arc<Luminaire>>,
-    /// Parts the variables change (checked against the emitters).
+    /// Parts the variables change (checked against the emitters), and
+    /// whether they move an emitter (then every part is checked).
     varied_parts: Vec<usize>,
+    moves_emitter: bool,
 }
 
 impl Evaluator {
@@ -103,12 +105,10 @@ impl Evaluator {
     ) -> Evaluator {
         let layout = CubeMapLayout::new(resolution);
         let band_edges_deg = lucerna_photometry::resample::gamma_cell_edges(&gammas_deg);
-        let mut varied_parts: Vec<usize> = variables
-            .iter()
-            .map(|v| match &v.place {
-                Place::Field { part, .. } | Place::ProfilePoint { part, .. } => *part,
-            })
-            .collect();
+        // A moved emitter may meet any part.
+        let moves_emitter = variables.iter().any(|v| v.place.part().is_none());
+        let mut varied_parts: Vec<usize> =
+            variables.iter().filter_map(|v| v.place.part()).collect();
         varied_parts.sort_unstable();
         varied_parts.dedup();
         Evaluator {
@@ -121,6 +121,7 @@ impl Evaluator {
             band_edges_deg,
             previous: None,
             varied_parts,
+            moves_emitter,
         }
     }
 
@@ -141,6 +142,7 @@ impl Evaluator {
             band_edges_deg: self.band_edges_deg.clone(),
             previous: self.previous.clone(),
             varied_parts: self.varied_parts.clone(),
+            moves_emitter: self.moves_emitter,
         }
     }
 
@@ -247,7 +249,14 @@ impl Evaluator {
                     // Its rays' starts are in the file: the emitter's origin.
                     EmitterShape::RayFile { .. } => 0.0,
                 };
-            for &p in &self.varied_parts {
+            let all: Vec<usize>;
+            let parts = if self.moves_emitter {
+                all = (0..scene.parts.len()).collect();
+                &all
+            } else {
+                &self.varied_parts
+            };
+            for &p in parts {
                 let name = &scene.parts[p].name;
                 for surface in luminaire
                     .tessellated

@@ -103,13 +103,15 @@ impl ViewsState {
     }
 
     fn plot_tables<'a>(&'a self, snapshot: &'a Snapshot) -> PlotTables<'a> {
+        let current = self.shown_table(snapshot);
+        let current_factor = self.unit.factor(snapshot.map.emitter_flux_lm);
         PlotTables {
-            current: self.shown_table(snapshot),
-            current_factor: self.unit.factor(snapshot.map.emitter_flux_lm),
+            current,
+            current_factor,
             reference: self
                 .reference
                 .as_ref()
-                .map(|r| (r, self.unit.factor(r.lamp_flux_lm))),
+                .map(|r| (r, r.factor(self.unit, current, current_factor))),
             extra_plane: self.extra_plane,
             unit: self.unit,
         }

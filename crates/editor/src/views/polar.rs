@@ -169,6 +169,17 @@ pub fn polar_ui(ui: &mut Ui, t: &PlotTables<'_>, snapshot: &Snapshot) {
         figures.peak_c_deg,
         figures.peak_gamma_deg
     ));
+    if let Some((r, rf)) = t.reference {
+        ui.label(format!(
+            "Reference peak {:.0} {unit}{}",
+            rf * r.table.peak().0,
+            if r.at_shown_flux {
+                " (its shape at this distribution's flux, as the design matches it)"
+            } else {
+                ""
+            }
+        ));
+    }
 }
 
 #[cfg(test)]
