@@ -64,7 +64,12 @@ fn a_design_writes_every_file_and_a_bad_one_writes_none() {
     let toml = std::fs::read_to_string(designed.join("parabolic_spot.toml")).unwrap();
     assert!(toml.starts_with("# A parabolic spot"), "{toml}");
     let csv = std::fs::read_to_string(designed.join("design.csv")).unwrap();
-    assert!(csv.starts_with("evaluation,elapsed_s,photons,merit,measure,reflector.focal_length\n"));
+    assert!(
+        csv.starts_with(
+            "evaluation,elapsed_s,photons,merit,measure,phase,reflector.focal_length\n"
+        ),
+        "{csv}"
+    );
     assert!(csv.lines().count() >= 7, "{csv}");
     let out = lucerna(&[
         "validate",

@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 use lucerna_scene::Scene;
 use serde::Serialize;
 
-use crate::phases::direct::Reachability;
+use crate::model::reach::Reachability;
 use crate::variables::Variable;
 
 /// The phases of a design, in the order they run.

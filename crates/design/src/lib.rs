@@ -37,8 +37,9 @@ use lucerna_simulation::Luminaire;
 
 pub use error::DesignError;
 pub use history::{Phase, Progress, Record};
+pub use model::reach::Reachability;
 pub use phases::correction::Iteration;
-pub use phases::direct::{MAX_POINTS, MIN_POINTS, Reachability};
+pub use phases::direct::{MAX_POINTS, MIN_POINTS};
 pub use phases::fallback::{FallbackSettings, ModelSearch};
 pub use phases::{LAST_PHOTONS, PHASE_PHOTONS};
 pub use target::{Maximise, Spec, Target};

@@ -527,7 +527,7 @@ impl AxialTarget {
         else {
             return None;
         };
-        let intensity = axial_nodes(table);
+        let intensity = crate::target::axial_nodes(table);
         let solid_angle_sr = crate::model::reach::node_solid_angles(&table.gammas_deg);
         let norm = intensity
             .iter()
@@ -613,23 +613,6 @@ impl AxialTarget {
             f64::INFINITY
         }
     }
-}
-
-/// A table's mean over C (C-weighted) at each of its γ nodes.
-pub fn axial_nodes(table: &CandelaTable) -> Vec<f64> {
-    let n = table.gammas_deg.len();
-    let weights = table.c_weights();
-    let total: f64 = weights.iter().sum();
-    (0..n)
-        .map(|j| {
-            weights
-                .iter()
-                .enumerate()
-                .map(|(i, w)| w * table.candela[i * n + j])
-                .sum::<f64>()
-                / total
-        })
-        .collect()
 }
 
 /// Quantiles of the γ distribution of flux the 2-Wasserstein residuals

@@ -242,8 +242,25 @@ pub fn c_mean(table: &CandelaTable) -> CandelaTable {
     CandelaTable {
         c_planes_deg: vec![0.0],
         gammas_deg: table.gammas_deg.clone(),
-        candela: crate::merit::axial_nodes(table),
+        candela: axial_nodes(table),
     }
+}
+
+/// A table's mean over C (C-weighted) at each of its γ nodes.
+pub fn axial_nodes(table: &CandelaTable) -> Vec<f64> {
+    let n = table.gammas_deg.len();
+    let weights = table.c_weights();
+    let total: f64 = weights.iter().sum();
+    (0..n)
+        .map(|j| {
+            weights
+                .iter()
+                .enumerate()
+                .map(|(i, w)| w * table.candela[i * n + j])
+                .sum::<f64>()
+                / total
+        })
+        .collect()
 }
 
 /// How far a table's intensity varies across C: the root mean square,

@@ -26,13 +26,13 @@ impl EditorState {
     pub fn design_status(&self) -> Option<String> {
         if let Some(run) = &self.design.run {
             return Some(match &run.latest {
-                Some(p) if p.photons > 0 => format!(
-                    "Designing: merit {:.4} ± {:.4} (stage {})",
+                Some(p) => format!(
+                    "Designing ({}): best {:.4}{}",
+                    p.phase.name(),
                     p.best_merit,
-                    p.noise,
-                    p.stage + 1
+                    if p.photons == 0 { " in the model" } else { "" }
                 ),
-                _ => "Designing: looking for a start".to_owned(),
+                None => "Designing: what the geometry can reach".to_owned(),
             });
         }
         let o = self.design.outcome.as_ref()?;

@@ -382,10 +382,10 @@ fn progress_ui(ui: &mut Ui, state: &mut EditorState, commands: &mut Vec<Command>
                 ));
             }
         }
+        merit_plot_ui(ui, &run.history);
         if let Some(r) = &run.reach {
             reach_ui(ui, r, None);
         }
-        merit_plot_ui(ui, &run.history);
         return;
     }
     let Some(outcome) = &state.design.outcome else {
@@ -425,9 +425,6 @@ fn progress_ui(ui: &mut Ui, state: &mut EditorState, commands: &mut Vec<Command>
     if let Some(n) = outcome.points {
         ui.label(format!("The designed profile has {n} control points."));
     }
-    if let Some(r) = &outcome.reach {
-        reach_ui(ui, r, Some(outcome.merit));
-    }
     let current = state.scene() == Some(&outcome.scene);
     if ui
         .add_enabled(
@@ -440,6 +437,9 @@ fn progress_ui(ui: &mut Ui, state: &mut EditorState, commands: &mut Vec<Command>
         commands.push(Command::Undo);
     }
     merit_plot_ui(ui, &outcome.history);
+    if let Some(r) = &outcome.reach {
+        reach_ui(ui, r, Some(outcome.merit));
+    }
 }
 
 /// Values listed while a design runs, at most (a profile of 33 points
@@ -495,8 +495,8 @@ fn merit_plot_ui(ui: &mut Ui, history: &[MeritPoint]) {
     let accent = ui.visuals().selection.bg_fill;
     // Logarithmic: a design takes its merit down by decades.
     let log = |m: f64| m.max(1e-6).log10();
-    // The whole plot in view: what the pane has left, within reason.
-    let height = ui.available_height().clamp(140.0, 220.0);
+    // Fixed: within the pane's scroll area the height left is unbounded.
+    let height = 200.0;
     Plot::new("design merit")
         .height(height)
         .legend(egui_plot::Legend::default())

@@ -25,6 +25,7 @@ mod files;
 mod geometry_dialog;
 mod help_windows;
 mod imports;
+mod intensity_unit;
 mod live_run;
 mod menu_bar;
 mod modelling;

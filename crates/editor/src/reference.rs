@@ -74,7 +74,7 @@ impl Reference {
     /// `lamp_flux_lm`): the unit's, or scaled to the shown table's flux.
     pub fn factor(
         &self,
-        unit: crate::views::IntensityUnit,
+        unit: crate::intensity_unit::IntensityUnit,
         shown: &CandelaTable,
         shown_factor: f64,
     ) -> f64 {

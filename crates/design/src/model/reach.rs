@@ -18,6 +18,67 @@
 
 use serde::Serialize;
 
+/// What the fixed parts make impossible, for the CLI, the JSON and the
+/// Design pane.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Reachability {
+    /// The aperture rim's angle from the LED's axis (degrees): the cone
+    /// the LED's direct light leaves through.
+    pub direct_cone_deg: f64,
+    /// The LED's direct light through the aperture, and the most the
+    /// mirror can send out (its reflectance times what it catches), as
+    /// shares of the lamp flux.
+    pub direct_share: f64,
+    pub mirror_share_max: f64,
+    /// Shares of the light inside the direct cone: at least this much of
+    /// any design's (its direct light, the mirror's all outside), and the
+    /// target's.
+    pub design_cone_share_min: f64,
+    pub target_cone_share: f64,
+    /// The least relative L2 difference any mirror between these ends
+    /// can reach while it stays out of the direct cone.
+    pub bound: f64,
+    /// The same with the direct light shielded: a cap over the LED, or a
+    /// mirror that reaches into the direct cone and shades it (so this is
+    /// the bound of every mirror between these ends).
+    pub with_cap: f64,
+    /// The same with the aperture deeper by each factor: (factor, the
+    /// direct cone's angle in degrees, bound).
+    pub deeper: Vec<(f64, f64, f64)>,
+    /// Whether the design already moves the ends (`--free-ends`): a
+    /// deeper aperture is then the design's to find, not a switch to set.
+    pub ends_free: bool,
+}
+
+impl Reachability {
+    /// What would help, in words, for a design that wants `aim` or less.
+    pub fn advice(&self, aim: f64) -> Vec<String> {
+        let mut out = Vec::new();
+        if self.bound <= aim {
+            return out;
+        }
+        let deeper = if self.ends_free {
+            "a deeper aperture (the ends are free: the design may move them there)"
+        } else {
+            "free the ends (--free-ends)"
+        };
+        if let Some((k, cone, b)) = self.deeper.iter().find(|d| d.2 <= aim) {
+            out.push(format!(
+                "{deeper}: an aperture {k}× as deep (a {cone:.1}° direct cone) would allow {b:.3}"
+            ));
+        } else if let Some((k, cone, b)) = self.deeper.last() {
+            out.push(format!(
+                "{deeper}: even an aperture {k}× as deep (a {cone:.1}° direct cone) allows only {b:.3}"
+            ));
+        }
+        out.push(format!(
+            "a cap or shield over the LED (its direct light sent to the mirror) would allow {:.3}",
+            self.with_cap
+        ));
+        out
+    }
+}
+
 /// Reflected fluxes the bound tries between none and the most.
 const FLUX_STEPS: usize = 64;
 const BISECTIONS: usize = 100;

@@ -50,7 +50,7 @@ pub fn correction(ctx: &mut Context, plan: &ProfilePlan, first: &DirectDesign) -
     };
     let others = ctx.start_values();
     let mut aim = plan.axial.intensity.clone();
-    let mut seen = crate::merit::axial_nodes(&first.judged.traced.table);
+    let mut seen = crate::target::axial_nodes(&first.judged.traced.table);
     let Some(mut profile) = plan.profile(ctx, &first.values) else {
         return Corrected {
             values: best.0,
@@ -81,7 +81,7 @@ pub fn correction(ctx: &mut Context, plan: &ProfilePlan, first: &DirectDesign) -
         match judged {
             Some(j) if j.merit < best.1 => {
                 best = (values, j.merit);
-                seen = crate::merit::axial_nodes(&j.traced.table);
+                seen = crate::target::axial_nodes(&j.traced.table);
                 aim = next;
                 profile = polished;
                 iterations.push(Iteration { merit, kept: true });

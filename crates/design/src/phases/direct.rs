@@ -8,14 +8,12 @@
 //! balance, for both sweeps ([`crate::model::mapping`]); the profile gets
 //! as many control points as the model says its detail needs.
 
-use serde::Serialize;
-
 use lucerna_scene::{Material, Scene};
 
 use crate::history::Phase;
 use crate::model::direct::mapped_profiles;
 use crate::model::mapping::{Closure, MappedProfile, Sweep, control_points};
-use crate::model::reach::{self, AxialLight};
+use crate::model::reach::{self, AxialLight, Reachability};
 use crate::search::polish::{Measure, polish};
 use crate::variables;
 
@@ -40,59 +38,6 @@ const POLISH_TIME_MAX: std::time::Duration = std::time::Duration::from_secs(30);
 const POLISH_MEASURES: [Measure; 2] = [Measure::Wasserstein, Measure::L2];
 /// Depths (factors of the start's) for which the bound is stated again.
 const DEEPER: [f64; 3] = [1.25, 1.5, 2.0];
-
-/// What the fixed parts make impossible, for the CLI, the JSON and the
-/// Design pane.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Reachability {
-    /// The aperture rim's angle from the LED's axis (degrees): the cone
-    /// the LED's direct light leaves through.
-    pub direct_cone_deg: f64,
-    /// The LED's direct light through the aperture, and the most the
-    /// mirror can send out (its reflectance times what it catches), as
-    /// shares of the lamp flux.
-    pub direct_share: f64,
-    pub mirror_share_max: f64,
-    /// Shares of the light inside the direct cone: at least this much of
-    /// any design's (its direct light, the mirror's all outside), and the
-    /// target's.
-    pub design_cone_share_min: f64,
-    pub target_cone_share: f64,
-    /// The least relative L2 difference any mirror between these ends
-    /// can reach while it stays out of the direct cone.
-    pub bound: f64,
-    /// The same with the direct light shielded: a cap over the LED, or a
-    /// mirror that reaches into the direct cone and shades it (so this is
-    /// the bound of every mirror between these ends).
-    pub with_cap: f64,
-    /// The same with the aperture deeper by each factor: (factor, the
-    /// direct cone's angle in degrees, bound).
-    pub deeper: Vec<(f64, f64, f64)>,
-}
-
-impl Reachability {
-    /// What would help, in words, for a design that wants `aim` or less.
-    pub fn advice(&self, aim: f64) -> Vec<String> {
-        let mut out = Vec::new();
-        if self.bound <= aim {
-            return out;
-        }
-        if let Some((k, cone, b)) = self.deeper.iter().find(|d| d.2 <= aim) {
-            out.push(format!(
-                "free the ends (--free-ends): an aperture {k}× as deep (a {cone:.1}° direct cone) would allow {b:.3}"
-            ));
-        } else if let Some((k, cone, b)) = self.deeper.last() {
-            out.push(format!(
-                "free the ends (--free-ends): even an aperture {k}× as deep (a {cone:.1}° direct cone) allows only {b:.3}"
-            ));
-        }
-        out.push(format!(
-            "a cap or shield over the LED (its direct light sent to the mirror) would allow {:.3}",
-            self.with_cap
-        ));
-        out
-    }
-}
 
 /// What the direct design prepared before anything is traced as a
 /// candidate.
@@ -147,7 +92,14 @@ pub fn prepare(
     };
     let scaled: Vec<f64> = direct.iter().map(|d| scale * d).collect();
     let wanted = reach::reflected_wanted(&target, &scaled, &bound);
-    let reach = reachability(plan, &direct, lamp_flux, reflected_max, bound.relative_l2);
+    let reach = reachability(
+        plan,
+        &direct,
+        lamp_flux,
+        reflected_max,
+        bound.relative_l2,
+        ctx.request.free_ends,
+    );
     let mapped = mapped_profiles(&plan.geometry, &axial.gammas_deg, &wanted);
     let start_profile = plan.profile(ctx, &ctx.start_values()).unwrap_or_default();
     let (polished, points) = match &plan.model {
@@ -180,7 +132,7 @@ pub fn prepare(
 fn direct_light(ctx: &mut Context, plan: &ProfilePlan) -> Option<(Vec<f64>, f64, f64)> {
     let black = blackened(&ctx.start, plan.geometry.part);
     let traced = ctx.evaluator.trace(&black, PHASE_PHOTONS).ok()?;
-    let direct = crate::merit::axial_nodes(&traced.table);
+    let direct = crate::target::axial_nodes(&traced.table);
     Some((
         direct,
         traced.map.emitter_flux_lm,
@@ -207,6 +159,7 @@ fn reachability(
     lamp_flux: f64,
     reflected_max: f64,
     bound: f64,
+    ends_free: bool,
 ) -> Reachability {
     let axial = &plan.axial;
     let w = &axial.solid_angle_sr;
@@ -269,6 +222,7 @@ fn reachability(
         bound,
         with_cap,
         deeper,
+        ends_free,
     }
 }
 

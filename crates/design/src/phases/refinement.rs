@@ -94,7 +94,7 @@ impl Problem for ProfileProblem<'_, '_> {
     fn traced(&mut self, x: &[f64], photons: u64) -> Option<Seen> {
         let values = self.frame.values(self.ctx, self.plan, x);
         let judged = self.ctx.judge(Phase::Refinement, &values, photons)?;
-        let light = crate::merit::axial_nodes(&judged.traced.table);
+        let light = crate::target::axial_nodes(&judged.traced.table);
         Some(Seen {
             merit: judged.merit,
             residuals: self.plan.axial.residuals(&light),

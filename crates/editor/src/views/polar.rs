@@ -174,7 +174,7 @@ pub fn polar_ui(ui: &mut Ui, t: &PlotTables<'_>, snapshot: &Snapshot) {
             "Reference peak {:.0} {unit}{}",
             rf * r.table.peak().0,
             if r.at_shown_flux {
-                " (its shape at this distribution's flux, as the design matches it)"
+                " (its shape at this flux, as the design matches it)"
             } else {
                 ""
             }
