@@ -321,6 +321,14 @@ fn sample_profile(e: Emitter, u_cell: f32, u1: f32, u2: f32) -> vec3<f32> {
 
 // The high 32 bits of a × b (WGSL has no 64-bit integers): a column of
 // an alias table from all 32 random bits.
+// Two standard normal deviates from two uniforms in [0, 1) (Box-Muller,
+// as ray_kernel.rs's normal_pair).
+fn normal_pair(u1: f32, u2: f32) -> vec2<f32> {
+    let r = sqrt(-2.0 * log(1.0 - u1));
+    let a = TAU * u2;
+    return vec2<f32>(r * cos(a), r * sin(a));
+}
+
 fn mul_hi(a: u32, b: u32) -> u32 {
     let a_lo = a & 0xffffu;
     let a_hi = a >> 16u;
@@ -361,7 +369,18 @@ fn emit() -> Ray {
         }
         let r = e.profile_offset + 8u * k;
         let lp = vec3<f32>(profiles[r], profiles[r + 1u], profiles[r + 2u]);
-        let ld = vec3<f32>(profiles[r + 3u], profiles[r + 4u], profiles[r + 5u]);
+        var ld = vec3<f32>(profiles[r + 3u], profiles[r + 4u], profiles[r + 5u]);
+        if e.params.w > 0.0 {
+            // The direction turned by the file's interpolation kernel
+            // (ray_kernel.rs): one Box-Muller pair, the CPU's draws.
+            let m = normal_pair(rng_next_f32(), rng_next_f32()) * e.params.w;
+            let sgn = select(-1.0, 1.0, ld.z >= 0.0);
+            let a = -1.0 / (sgn + ld.z);
+            let b = ld.x * ld.y * a;
+            let t1 = vec3<f32>(1.0 + sgn * ld.x * ld.x * a, sgn * b, -sgn * ld.x);
+            let t2 = vec3<f32>(b, sgn + ld.y * ld.y * a, -ld.y);
+            ld = normalize(ld + t1 * m.x + t2 * m.y);
+        }
         let wp = e.x_axis.xyz * lp.x + e.y_axis.xyz * lp.y + e.z_axis.xyz * lp.z + e.translation.xyz;
         let wd = normalize(e.x_axis.xyz * ld.x + e.y_axis.xyz * ld.y + e.z_axis.xyz * ld.z);
         return Ray(wp + wd * params.epsilon, wd);

@@ -851,3 +851,127 @@ fn bake_writes_a_tm25_ray_file_that_info_reads() {
     // The spot's beam points down: nearly all of it below the horizontal.
     assert!(report["far_field"]["downward_fraction"].as_f64().unwrap() > 0.99);
 }
+
+/// `validate` reads every ray file a scene names, as a bake will: a
+/// missing or truncated one fails it, naming the emitter and the file.
+#[test]
+fn validate_fails_on_a_missing_or_truncated_ray_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = std::fs::read_to_string(assets().join("rayfiles/parabolic_spot_ray_file_led.toml"))
+        .unwrap();
+    let path = dir.path().join("spot.toml");
+    std::fs::write(&path, &scene).unwrap();
+    // Missing.
+    let out = lucerna(&["validate", path.to_str().unwrap()]);
+    assert!(!out.status.success());
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("synthetic_led.tm25ray") && err.contains("ray file"),
+        "{err}"
+    );
+    // Truncated by 3 bytes.
+    let mut bytes = std::fs::read(assets().join("rayfiles/synthetic_led.tm25ray")).unwrap();
+    bytes.truncate(bytes.len() - 3);
+    std::fs::write(dir.path().join("synthetic_led.tm25ray"), &bytes).unwrap();
+    let out = lucerna(&["validate", path.to_str().unwrap()]);
+    assert!(!out.status.success());
+    let err = text(&out.stderr);
+    assert!(err.contains("truncated"), "{err}");
+    // Whole: ok.
+    std::fs::copy(
+        assets().join("rayfiles/synthetic_led.tm25ray"),
+        dir.path().join("synthetic_led.tm25ray"),
+    )
+    .unwrap();
+    let out = lucerna(&["validate", path.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+}
+
+/// An LED file emitting toward +z has beam and field angles (the walk
+/// wraps over the zenith), within 1° of an independent binning of its
+/// rays; `convert` names its input a ray file.
+#[test]
+fn an_led_ray_file_emitting_upward_has_its_beam_angle() {
+    let rays = assets().join("rayfiles/synthetic_led.tm25ray");
+    let out = lucerna(&["info", rays.to_str().unwrap(), "--json"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let beam = report["far_field"]["beam_angle_deg"][0]
+        .as_f64()
+        .expect("a beam angle for an LED emitting along +z");
+    // Independently: the rays' own histogram of the angle from +z, each
+    // ray's flux over the solid angle of its 1° ring; half the peak.
+    let set = lucerna_photometry::tm25::read_ray_file(&rays).unwrap();
+    let mut ring = vec![0.0f64; 90];
+    for i in 0..set.len() {
+        let d = set.direction(i).map(f64::from);
+        let theta = (d[2] / (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt())
+            .acos()
+            .to_degrees();
+        if theta < 90.0 {
+            ring[theta as usize] += f64::from(set.luminous_flux_lm[i]);
+        }
+    }
+    let intensity: Vec<f64> = (0..90)
+        .map(|k| {
+            let (a, b) = ((k as f64).to_radians(), ((k + 1) as f64).to_radians());
+            ring[k] / (std::f64::consts::TAU * (a.cos() - b.cos()))
+        })
+        .collect();
+    let peak = intensity[..10].iter().sum::<f64>() / 10.0;
+    let half = (0..90)
+        .find(|&k| intensity[k] < 0.5 * peak)
+        .map(|k| k as f64)
+        .unwrap();
+    assert!(
+        (beam - 2.0 * half).abs() < 2.0,
+        "{beam}° against {}°",
+        2.0 * half
+    );
+    let ldt = tempfile::tempdir().unwrap();
+    let out_path = ldt.path().join("led.ldt");
+    let out = lucerna(&[
+        "convert",
+        rays.to_str().unwrap(),
+        out_path.to_str().unwrap(),
+    ]);
+    let said = text(&out.stdout);
+    assert!(
+        said.contains("TM-25 ray file") && !said.contains("LM-63-2019"),
+        "{said}"
+    );
+}
+
+/// A command whose output is closed early ends quietly: no panic, no
+/// backtrace (`lucerna validate … | head -1`).
+#[test]
+fn a_closed_output_ends_a_command_quietly() {
+    use std::io::Read;
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_lucerna"))
+        .args([
+            "validate",
+            assets()
+                .join("luminaires/faceted_downlight.toml")
+                .to_str()
+                .unwrap(),
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Close the pipe before it prints (it loads and tessellates first):
+    // every line it writes then meets a closed pipe.
+    drop(child.stdout.take());
+    let mut err = String::new();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    let _ = child.wait().unwrap();
+    assert!(
+        !err.contains("panicked") && !err.contains("Broken pipe"),
+        "{err}"
+    );
+}

@@ -6,6 +6,8 @@ mod commands;
 use clap::Parser;
 
 fn main() -> std::process::ExitCode {
+    // `lucerna validate … | head`: end quietly when the output is closed.
+    sigpipe::reset();
     quiet_mesa_device_select();
     let cli = commands::Cli::parse();
     match commands::run(cli) {

@@ -209,7 +209,7 @@ impl Datasheet {
             Some(why) => {
                 let orientation = match p.format {
                     Format::Eulumdat => BugOrientation::FrontAtC90,
-                    Format::Ies(_) => BugOrientation::FrontAtC0,
+                    Format::Ies(_) | Format::Tm25RayFile => BugOrientation::FrontAtC0,
                 };
                 notes.push(format!(
                     "BUG rating (IES TM-15-11) shown as for an outdoor luminaire ({why}); street side centred on {}.",

@@ -68,8 +68,15 @@ pub fn spread_angle(table: &CandelaTable, c_deg: f64, fraction: f64) -> Option<f
 
 /// Width (in units of `step`) between the crossings of `fraction` of the
 /// maximum of equally spaced samples either side of it, interpolated
-/// linearly between samples; `None` where no sample falls that low.
+/// linearly between samples; `None` where no sample falls that low. The
+/// samples go once round a full vertical plane (θ from −180° to 180°, the
+/// last the first's direction again, the zenith), so a walk that reaches
+/// an end goes on from the other: a beam about the zenith (an LED file
+/// emitting toward +z) has its angles as one about the nadir does.
 pub(crate) fn crossing_width(values: &[f64], step: f64, fraction: f64) -> Option<f64> {
+    // The samples without the repeated last direction.
+    let n = values.len().checked_sub(1).filter(|&n| n > 0)?;
+    let values = &values[..n];
     let (k_max, i_max) =
         values
             .iter()
@@ -81,20 +88,22 @@ pub(crate) fn crossing_width(values: &[f64], step: f64, fraction: f64) -> Option
         return None;
     }
     let level = fraction * i_max;
+    let at = |k: isize| values[k.rem_euclid(n as isize) as usize];
     let crossing = |dir: isize| -> Option<f64> {
         let mut k = k_max as isize;
-        loop {
+        for walked in 0..n {
             let next = k + dir;
-            let v = *values.get(usize::try_from(next).ok()?)?;
+            let v = at(next);
             if v <= level {
-                let prev = values[k as usize];
+                let prev = at(k);
                 let t = (prev - level) / (prev - v);
-                return Some((k as f64 + dir as f64 * t) * step);
+                return Some((walked as f64 + t) * step);
             }
             k = next;
         }
+        None
     };
-    Some(crossing(1)? - crossing(-1)?)
+    Some(crossing(1)? + crossing(-1)?)
 }
 
 /// All figures of a table; `lamp_flux_lm` is the total rated lamp flux for
@@ -128,5 +137,43 @@ pub fn figures(table: &CandelaTable, lamp_flux_lm: Option<f64>) -> Figures {
             spread_angle(table, 90.0, 0.1),
         ],
         zonal_flux_lm: ZONES_DEG.map(|(g0, g1)| table.flux_between_lm(g0, g1)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A Lambertian-like beam cos^m about nadir, or the same turned to
+    /// the zenith (an LED file emitting toward +z).
+    fn beam(up: bool) -> CandelaTable {
+        CandelaTable::from_fn(15.0, 0.5, |_, g| {
+            let from_axis = if up { 180.0 - g } else { g };
+            let c = from_axis.to_radians().cos();
+            if c > 0.0 { 100.0 * c.powi(3) } else { 0.0 }
+        })
+    }
+
+    #[test]
+    fn a_beam_about_the_zenith_has_the_angles_of_the_same_beam_about_the_nadir() {
+        let (down, up) = (figures(&beam(false), None), figures(&beam(true), None));
+        // cos³ falls to half at acos(0.5^(1/3)) = 37.47°, to a tenth at 62.36°.
+        let half = 2.0 * 0.5f64.powf(1.0 / 3.0).acos().to_degrees();
+        let tenth = 2.0 * 0.1f64.powf(1.0 / 3.0).acos().to_degrees();
+        for f in [&down, &up] {
+            for k in 0..2 {
+                let b = f.beam_angle_deg[k].expect("a beam angle");
+                let w = f.field_angle_deg[k].expect("a field angle");
+                assert!((b - half).abs() < 0.1, "{b} against {half}");
+                assert!((w - tenth).abs() < 0.1, "{w} against {tenth}");
+            }
+        }
+        assert_eq!(up.peak_gamma_deg, 180.0);
+    }
+
+    #[test]
+    fn light_that_never_falls_to_the_level_has_no_angle() {
+        let even = CandelaTable::from_fn(15.0, 1.0, |_, _| 10.0);
+        assert_eq!(figures(&even, None).beam_angle_deg, [None, None]);
     }
 }

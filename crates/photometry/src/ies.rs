@@ -716,10 +716,17 @@ pub fn write_ies_with(
     number_lines(horizontal.iter().copied(), 10, &mut out);
     for &c in &horizontal {
         let row: Vec<f64> = gammas.iter().map(|&g| p.table.intensity(c, g)).collect();
-        if let Some(&v) = row.iter().find(|v| !(v.is_finite() && **v >= 0.0)) {
+        // As it will read back (6 significant digits): within what a
+        // reader accepts, as the EULUMDAT writer checks too.
+        if let Some(&v) = row.iter().find(|v| {
+            !(v.is_finite() && **v >= 0.0 && limits::intensity_ok(limits::printed(**v, 6)))
+        }) {
             return Err(WritePhotometryError::Value {
                 format: FORMAT,
-                what: format!("the intensity in C{c}°"),
+                what: format!(
+                    "the intensity in C{c}° (at most {:e} cd)",
+                    limits::MAX_CANDELA
+                ),
                 value: v,
             });
         }

@@ -12,6 +12,8 @@ pub enum Format {
     Ies(u16),
     /// EULUMDAT (.ldt).
     Eulumdat,
+    /// The far field of an IES TM-25 ray file's rays.
+    Tm25RayFile,
 }
 
 impl std::fmt::Display for Format {
@@ -19,6 +21,7 @@ impl std::fmt::Display for Format {
         match self {
             Format::Ies(year) => write!(f, "IES LM-63-{year}"),
             Format::Eulumdat => write!(f, "EULUMDAT"),
+            Format::Tm25RayFile => write!(f, "IES TM-25 ray file, its rays' far field"),
         }
     }
 }

@@ -64,7 +64,8 @@ pub fn read_photometry(bytes: &[u8]) -> Result<Photometry, ParsePhotometryError>
     match sniff(&text) {
         Some(Format::Ies(_)) => crate::ies::parse_ies(&text),
         Some(Format::Eulumdat) => crate::ldt::parse_ldt(&text),
-        None => Err(ParsePhotometryError::new(
+        // Text is never a ray file (those are binary, read by `tm25`).
+        Some(Format::Tm25RayFile) | None => Err(ParsePhotometryError::new(
             "photometric file",
             None,
             "neither IES LM-63 (no TILT= line) nor EULUMDAT (lines 2-7 are not numbers)",

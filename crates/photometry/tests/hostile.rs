@@ -140,3 +140,25 @@ fn absurd_sizes_and_lamp_counts_are_refused_by_name() {
     let e = read_photometry(lines.join("\r\n").as_bytes()).expect_err("refused");
     assert!(e.to_string().contains("number of lamps"), "{e}");
 }
+
+#[test]
+fn an_intensity_past_what_readers_accept_is_refused_by_both_writers() {
+    // Found by a fuzz campaign: the IES writer wrote 2·10¹² cd, which its
+    // own reader refuses; the EULUMDAT writer already refused it.
+    let mut p = example();
+    p.table = CandelaTable {
+        c_planes_deg: vec![0.0],
+        gammas_deg: vec![0.0, 45.0, 90.0],
+        candela: vec![2e12, 1.0, 0.0],
+    };
+    for result in [write_ies(&p, IesVersion::Lm63_2019), write_ldt(&p)] {
+        assert!(
+            matches!(result, Err(WritePhotometryError::Value { .. })),
+            "{result:?}"
+        );
+    }
+    // At the limit itself it is written, and reads back.
+    p.table.candela[0] = 1e12;
+    let text = write_ies(&p, IesVersion::Lm63_2019).expect("written");
+    assert!(read_photometry(text.as_bytes()).is_ok());
+}

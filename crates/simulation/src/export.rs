@@ -429,6 +429,11 @@ impl ExportRequest {
             snapshot
                 .luminaire
                 .c_pooling(snapshot.settings.pool_symmetry),
+            snapshot
+                .luminaire
+                .prepared
+                .ray_file_rays()
+                .map(|(rays, _)| rays),
         );
         Ok((candela, Arc::new(resampled.table), resampled.fidelity))
     }

@@ -24,6 +24,11 @@ pub struct BakeJob {
     /// and the table's grid.
     pub settings: SimulationSettings,
     pub output: BakeOutput,
+    /// A ray-file emitter's rays used as they are, again and again, rather
+    /// than each photon's direction turned by the file's kernel
+    /// (`--ray-reuse loop`; `lucerna_tracer::ray_kernel`).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub loop_rays: bool,
 }
 
 /// The files a bake writes and how they are labelled.
@@ -79,6 +84,16 @@ impl BakeJob {
                 date: None,
                 datasheet: DatasheetOptions::default(),
             },
+            loop_rays: false,
+        }
+    }
+
+    /// How the job's ray-file emitters reuse their rays.
+    pub fn ray_reuse(&self) -> lucerna_tracer::RayReuse {
+        if self.loop_rays {
+            lucerna_tracer::RayReuse::Loop
+        } else {
+            lucerna_tracer::RayReuse::Interpolate
         }
     }
 

@@ -134,6 +134,14 @@ impl Run {
         self.backend_reason = reason;
     }
 
+    /// The ray files' distinct rays, where the light comes from one.
+    fn distinct_rays(&self) -> Option<u64> {
+        self.luminaire
+            .prepared
+            .ray_file_rays()
+            .map(|(rays, _)| rays)
+    }
+
     pub fn luminaire(&self) -> &Arc<Luminaire> {
         &self.luminaire
     }
@@ -236,6 +244,7 @@ impl Run {
         );
         let grid = self.settings.table;
         let pooling = self.luminaire.c_pooling(self.settings.pool_symmetry);
+        let distinct_rays = self.distinct_rays();
         let ResampledTable {
             table,
             fidelity: table_fidelity,
@@ -246,6 +255,7 @@ impl Run {
             self.symmetry.order(),
             grid,
             pooling,
+            distinct_rays,
         );
         let table = Arc::new(table);
         // The unfiltered table beside the exported one, so views can show
@@ -260,6 +270,7 @@ impl Run {
                     self.symmetry.order(),
                     grid,
                     pooling,
+                    distinct_rays,
                 )
                 .table,
             )
@@ -369,6 +380,7 @@ pub(crate) fn tabulate(
     pooled_images: usize,
     grid: TableGrid,
     pooling: CPooling,
+    distinct_rays: Option<u64>,
 ) -> ResampledTable {
     let targets = FidelityTargets::default();
     let gammas = match grid.gamma_step_deg {
@@ -376,10 +388,18 @@ pub(crate) fn tabulate(
         None => GammaGrid::Automatic(targets),
     };
     // The photons behind the map, so the automatic grid tells the
-    // distribution's shape from their noise.
-    let noise = (map.photons_emitted > 0).then(|| PhotonNoise {
-        lm_per_photon: map.flux_per_photon_lm(),
-        pooled_images: pooled_images as f64,
+    // distribution's shape from their noise; a ray file's photons count
+    // as many as the distinct rays allow (its rays are themselves a
+    // sample, looped or interpolated).
+    let noise = (map.photons_emitted > 0).then(|| {
+        let photons = map.photons_emitted as f64;
+        let effective = distinct_rays.map_or(photons, |rays| {
+            lucerna_tracer::ray_kernel::effective_photons(photons, rays as f64)
+        });
+        PhotonNoise {
+            lm_per_photon: map.emitter_flux_lm / effective,
+            pooled_images: pooled_images as f64,
+        }
     });
     resampler.table(
         map.layout,
@@ -408,6 +428,7 @@ pub fn prepare_snapshots(settings: &SimulationSettings) {
         1,
         settings.table,
         CPooling::Separate,
+        None,
     );
 }
 

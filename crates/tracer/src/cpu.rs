@@ -292,7 +292,14 @@ fn emit(scene: &PreparedScene, rng: &mut PhotonRng) -> (Vec3A, Vec3A) {
         // The surface's two numbers are drawn and unused, as the kernel
         // draws them before it knows the shape.
         let _surface = (rng.next_f32(), rng.next_f32());
-        let (p_local, d_local) = rays.sample(rng.next_u32(), rng.next_f32());
+        let (column, u) = (rng.next_u32(), rng.next_f32());
+        let (p_local, d_local) = match &e.ray_kernel {
+            Some(k) => {
+                let more = [rng.next_f32(), rng.next_f32()];
+                rays.sample_turned(column, u, k, more)
+            }
+            None => rays.sample(column, u),
+        };
         let p = e.luminaire_from_emitter.transform_point3a(p_local);
         let d = e
             .luminaire_from_emitter

@@ -90,7 +90,12 @@ fn gpu_emitters(scene: &PreparedScene) -> (Vec<GpuEmitter>, Vec<f32>) {
                 EmitterShape::Cylinder { radius, height } => {
                     (3, [radius as f32, height as f32, 0.0, 0.0])
                 }
-                EmitterShape::RayFile { .. } => (4, [0.0; 4]),
+                // The interpolation kernel's width (rad) in w; 0: the
+                // file's rays as they are.
+                EmitterShape::RayFile { .. } => (
+                    4,
+                    [0.0, 0.0, 0.0, e.ray_kernel.map_or(0.0, |k| k.direction_rad)],
+                ),
             };
             let (profile_offset, profile_planes, profile_gammas) = match &e.directions {
                 EmitterDirections::Lambertian => (u32::MAX, 0, 0),

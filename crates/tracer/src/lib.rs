@@ -12,6 +12,7 @@ pub mod cpu_features;
 pub mod gpu;
 pub mod paths;
 pub mod prepared;
+pub mod ray_kernel;
 pub mod rng;
 pub mod sampling;
 pub mod session;
@@ -32,5 +33,6 @@ pub use paths::{
     trace_principal_ray,
 };
 pub use prepared::{PrepareError, PreparedScene};
+pub use ray_kernel::{RayKernel, RayReuse};
 pub use session::{Backend, BackendRequest, IterationReport, Session, choose_backend};
 pub use symmetry::{LuminaireSymmetry, luminaire_symmetry, prepared_luminaire_symmetry};

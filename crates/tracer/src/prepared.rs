@@ -160,6 +160,10 @@ pub struct TraceEmitter {
     pub normal_matrix: Mat3A,
     pub directions: EmitterDirections,
     pub flux_lm: f64,
+    /// For a ray-file emitter whose rays are interpolated: the kernel
+    /// each photon's ray is moved by ([`crate::ray_kernel`]); None:
+    /// the file's rays as they are.
+    pub ray_kernel: Option<crate::ray_kernel::RayKernel>,
 }
 
 #[derive(Debug, Clone)]
@@ -244,6 +248,31 @@ fn ray_sampler(path: &Path) -> Result<Arc<RaySampler>, lucerna_photometry::tm25:
 }
 
 impl PreparedScene {
+    /// How ray-file emitters reuse their rays (interpolated unless set).
+    pub fn set_ray_reuse(&mut self, reuse: crate::ray_kernel::RayReuse) {
+        for e in &mut self.emitters {
+            if let EmitterDirections::RayFile(rays) = &e.directions {
+                e.ray_kernel = match reuse {
+                    crate::ray_kernel::RayReuse::Interpolate => rays.kernel(),
+                    crate::ray_kernel::RayReuse::Loop => None,
+                };
+            }
+        }
+    }
+
+    /// The ray-file emitters' rays (distinct rays in all) and whether
+    /// any is interpolated; None without a ray-file emitter.
+    pub fn ray_file_rays(&self) -> Option<(u64, bool)> {
+        let mut found = None;
+        for e in &self.emitters {
+            if let EmitterDirections::RayFile(rays) = &e.directions {
+                let (n, moved) = found.unwrap_or((0, false));
+                found = Some((n + rays.rays.len() as u64, moved || e.ray_kernel.is_some()));
+            }
+        }
+        found
+    }
+
     pub fn triangle_count(&self) -> usize {
         self.bvh.triangles.len()
     }
@@ -388,12 +417,17 @@ impl PreparedScene {
                 ),
                 m.translation.as_vec3(),
             );
+            let ray_kernel = match &directions {
+                EmitterDirections::RayFile(rays) => rays.kernel(),
+                _ => None,
+            };
             emitters.push(TraceEmitter {
                 shape: e.shape.clone(),
                 normal_matrix: luminaire_from_emitter.matrix3.inverse().transpose(),
                 luminaire_from_emitter,
                 directions,
                 flux_lm: e.flux_lm,
+                ray_kernel,
             });
         }
         if emitters.is_empty() {

@@ -218,6 +218,9 @@ pub struct RaySampler {
     /// The rays' luminous flux summed once (lm): a panel showing it every
     /// frame must not add up 20 M rays each time.
     pub total_lm: f64,
+    /// The phase-space kernel new rays are drawn with, cross-validated
+    /// once on first use (about a second) and kept with the rays.
+    kernel: std::sync::OnceLock<Option<crate::ray_kernel::RayKernel>>,
 }
 
 impl RaySampler {
@@ -249,7 +252,33 @@ impl RaySampler {
             rays,
             alias,
             total_lm: total,
+            kernel: std::sync::OnceLock::new(),
         })
+    }
+
+    /// The file's cross-validated kernel ([`crate::ray_kernel`]).
+    pub fn kernel(&self) -> Option<crate::ray_kernel::RayKernel> {
+        *self
+            .kernel
+            .get_or_init(|| crate::ray_kernel::cross_validated(&self.rays))
+    }
+
+    /// A ray as [`RaySampler::sample`] gives it, its direction turned by
+    /// `kernel` with two more uniforms (a Box–Muller pair), as the WGSL
+    /// kernel draws them.
+    #[inline(always)]
+    pub fn sample_turned(
+        &self,
+        column: u32,
+        u: f32,
+        kernel: &crate::ray_kernel::RayKernel,
+        more: [f32; 2],
+    ) -> (Vec3A, Vec3A) {
+        use crate::ray_kernel::{normal_pair, turned};
+        let (p, d) = self.sample(column, u);
+        let (n0, n1) = normal_pair(more[0], more[1]);
+        let w = kernel.direction_rad;
+        (p, turned(d, (n0 * w, n1 * w)))
     }
 
     /// The ray for a uniform `column` (all 32 bits: a 20 M-ray file needs

@@ -211,10 +211,15 @@ pub fn prepared_luminaire_symmetry(
     let of_rays = AxialSymmetry::largest_where(|g| bins.holds(g));
     let mut found = symmetry_where(scene, tessellated, &|g| bins.holds(g));
     if of_rays != AxialSymmetry::Square && found.limited_by.is_none() {
-        found.limited_by = Some(format!(
-            "the ray file's rays are symmetric only {} (checked within their noise)",
-            of_rays.describe()
-        ));
+        found.limited_by = Some(if of_rays == AxialSymmetry::None {
+            "the ray file's rays have no symmetry of the square (checked within their noise)"
+                .to_owned()
+        } else {
+            format!(
+                "the ray file's rays are symmetric only under {} (checked within their noise)",
+                of_rays.describe()
+            )
+        });
     }
     found
 }

@@ -11,7 +11,7 @@ use lucerna_photometry::tm25::read_ray_file;
 use lucerna_photometry::tm25::{RayFileHeader, RaySet, write_ray_file};
 use lucerna_tracer::cpu::{TraceSettings, trace_batch};
 use lucerna_tracer::gpu::GpuTracer;
-use lucerna_tracer::{PreparedScene, luminaire_symmetry, prepared_luminaire_symmetry};
+use lucerna_tracer::{PreparedScene, RayReuse, luminaire_symmetry, prepared_luminaire_symmetry};
 
 fn rayfiles() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/rayfiles")
@@ -76,7 +76,9 @@ fn photons_are_the_files_rays_on_the_cpu_and_the_gpu() {
     let tessellated = lucerna_scene::tessellate(&scene, &dir).unwrap();
     // No surface for the emitter: only the plate's two triangles.
     assert_eq!(tessellated.triangle_count(), 2);
-    let prepared = PreparedScene::new(&scene, &tessellated, &dir).unwrap();
+    let mut prepared = PreparedScene::new(&scene, &tessellated, &dir).unwrap();
+    // The rays as they are (interpolated rays are tested below).
+    prepared.set_ray_reuse(RayReuse::Loop);
     // Unchecked, a ray file breaks every symmetry; checked, the synthetic
     // LED (a Lambertian disk) and the square plate have all eight.
     let unchecked = luminaire_symmetry(&scene, &tessellated);
@@ -240,13 +242,20 @@ fn a_ray_files_symmetry_is_checked_not_assumed() {
 /// file (its rays are themselves a sample).
 #[test]
 fn a_lambertian_disk_as_a_ray_file_bakes_as_the_native_disk() {
+    // The file's rays as they are, fewer photons than rays.
+    disk_file_against_native(1_000_000, 400_000, RayReuse::Loop);
+    // Twenty photons a ray, each a ray moved by the file's kernel: within
+    // the file's own noise of the native disk.
+    disk_file_against_native(100_000, 2_000_000, RayReuse::Interpolate);
+}
+
+fn disk_file_against_native(rays: usize, photons: u32, reuse: RayReuse) {
     let spot =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/luminaires/parabolic_spot.toml");
     let native = lucerna_scene::load_scene(&spot).unwrap();
     let lucerna_scene::EmitterShape::Disk { radius } = native.emitters[0].shape else {
         panic!("the spot's LED is a disk");
     };
-    let rays = 1_000_000;
     let dir = tempfile::tempdir().unwrap();
     // The native disk emits along its own −z.
     let file = lambertian_disk(rays, radius * 1e3, -1.0, 1.0);
@@ -257,10 +266,10 @@ fn a_lambertian_disk_as_a_ray_file_bakes_as_the_native_disk() {
     };
     // Texels of 0.35°: the spot's 7° beam over a few hundred of them.
     let layout = CubeMapLayout::new(256);
-    let photons = 400_000u32;
     let counts = |scene: &lucerna_scene::Scene, folder: &Path, seed: u32| {
         let tessellated = lucerna_scene::tessellate(scene, folder).unwrap();
-        let prepared = PreparedScene::new(scene, &tessellated, folder).unwrap();
+        let mut prepared = PreparedScene::new(scene, &tessellated, folder).unwrap();
+        prepared.set_ray_reuse(reuse);
         let settings = TraceSettings {
             seed,
             max_bounces: 64,
@@ -306,9 +315,198 @@ fn a_lambertian_disk_as_a_ray_file_bakes_as_the_native_disk() {
         "moved: χ² {sm} over {dofm}"
     );
     eprintln!(
-        "χ²/dof: ray file {:.3}, floor {:.3}, moved {:.3}",
+        "{rays} rays, {photons} photons, {reuse:?}: χ²/dof: ray file {:.3}, floor {:.3}, moved {:.3}",
         s / dof,
         s0 / dof0,
         sm / dofm
     );
+}
+
+/// A bare LED file: intensity per texel of a bake of `photons`, in
+/// candela for 1 lm, with its rays reused as `reuse` says.
+fn bare_led_intensity(
+    rays: &RaySet,
+    layout: CubeMapLayout,
+    photons: u32,
+    reuse: RayReuse,
+    gpu: bool,
+) -> Option<Vec<f64>> {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("led.tm25ray"), write_ray_file(rays)).unwrap();
+    let text = r#"
+format_version = 1
+name = "bare LED"
+
+[materials.black]
+type = "absorber"
+
+[[emitter]]
+name = "LED"
+flux_lm = 1.0
+shape = { type = "ray_file", path = "led.tm25ray" }
+
+[[part]]
+name = "plate"
+material = "black"
+shape = { type = "plate", width = 0.01, depth = 0.01 }
+transform = { translate = [0.0, 0.0, 0.05] }
+"#;
+    let scene = lucerna_scene::parse_scene(text, &dir.path().join("s.toml")).unwrap();
+    let tessellated = lucerna_scene::tessellate(&scene, dir.path()).unwrap();
+    let mut prepared = PreparedScene::new(&scene, &tessellated, dir.path()).unwrap();
+    prepared.set_ray_reuse(reuse);
+    let settings = TraceSettings {
+        seed: 5,
+        max_bounces: 4,
+        layout,
+    };
+    let counts = if gpu {
+        let ctx = lucerna_gpu::open_for_tests()?;
+        let tracer = GpuTracer::new(ctx, &prepared, settings).unwrap();
+        let mut total = vec![0u64; layout.texel_count()];
+        let batch = 1u32 << 20;
+        for k in 0..photons.div_ceil(batch) {
+            let n = batch.min(photons - k * batch);
+            let b = tracer.trace_batch(k, 0, n).unwrap();
+            total
+                .iter_mut()
+                .zip(&b.counts)
+                .for_each(|(t, c)| *t += u64::from(*c));
+        }
+        total
+    } else {
+        let batch = 1u32 << 21;
+        let mut total = vec![0u64; layout.texel_count()];
+        for k in 0..photons.div_ceil(batch) {
+            let n = batch.min(photons - k * batch);
+            let b = trace_batch(&prepared, &settings, k, 0, n);
+            total
+                .iter_mut()
+                .zip(&b.counts)
+                .for_each(|(t, c)| *t += u64::from(*c));
+        }
+        total
+    };
+    Some(
+        counts
+            .iter()
+            .enumerate()
+            .map(|(t, &c)| c as f64 / f64::from(photons) / layout.texel_solid_angle(t))
+            .collect(),
+    )
+}
+
+/// Intensity (cd per lm) against γ from −z in rings of `step` degrees:
+/// each ring's flux over its solid angle.
+fn rings(directions: impl Iterator<Item = ([f64; 3], f64)>, step: f64) -> Vec<f64> {
+    let n = (90.0 / step) as usize;
+    let mut flux = vec![0.0; n];
+    for (d, w) in directions {
+        let g = (-d[2]).clamp(-1.0, 1.0).acos().to_degrees();
+        if g < 90.0 {
+            flux[(g / step) as usize] += w;
+        }
+    }
+    (0..n)
+        .map(|k| {
+            let (a, b) = (
+                (k as f64 * step).to_radians(),
+                ((k + 1) as f64 * step).to_radians(),
+            );
+            flux[k] / (std::f64::consts::TAU * (a.cos() - b.cos()))
+        })
+        .collect()
+}
+
+/// Issue 53: a 100 k-ray LED baked with 20 M photons. Looped, each ray's
+/// 200 photons land on its own texel and the table's peak is a spike;
+/// interpolated, the peak is the rays' own (binned in 10° rings, where
+/// each ring holds thousands of rays), within 5 %, and the far field
+/// keeps within twice the file's own noise of the rays' binning.
+#[test]
+fn interpolated_rays_bake_without_spikes() {
+    let rays = lambertian_disk(100_000, 1.0, -1.0, 1.0);
+    let total = rays.total_luminous_flux_lm();
+    let own = rings(
+        (0..rays.len()).map(|i| {
+            let d = rays.direction(i).map(f64::from);
+            let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            (
+                d.map(|x| x / l),
+                f64::from(rays.luminous_flux_lm[i]) / total,
+            )
+        }),
+        10.0,
+    );
+    let own_peak = own.iter().copied().fold(0.0, f64::max);
+    // Texels of 2.8°: 15 000 photons in each of the peak's.
+    let layout = CubeMapLayout::new(32);
+    let photons = 20_000_000;
+    let peak = |i: &[f64]| i.iter().copied().fold(0.0, f64::max);
+    let looped = bare_led_intensity(&rays, layout, photons, RayReuse::Loop, false).unwrap();
+    let moved = bare_led_intensity(&rays, layout, photons, RayReuse::Interpolate, false).unwrap();
+    let texel_rings = |i: &[f64]| {
+        rings(
+            (0..layout.texel_count()).map(|t| {
+                let d = layout.texel_centre_direction(t);
+                (d, i[t] * layout.texel_solid_angle(t))
+            }),
+            10.0,
+        )
+    };
+    eprintln!(
+        "peak cd/lm: rays {own_peak:.4}, looped {:.4}, interpolated {:.4}",
+        peak(&looped),
+        peak(&moved)
+    );
+    assert!(
+        peak(&looped) > 1.2 * own_peak,
+        "looped rays make spikes: {} vs {own_peak}",
+        peak(&looped)
+    );
+    assert!(
+        (peak(&moved) / own_peak - 1.0).abs() < 0.05,
+        "interpolated peak {} vs the rays' {own_peak}",
+        peak(&moved)
+    );
+    // Ring by ring, the interpolated bake against the rays' own binning:
+    // within twice the rays' noise (a ring of m rays: 1/√m).
+    // The rays binned on the same texels, so both rings have the same
+    // texel edges.
+    let mut binned = vec![0.0; layout.texel_count()];
+    for i in 0..rays.len() {
+        let d = rays.direction(i).map(f64::from);
+        let t = layout.texel_of_direction(d);
+        binned[t] += f64::from(rays.luminous_flux_lm[i]) / total / layout.texel_solid_angle(t);
+    }
+    let own = texel_rings(&binned);
+    let moved_rings = texel_rings(&moved);
+    for k in 0..8 {
+        let (a, b) = (
+            (k as f64 * 10.0).to_radians(),
+            ((k + 1) as f64 * 10.0).to_radians(),
+        );
+        let share = a.cos().powi(2) - b.cos().powi(2);
+        let noise = 1.0 / (share * rays.len() as f64).sqrt();
+        let rel = moved_rings[k] / own[k] - 1.0;
+        eprintln!("ring {k}: {rel:+.4} (noise {noise:.4})");
+        assert!(
+            rel.abs() < 2.0 * noise + 0.01,
+            "ring {k}: {rel:+.4} (noise {noise:.4})"
+        );
+    }
+    // The WGSL kernel draws the same kernel: its peak within 2 % of the
+    // CPU's.
+    if let Some(g) = bare_led_intensity(&rays, layout, 4_000_000, RayReuse::Interpolate, true) {
+        let gr = texel_rings(&g);
+        for k in 0..8 {
+            let rel = gr[k] / moved_rings[k] - 1.0;
+            assert!(rel.abs() < 0.02, "GPU ring {k}: {rel:+.4}");
+        }
+        assert!(
+            peak(&g) < 1.15 * own_peak,
+            "GPU peak {} vs {own_peak}",
+            peak(&g)
+        );
+    }
 }

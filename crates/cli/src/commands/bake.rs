@@ -176,6 +176,13 @@ pub struct BakeArgs {
     /// Output directory (created if needed).
     #[arg(long, required_unless_present = "resume")]
     pub out: Option<PathBuf>,
+    /// How a ray-file emitter's rays are used again when the bake traces
+    /// more photons than the file has: `interpolate` turns each photon's
+    /// direction by the file's own kernel (its width cross-validated on
+    /// the rays), `loop` takes the rays as they are (each lands where it
+    /// did before: spikes).
+    #[arg(long, value_enum, default_value_t = RayReuseArg::Interpolate)]
+    pub ray_reuse: RayReuseArg,
     /// The files to write, comma-separated.
     #[arg(long, value_enum, value_delimiter = ',', default_values_t = [FileFormat::Ies, FileFormat::Ldt, FileFormat::Exr, FileFormat::Cube, FileFormat::Polar])]
     pub formats: Vec<FileFormat>,
@@ -246,6 +253,13 @@ pub fn parse_duration(s: &str) -> Result<Duration, String> {
     Ok(Duration::from_secs_f64(seconds))
 }
 
+/// `--ray-reuse`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum RayReuseArg {
+    Interpolate,
+    Loop,
+}
+
 impl BakeArgs {
     /// The bake these flags ask for, checked, with the flag at fault
     /// named: the one conversion from the command line to a [`BakeJob`].
@@ -287,6 +301,7 @@ impl BakeArgs {
         job.output.symmetrise = self.symmetrise.imposed();
         job.output.date = self.date.clone();
         job.output.datasheet = self.sheet.options(String::new());
+        job.loop_rays = self.ray_reuse == RayReuseArg::Loop;
         job.validate().map_err(|e| match &e {
             BakeJobError::Settings(s) => anyhow::anyhow!("{}: {e}", flag_of(s)),
             BakeJobError::Stem(_) => anyhow::anyhow!("--name: {e}"),

@@ -71,7 +71,8 @@ pub fn bake_part(
     settings.stop.photons = Some(range.len());
     let out = &job.output.out_dir;
     let manifest_path = out.join(manifest_file_name(&job.output.stem, spec));
-    let luminaire = Luminaire::load(&job.scene)?;
+    let mut luminaire = Luminaire::load(&job.scene)?;
+    luminaire.prepared.set_ray_reuse(job.ray_reuse());
     let scene = SceneIdentity::of(&job.scene, &luminaire.scene)?;
     bake_run::describe_symmetry(&luminaire, &settings);
     let trace = TraceIdentity {

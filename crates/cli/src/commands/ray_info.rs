@@ -25,12 +25,18 @@ pub struct RayFileReport {
     declared_radiant_flux_w: Option<f32>,
     /// The rays' luminous flux, summed (README's rule for radiant files).
     rays_luminous_flux_lm: f64,
+    /// Where the header and the rays disagree, and which one a bake uses.
+    warnings: Vec<String>,
     extent_min_mm: [f32; 3],
     extent_max_mm: [f32; 3],
     /// The far field of the rays binned on a cube map, tabulated on C
     /// every 5° and γ every 1° (γ = 0 along −z of the file's frame).
     far_field: Figures,
 }
+
+/// Below this share of the flux going down, the note that the source
+/// emits along +z (an isotropic source splits 50/50 and gets none).
+const UPWARD_NOTE_BELOW: f64 = 0.1;
 
 pub fn report(path: &Path) -> Result<RayFileReport> {
     let set = super::input::read_rays(path)?;
@@ -64,6 +70,7 @@ pub fn report(path: &Path) -> Result<RayFileReport> {
         declared_luminous_flux_lm: h.luminous_flux_lm,
         declared_radiant_flux_w: h.radiant_flux_w,
         rays_luminous_flux_lm: set.total_luminous_flux_lm(),
+        warnings: set.flux_warnings().into_iter().chain(h.notes()).collect(),
         extent_min_mm: lo,
         extent_max_mm: hi,
         far_field: photometry.figures(),
@@ -117,13 +124,16 @@ impl fmt::Display for RayFileReport {
             "direction      {:.1} % of the flux below the horizontal (γ < 90°), {:.1} % above{}",
             100.0 * fig.downward_fraction,
             100.0 * (1.0 - fig.downward_fraction),
-            if fig.downward_fraction < 0.5 {
+            if fig.downward_fraction < UPWARD_NOTE_BELOW {
                 ": the source emits along +z in its own frame, as LED files do; aim it with the emitter's transform"
             } else {
                 ""
             }
         );
         super::info::beam_and_field_lines(&mut s, fig);
+        for w in &self.warnings {
+            let _ = writeln!(s, "warning        {w}");
+        }
         f.write_str(&s)
     }
 }

@@ -4,7 +4,7 @@ use std::fmt;
 use std::path::Path;
 
 use anyhow::{Context, Result};
-use lucerna_scene::{Emission, SurfaceKind, load_scene, tessellate};
+use lucerna_scene::{Emission, EmitterShape, SurfaceKind, load_scene, tessellate};
 use serde::Serialize;
 
 #[derive(Debug, Serialize)]
@@ -27,6 +27,9 @@ pub struct ValidateReport {
     surfaces: Vec<SurfaceReport>,
     materials: Vec<(String, String)>,
     disabled: Vec<String>,
+    /// What the files the scene names say that a user should know (a ray
+    /// file whose header and rays disagree).
+    warnings: Vec<String>,
 }
 
 /// Loads, validates and tessellates; an emission profile referenced by an
@@ -45,6 +48,21 @@ pub fn report(path: &Path) -> Result<ValidateReport> {
             );
             super::input::read_photometry(&profile)
                 .with_context(|| format!("emitter '{}': unusable emission profile", e.name))?;
+        }
+    }
+    // Every ray file the emitters name, read whole: its header, its size
+    // and every record, as a bake will.
+    let mut warnings = Vec::new();
+    for e in &scene.emitters {
+        if let EmitterShape::RayFile { path: file } = &e.shape {
+            let rays = dir.join(file);
+            let set = super::input::read_rays(&rays)
+                .with_context(|| format!("emitter '{}': unusable ray file", e.name))?;
+            warnings.extend(
+                set.flux_warnings()
+                    .into_iter()
+                    .map(|w| format!("emitter '{}', {}: {w}", e.name, rays.display())),
+            );
         }
     }
     let t = tessellate(&scene, dir)?;
@@ -109,6 +127,7 @@ pub fn report(path: &Path) -> Result<ValidateReport> {
                     .map(|e| e.name.clone()),
             )
             .collect(),
+        warnings,
     })
 }
 
@@ -145,6 +164,9 @@ impl fmt::Display for ValidateReport {
         }
         if !self.disabled.is_empty() {
             writeln!(f, "disabled   {}", self.disabled.join(", "))?;
+        }
+        for w in &self.warnings {
+            writeln!(f, "warning    {w}")?;
         }
         writeln!(f, "ok")
     }

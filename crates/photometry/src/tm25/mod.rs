@@ -221,6 +221,18 @@ impl RayFileHeader {
         }
     }
 
+    /// What a reader should know of fields the file fills beyond what
+    /// TM-25 defines, read as given.
+    pub fn notes(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        if let CreationMethod::Other(c) = self.creation_method {
+            out.push(format!(
+                "creation method {c} is not one TM-25 defines (0 simulation, 1 measurement): read as given"
+            ));
+        }
+        out
+    }
+
     /// The columns of each ray, in the file's order.
     pub fn columns(&self) -> Columns {
         Columns::of(&self.known, self.additional_columns.len())
@@ -235,6 +247,10 @@ pub struct Columns {
     pub radiant_flux: Option<usize>,
     pub wavelength: Option<usize>,
     pub luminous_flux: Option<usize>,
+    /// The three Stokes values and the two tristimulus values, where
+    /// flagged: read only to refuse what is not finite.
+    pub stokes: Option<usize>,
+    pub tristimulus: Option<usize>,
     pub spectrum_index: Option<usize>,
 }
 
@@ -252,18 +268,24 @@ impl Columns {
         let radiant_flux = take(known.radiant_flux, 1);
         let wavelength = take(known.wavelength, 1);
         let luminous_flux = take(known.luminous_flux, 1);
-        let _stokes = take(known.stokes, 3);
-        let _tristimulus = take(known.tristimulus, 2);
+        let stokes = take(known.stokes, 3);
+        let tristimulus = take(known.tristimulus, 2);
         let spectrum_index = take(known.spectrum_index, 1);
         Columns {
             count: next + additional,
             radiant_flux,
             wavelength,
             luminous_flux,
+            stokes,
+            tristimulus,
             spectrum_index,
         }
     }
 }
+
+/// How closely a header's stated flux and its rays' sum must agree before
+/// a warning (a share).
+pub const FLUX_AGREEMENT: f64 = 0.01;
 
 /// A ray file in memory: its header and the rays' records, row by row,
 /// held once.
@@ -306,6 +328,48 @@ impl RaySet {
     /// The rays' total luminous flux (lm), summed in f64.
     pub fn total_luminous_flux_lm(&self) -> f64 {
         self.luminous_flux_lm.iter().map(|&f| f64::from(f)).sum()
+    }
+
+    /// The rays' total radiant flux (W), where they have a radiant column.
+    pub fn total_radiant_flux_w(&self) -> Option<f64> {
+        let c = self.header.columns().radiant_flux?;
+        let n = self.header.columns().count;
+        Some(self.records.chunks_exact(n).map(|r| f64::from(r[c])).sum())
+    }
+
+    /// Where the header's stated totals and the rays' sums disagree by
+    /// more than [`FLUX_AGREEMENT`], what a user should be told: which is
+    /// which, and that the rays are what a bake samples (the emitter's
+    /// `flux_lm`, or the rays' own luminous flux where it has none, sets
+    /// the total).
+    pub fn flux_warnings(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        let mut check = |stated: Option<f32>, summed: Option<f64>, unit: &str| {
+            let (Some(stated), Some(summed)) = (stated, summed) else {
+                return;
+            };
+            let stated = f64::from(stated);
+            if !(stated > 0.0 && summed > 0.0) {
+                return;
+            }
+            let ratio = summed / stated;
+            if (ratio - 1.0).abs() > FLUX_AGREEMENT {
+                out.push(format!(
+                    "the header states {stated} {unit}, the rays sum to {summed:.6} {unit} ({:+.2} %): the rays are what a bake samples; their shares, scaled to the emitter's flux, give the light",
+                    100.0 * (ratio - 1.0)
+                ));
+            }
+        };
+        check(
+            self.header.luminous_flux_lm,
+            self.header
+                .columns()
+                .luminous_flux
+                .map(|_| self.total_luminous_flux_lm()),
+            "lm",
+        );
+        check(self.header.radiant_flux_w, self.total_radiant_flux_w(), "W");
+        out
     }
 
     /// The smallest box holding every ray's start (mm).

@@ -303,11 +303,19 @@ fn parse(reader: impl Read, file_len: u64, file: &str) -> Result<RaySet, ReadRay
     let mut table_bytes = 0u64;
     for _ in 0..table_count {
         let entries = f.i32("spectral table size (4.7.4)")?;
-        if !(1..=MAX_TABLE_ENTRIES).contains(&entries) || (entries as u64) * 8 > f.left {
+        if !(1..=MAX_TABLE_ENTRIES).contains(&entries) {
+            return Err(f.error(
+                "spectral table size (4.7.4)",
+                format!("must be 1 to {MAX_TABLE_ENTRIES} pairs, got {entries}"),
+            ));
+        }
+        if (entries as u64) * 8 > f.left {
             return Err(f.error(
                 "spectral table size (4.7.4)",
                 format!(
-                    "must be 1 to {MAX_TABLE_ENTRIES} pairs that the file holds, got {entries}"
+                    "{entries} pairs need {} bytes, the file holds {} (truncated inside the spectral table)",
+                    entries as u64 * 8,
+                    f.left
                 ),
             ));
         }
@@ -359,12 +367,14 @@ fn parse(reader: impl Read, file_len: u64, file: &str) -> Result<RaySet, ReadRay
         (1..=column_count).map(|k| format!("column {k}")).collect()
     } else {
         let rays_left = f.left.saturating_sub(names_bytes + text_bytes as u64);
-        let whole = ray_count > 0 && rays_left > 0 && rays_left.is_multiple_of(4 * ray_count);
+        // 4 bytes a value: a count of 2⁶² rays or more has no size.
+        let bytes_per_column = ray_count.checked_mul(4).filter(|&b| b > 0);
+        let whole = bytes_per_column.filter(|&b| rays_left > 0 && rays_left.is_multiple_of(b));
         let message = match ray_bytes_for(total_columns) {
             None => format!("{ray_count} rays cannot be held in any file"),
-            Some(_) if whole => format!(
+            Some(_) if whole.is_some() => format!(
                 "the flags announce {total_columns} values per ray, but the file holds {} per ray for {ray_count} rays",
-                rays_left / (4 * ray_count)
+                rays_left / whole.unwrap_or(1)
             ),
             Some(need) if need > rays_left => format!(
                 "{ray_count} rays of {total_columns} values need {need} bytes, the file holds {rays_left} (truncated, or a wrong ray count)"
@@ -401,6 +411,7 @@ fn parse(reader: impl Read, file_len: u64, file: &str) -> Result<RaySet, ReadRay
         additional_text,
     };
     let columns = header.columns();
+    let spectral_count = header.spectral_tables.len();
     let rule = LuminousRule::of(&header, &columns).ok_or_else(|| {
         f.error(
             "flux columns (4.7.2)",
@@ -438,15 +449,19 @@ fn parse(reader: impl Read, file_len: u64, file: &str) -> Result<RaySet, ReadRay
         if record[3] == 0.0 && record[4] == 0.0 && record[5] == 0.0 {
             return Err(bad("its direction is the zero vector".to_owned()));
         }
+        if let Some(problem) = column_problem(&columns, spectral_count, record) {
+            return Err(bad(problem));
+        }
         let flux = rule
             .flux(record)
             .ok_or_else(|| bad("its spectrum index names no spectral table".to_owned()))?;
-        if !(flux.is_finite() && flux >= 0.0) {
+        let flux32 = flux as f32;
+        if !(flux.is_finite() && flux >= 0.0 && flux32.is_finite()) {
             return Err(bad(format!(
-                "flux must be finite and not negative, got {flux}"
+                "its luminous flux must be finite and not negative, got {flux} lm"
             )));
         }
-        luminous_flux_lm.push(flux as f32);
+        luminous_flux_lm.push(flux32);
     }
     let set = RaySet {
         header,
@@ -461,4 +476,52 @@ fn parse(reader: impl Read, file_len: u64, file: &str) -> Result<RaySet, ReadRay
         });
     }
     Ok(set)
+}
+
+/// What is wrong with a ray's flagged columns, if anything: every flux
+/// finite and not negative, a wavelength finite and positive, Stokes and
+/// tristimulus values finite, a spectrum index a whole number naming one
+/// of the file's tables (from 1) (the column a file's flux is read from and the
+/// others alike: a file is refused, not half read).
+fn column_problem(columns: &super::Columns, tables: usize, record: &[f32]) -> Option<String> {
+    let value = |k: Option<usize>| k.map(|k| record[k]);
+    if let Some(w) = value(columns.radiant_flux)
+        && !(w.is_finite() && w >= 0.0)
+    {
+        return Some(format!(
+            "radiant flux must be finite and not negative, got {w} W"
+        ));
+    }
+    if let Some(l) = value(columns.luminous_flux)
+        && !(l.is_finite() && l >= 0.0)
+    {
+        return Some(format!(
+            "luminous flux must be finite and not negative, got {l} lm"
+        ));
+    }
+    if let Some(nm) = value(columns.wavelength)
+        && !(nm.is_finite() && nm > 0.0)
+    {
+        return Some(format!(
+            "wavelength must be finite and positive, got {nm} nm"
+        ));
+    }
+    for (name, at, n) in [
+        ("Stokes", columns.stokes, 3),
+        ("tristimulus", columns.tristimulus, 2),
+    ] {
+        if let Some(k) = at
+            && let Some(v) = record[k..k + n].iter().find(|v| !v.is_finite())
+        {
+            return Some(format!("its {name} values must be finite, got {v}"));
+        }
+    }
+    if let Some(i) = value(columns.spectrum_index)
+        && !(i.is_finite() && i.fract() == 0.0 && i >= 1.0 && (i as usize) <= tables)
+    {
+        return Some(format!(
+            "its spectrum index {i} names none of the file's {tables} spectral tables"
+        ));
+    }
+    None
 }

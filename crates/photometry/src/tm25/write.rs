@@ -16,11 +16,11 @@ fn push_optional(out: &mut Vec<u8>, v: Option<f32>) {
     push_f32(out, v.unwrap_or(f32::NAN));
 }
 
-/// `text` as `chars` UTF-32 characters, cut to fit with room for the
-/// terminating NUL, padded with NULs.
+/// `text` as `chars` UTF-32 characters, padded with NULs (a text that
+/// fills its field has none: the reader stops at the field's end).
 fn push_text(out: &mut Vec<u8>, text: &str, chars: usize) {
     let mut written = 0;
-    for c in text.chars().filter(|&c| c != '\0').take(chars - 1) {
+    for c in text.chars().filter(|&c| c != '\0').take(chars) {
         out.extend_from_slice(&u32::from(c).to_le_bytes());
         written += 1;
     }
@@ -38,8 +38,13 @@ pub fn write_ray_file(set: &RaySet) -> Vec<u8> {
     push_optional(&mut out, h.luminous_flux_lm);
     push_optional(&mut out, h.radiant_flux_w);
     out.extend_from_slice(&(set.records.len() as u64 / columns.count as u64).to_le_bytes());
-    let mut date = h.date_time.as_bytes().to_vec();
-    date.truncate(28);
+    // Cut at a character's boundary: a date of more than 28 bytes loses
+    // whole characters, never half of one.
+    let mut cut = h.date_time.len().min(28);
+    while !h.date_time.is_char_boundary(cut) {
+        cut -= 1;
+    }
+    let mut date = h.date_time.as_bytes()[..cut].to_vec();
     date.resize(28, 0);
     out.extend_from_slice(&date);
     push_i32(&mut out, h.start_position);
