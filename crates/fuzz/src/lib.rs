@@ -13,6 +13,7 @@ use std::panic::AssertUnwindSafe;
 use std::path::{Path, PathBuf};
 
 pub mod mutate;
+pub mod rays;
 pub mod targets;
 
 pub use mutate::{Rng, mutate};
@@ -113,7 +114,17 @@ pub fn campaign(target: Target, inputs: usize, seed: u64) -> Vec<Finding> {
     if seeds.is_empty() {
         return findings;
     }
-    for _ in 0..inputs {
+    for k in 0..inputs {
+        // Every fourth ray file built field by field rather than mutated.
+        if target == Target::RayFile && k % 4 == 3 {
+            let (bytes, promise) = rays::structured_ray_file(&mut rng);
+            findings.extend(run_case(
+                target,
+                vec![("rays.tm25ray".to_owned(), bytes)],
+                |files| targets::ray_file_promised(&files[0].1, &promise),
+            ));
+            continue;
+        }
         let mut case = seeds[rng.below(seeds.len())].clone();
         // Mutate one file of the case, now and then twice.
         for _ in 0..1 + usize::from(rng.below(4) == 0) {

@@ -148,9 +148,14 @@ pub fn run(target: Target, case: Case) -> Option<Finding> {
 /// A ray file that reads has finite far-field figures, and written again
 /// reads back with the same header and rays.
 pub fn ray_file(bytes: &[u8]) -> Result<(), String> {
+    ray_file_read(bytes).map(|_| ())
+}
+
+/// [`ray_file`]'s checks; the set and its far field's flux where it read.
+fn ray_file_read(bytes: &[u8]) -> Result<Option<(f64, f64, usize)>, String> {
     use lucerna_photometry::tm25::{parse_ray_file, write_ray_file};
     let Ok(set) = parse_ray_file(bytes, "fuzzed.tm25ray") else {
-        return Ok(());
+        return Ok(None);
     };
     let photometry = set.far_field_photometry("fuzzed.tm25ray");
     finite_figures(&photometry, "the ray file's far field")?;
@@ -160,6 +165,26 @@ pub fn ray_file(bytes: &[u8]) -> Result<(), String> {
     let bits = |r: &[f32]| r.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
     if back.header != set.header || bits(&back.records) != bits(&set.records) {
         return Err("a ray file written again reads back with other rays".to_owned());
+    }
+    Ok(Some((
+        set.total_luminous_flux_lm(),
+        photometry.figures().flux_lm,
+        set.len(),
+    )))
+}
+
+/// [`ray_file`], and where the generator promised it, the far field's
+/// flux within its share of the rays'.
+pub fn ray_file_promised(bytes: &[u8], promise: &crate::rays::Promise) -> Result<(), String> {
+    let read = ray_file_read(bytes)?;
+    let (Some(share), Some((rays, table, _))) = (promise.far_field_flux, read) else {
+        return Ok(());
+    };
+    if (table / rays - 1.0).abs() > share {
+        return Err(format!(
+            "a ray file's far field does not keep its flux: {table} lm against its rays' {rays} lm ({})",
+            promise.built
+        ));
     }
     Ok(())
 }

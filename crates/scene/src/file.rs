@@ -176,7 +176,7 @@ fn refine_unknown_field(text: &str, span: std::ops::Range<usize>, message: &str)
 
 /// Parses and validates scene text; `path` only names the source in errors.
 pub fn parse_scene(text: &str, path: &Path) -> Result<Scene, LoadSceneError> {
-    let scene: Scene = toml::from_str(text).map_err(|e| {
+    let mut scene: Scene = toml::from_str(text).map_err(|e| {
         let (line, column) = e
             .span()
             .map(|s| line_column(text, refine_unknown_field(text, s, e.message())))
@@ -188,7 +188,13 @@ pub fn parse_scene(text: &str, path: &Path) -> Result<Scene, LoadSceneError> {
             message: e.message().trim().to_owned(),
         }
     })?;
-    let found = validation(&scene);
+    let unread = ray_files_own_flux(&mut scene, path);
+    let mut found = validation(&scene);
+    for p in &mut found.problems {
+        if let Some((_, why)) = unread.iter().find(|(at, _)| *at == p.field.to_string()) {
+            p.message = format!("not given, and the ray file cannot give its own: {why}");
+        }
+    }
     if !found.problems.is_empty() {
         let locator = Locator::new(text);
         return Err(LoadSceneError::Invalid {
@@ -206,6 +212,25 @@ pub fn parse_scene(text: &str, path: &Path) -> Result<Scene, LoadSceneError> {
         });
     }
     Ok(scene)
+}
+
+/// Each ray-file emitter that states no `flux_lm` gets its file's own
+/// (the header's, else the rays' sum), the file found beside `path`;
+/// those whose file cannot give it, by field, with why.
+fn ray_files_own_flux(scene: &mut Scene, path: &Path) -> Vec<(String, String)> {
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let mut unread = Vec::new();
+    for (i, e) in scene.emitters.iter_mut().enumerate() {
+        if let (true, crate::model::EmitterShape::RayFile { path: file }) =
+            (e.flux_lm.is_nan(), &e.shape)
+        {
+            match lucerna_photometry::tm25::ray_file_luminous_flux(&dir.join(file)) {
+                Ok(flux) => e.flux_lm = flux,
+                Err(why) => unread.push((format!("emitter[{i}].flux_lm"), why.to_string())),
+            }
+        }
+    }
+    unread
 }
 
 /// Reads (at most [`MAX_SCENE_FILE_BYTES`]), parses and validates a scene

@@ -311,13 +311,21 @@ pub enum Emission {
     Profile(String),
 }
 
+/// What `flux_lm` reads as where a scene leaves it out, until a ray file
+/// gives it (every other emitter must state it).
+fn flux_not_given() -> f64 {
+    f64::NAN
+}
+
 /// A light source.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Emitter {
     pub name: String,
     pub shape: EmitterShape,
-    /// Luminous flux emitted (lm).
+    /// Luminous flux emitted (lm). A ray-file emitter may leave it out:
+    /// the file's own is read when the scene is ([`crate::parse_scene`]).
+    #[serde(default = "flux_not_given")]
     pub flux_lm: f64,
     #[serde(default = "lambertian")]
     pub emission: Emission,

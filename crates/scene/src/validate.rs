@@ -128,7 +128,14 @@ impl Checker<'_> {
         if e.name.trim().is_empty() {
             self.fail(at.key("name"), "must not be empty");
         }
-        if self.finite(at, "flux_lm", e.flux_lm) && !(e.flux_lm > 0.0 && e.flux_lm <= 1e7) {
+        if e.flux_lm.is_nan() {
+            let message = if matches!(e.shape, EmitterShape::RayFile { .. }) {
+                "not given, and the ray file gives none (it cannot be read: lucerna validate says why)"
+            } else {
+                "is missing: the emitter's luminous flux (lm); only a ray-file emitter may leave it out"
+            };
+            self.fail(at.key("flux_lm"), message);
+        } else if self.finite(at, "flux_lm", e.flux_lm) && !(e.flux_lm > 0.0 && e.flux_lm <= 1e7) {
             self.fail(
                 at.key("flux_lm"),
                 format!("luminous flux must be > 0 and ≤ 1e7 lm, got {}", e.flux_lm),

@@ -80,6 +80,45 @@ fn footprint(tessellated: &TessellatedScene, range: Option<std::ops::Range<usize
     }
 }
 
+/// Whether triangles `range` seen from below fill a disk: a footprint
+/// `length_m` × `width_m` square within 2 %, every vertex within 2 % of
+/// the inscribed circle about its centre.
+fn round_footprint(
+    tessellated: &TessellatedScene,
+    range: std::ops::Range<usize>,
+    length_m: f64,
+    width_m: f64,
+) -> bool {
+    let size = length_m.max(width_m);
+    if !(size > 0.0) || (length_m - width_m).abs() > ROUND_TOLERANCE * size {
+        return false;
+    }
+    let mesh = &tessellated.mesh;
+    let triangles = &mesh.triangles[range];
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for &v in triangles.iter().flatten() {
+        let p = mesh.positions[v as usize];
+        for (k, x) in [f64::from(p.x), f64::from(p.y)].into_iter().enumerate() {
+            lo[k] = lo[k].min(x);
+            hi[k] = hi[k].max(x);
+        }
+    }
+    let centre = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+    let reach = triangles
+        .iter()
+        .flatten()
+        .map(|&v| {
+            let p = mesh.positions[v as usize];
+            (f64::from(p.x) - centre[0]).hypot(f64::from(p.y) - centre[1])
+        })
+        .fold(0.0, f64::max);
+    reach <= (1.0 + ROUND_TOLERANCE) * 0.5 * size
+}
+
+/// How far from square and from round a round exit may be (a share).
+const ROUND_TOLERANCE: f64 = 0.02;
+
 /// The luminaire's dimensions the files declare: its footprint seen from
 /// below, height 0.
 pub fn luminaire_dimensions(tessellated: &TessellatedScene) -> Dimensions {
@@ -127,15 +166,14 @@ pub fn luminous_opening(scene: &Scene, tessellated: &TessellatedScene) -> Dimens
                 .filter(|s| s.kind == SurfaceKind::Part && Some(s.index) == index)
                 .map(|s| s.triangles.clone())
                 .reduce(|a, b| a.start.min(b.start)..a.end.max(b.end));
-            let (length_m, width_m) = footprint(tessellated, Some(range.unwrap_or(0..0)));
-            // A surface of revolution about the axis has a round exit.
-            let revolved = index.is_some_and(|i| {
-                matches!(
-                    scene.parts[i].shape.kind(),
-                    "paraboloid" | "ellipsoid" | "revolved" | "dome" | "disk" | "cylinder"
-                )
-            });
-            if revolved && (length_m - width_m).abs() <= 0.02 * length_m.max(width_m) {
+            let range = range.unwrap_or(0..0);
+            let (length_m, width_m) = footprint(tessellated, Some(range.clone()));
+            // A round exit, whatever the part is made of (a generated
+            // surface of revolution or an OBJ mesh): a square footprint
+            // whose triangles all lie within its inscribed circle (a
+            // square's corners reach √2 of it).
+            let revolved = round_footprint(tessellated, range, length_m, width_m);
+            if revolved {
                 disk(length_m.max(width_m), 0.0)
             } else {
                 rectangle(length_m, width_m, 0.0)

@@ -104,3 +104,41 @@ fn no_opening_declares_a_point_source() {
     assert_eq!(ldt.length_m, 0.0);
     assert_eq!(opening_from_dimensions(ies), Opening::Point);
 }
+
+#[test]
+fn a_mesh_reflectors_round_rim_is_a_disk_and_a_square_plate_is_not() {
+    // The OBJ cone with its baffle ring: 110 mm across and round, though
+    // it is a mesh and not a generated surface of revolution (it was
+    // declared a 110 × 110 mm rectangle).
+    let (ies, _) = baked_with(
+        "obj_cone.toml",
+        Some(LuminousOpening::PartAperture {
+            part: "reflector".to_owned(),
+        }),
+    );
+    assert!(ies.circular, "{ies:?}");
+    assert!((ies.length_m - 0.11).abs() < 1e-4, "{ies:?}");
+    // A square plate beside it: its corners reach √2 of its inscribed
+    // circle.
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/luminaires/obj_cone.toml");
+    let mut scene = load_scene(&path).expect("loads");
+    let mut plate = scene.parts[0].clone();
+    plate.name = "plate".to_owned();
+    plate.transform = Default::default();
+    plate.shape = lucerna_scene::Shape::Plate(lucerna_scene::shapes::Plate {
+        width: 0.05,
+        depth: 0.05,
+    });
+    plate.transform.translate = [0.0, 0.0, -0.05];
+    scene.parts.push(plate);
+    scene.opening = Some(LuminousOpening::PartAperture {
+        part: "plate".to_owned(),
+    });
+    let luminaire = Luminaire::new(scene, path.parent().expect("a folder")).expect("prepares");
+    let d = luminaire.luminous_opening;
+    assert!(!d.circular, "{d:?}");
+    assert!(
+        (d.length_m - 0.05).abs() < 1e-6 && (d.width_m - 0.05).abs() < 1e-6,
+        "{d:?}"
+    );
+}

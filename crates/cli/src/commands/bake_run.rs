@@ -93,6 +93,23 @@ pub fn describe_ray_reuse(luminaire: &Luminaire, photons: Option<u64>) {
     let per_ray = photons.map_or(String::new(), |p| {
         format!(", {:.1} photons a ray", p as f64 / rays as f64)
     });
+    for e in &luminaire.prepared.emitters {
+        let lucerna_tracer::prepared::EmitterDirections::RayFile(sampler) = &e.directions else {
+            continue;
+        };
+        let header = sampler.rays.header.luminous_flux_lm.map(f64::from);
+        let whose = if Some(e.flux_lm) == header {
+            "the file header's figure"
+        } else if e.flux_lm == sampler.total_lm {
+            "the file's rays' sum"
+        } else {
+            "as the scene's flux_lm states"
+        };
+        eprintln!("ray file: {:.1} lm, {whose}", e.flux_lm);
+        for w in sampler.rays.flux_warnings() {
+            eprintln!("warning: ray file: {w}");
+        }
+    }
     let kernel = luminaire
         .prepared
         .emitters

@@ -30,8 +30,12 @@ pub struct RayFileReport {
     extent_min_mm: [f32; 3],
     extent_max_mm: [f32; 3],
     /// The far field of the rays binned on a cube map, tabulated on C
-    /// every 5° and γ every 1° (γ = 0 along −z of the file's frame).
+    /// every 5° and the bake's automatic γ grid (γ = 0 along −z of the
+    /// file's frame).
     far_field: Figures,
+    /// How faithfully the far field's table holds the rays' binned map:
+    /// its γ grid and what the ray count limits.
+    far_field_table: String,
 }
 
 /// Below this share of the flux going down, the note that the source
@@ -45,7 +49,7 @@ pub fn report(path: &Path) -> Result<RayFileReport> {
     let name = path
         .file_name()
         .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-    let photometry = set.far_field_photometry(&name);
+    let (photometry, fidelity) = set.far_field_photometry_and_fidelity(&name);
     let description = Description::FIELD_NAMES
         .into_iter()
         .zip(h.description.fields())
@@ -74,6 +78,7 @@ pub fn report(path: &Path) -> Result<RayFileReport> {
         extent_min_mm: lo,
         extent_max_mm: hi,
         far_field: photometry.figures(),
+        far_field_table: format!("{} rays; {}", set.len(), fidelity.summary(),),
     })
 }
 
@@ -131,6 +136,7 @@ impl fmt::Display for RayFileReport {
             }
         );
         super::info::beam_and_field_lines(&mut s, fig);
+        let _ = writeln!(s, "table          {}", self.far_field_table);
         for w in &self.warnings {
             let _ = writeln!(s, "warning        {w}");
         }

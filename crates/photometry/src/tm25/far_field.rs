@@ -3,9 +3,11 @@
 //! file's own frame (γ = 0 along −z, C0 along +x, as Lucerna's
 //! photometry; an LED file emitting along +z shows as up-light).
 
+use crate::fidelity::FidelityTargets;
+use crate::noise::PhotonNoise;
 use crate::photometry::{Dimensions, Format, LampSet, Metadata, Photometry};
-use crate::resample::table_from_cube_map;
 use crate::table::CPlaneSymmetry;
+use crate::tabulate::{CPooling, GammaGrid, ResampledTable, TableResampler};
 use crate::{CandelaTable, CubeMapLayout};
 
 use super::RaySet;
@@ -18,13 +20,18 @@ pub fn far_field_resolution(rays: usize) -> u32 {
     ((rays as f64 / 600.0).sqrt().round() as u32).clamp(8, 128)
 }
 
-/// The rays a texel should hold where the light is, the finest texels a
-/// far field is binned on, and the γ step of its table there (degrees)
-/// with the resolution from which it applies.
+/// The rays a texel should hold where the light is, and the finest
+/// texels a far field is binned on.
 const RAYS_PER_TEXEL: f64 = 100.0;
 const MAX_FAR_FIELD_RESOLUTION: u32 = 512;
-const FINE_GAMMA_STEP_DEG: f64 = 0.25;
-const FINE_FROM_RESOLUTION: u32 = 96;
+/// The far field's C-plane steps (degrees), tried coarsest first: a beam
+/// leaving sideways spans few C-planes, and a table on 5° planes reads a
+/// 10° cone at γ 90° 2.5 % high. 1° keeps within what EULUMDAT holds
+/// (360 planes).
+const C_STEPS_DEG: [f64; 3] = [5.0, 2.5, 1.0];
+/// How closely the table's flux must hold the rays' before a finer C
+/// step is tried (a share).
+const FLUX_HELD: f64 = 0.002;
 
 impl RaySet {
     /// Candela per texel of `layout`: the rays' luminous flux in each
@@ -79,27 +86,76 @@ impl RaySet {
         CubeMapLayout::new(resolution)
     }
 
-    /// The far field as a candela table on C every 5° and γ every 1°, or
-    /// every [`FINE_GAMMA_STEP_DEG`] where the binning is fine enough to
-    /// show a narrow beam (each cell the mean of the map over its solid
-    /// angle, as a bake tabulates).
-    pub fn far_field_table(&self) -> CandelaTable {
+    /// The far field as a candela table on C every 5° (finer where that
+    /// loses flux: [`C_STEPS_DEG`]), its γ angles chosen as a bake's are: the coarsest listed grid that holds the
+    /// map's flux, cone fluxes, beam and field angles and peak within
+    /// [`FidelityTargets`], the rays counted as the photons behind the map
+    /// (so the targets give way where the rays' own noise is larger); with
+    /// how faithfully it holds them.
+    pub fn far_field(&self) -> (CubeMapLayout, ResampledTable) {
+        // Binned where each texel holds about [`RAYS_PER_TEXEL`] rays:
+        // finer texels would hold a sharp-edged beam's flux a little
+        // better (a 45° cone of 5 000 rays leaving sideways reads 1 % high
+        // on 11° texels, 0.05 % on 2.8°) but make its peak and angles the
+        // noise of single rays, and cost memory.
         let layout = self.far_field_layout();
-        let step = if layout.resolution >= FINE_FROM_RESOLUTION {
-            FINE_GAMMA_STEP_DEG
-        } else {
-            1.0
+        (layout, self.far_field_on(layout))
+    }
+
+    /// [`RaySet::far_field`] binned on `layout`.
+    pub fn far_field_on(&self, layout: CubeMapLayout) -> ResampledTable {
+        let candela = self.far_field_candela(layout);
+        let total = self.total_luminous_flux_lm();
+        let noise = (total > 0.0 && !self.is_empty()).then(|| PhotonNoise {
+            // Rays of unequal flux: a texel's noise is that of its rays,
+            // counted as the mean ray's flux each.
+            lm_per_photon: total / self.len() as f64,
+            pooled_images: 1.0,
+        });
+        let mut resampler = TableResampler::new();
+        let mut table = |c_step: f64| {
+            let c: Vec<f64> = (0..(360.0 / c_step).round() as usize)
+                .map(|k| c_step * k as f64)
+                .collect();
+            resampler.table(
+                layout,
+                &candela,
+                &c,
+                GammaGrid::Automatic(FidelityTargets::default()),
+                noise,
+                CPooling::Separate,
+            )
         };
-        let c: Vec<f64> = (0..72).map(|k| 5.0 * f64::from(k)).collect();
-        let n = (180.0 / step).round() as usize;
-        let gamma: Vec<f64> = (0..=n).map(|k| k as f64 * step).collect();
-        table_from_cube_map(layout, &self.far_field_candela(layout), &c, &gamma)
+        let mut found = table(C_STEPS_DEG[0]);
+        for &step in &C_STEPS_DEG[1..] {
+            let flux = crate::figures(&found.table, None).flux_lm;
+            if !(total > 0.0) || (flux / total - 1.0).abs() <= FLUX_HELD {
+                break;
+            }
+            found = table(step);
+        }
+        found
+    }
+
+    /// [`RaySet::far_field`]'s table.
+    pub fn far_field_table(&self) -> CandelaTable {
+        self.far_field().1.table
     }
 
     /// The far field as a photometric file's content: absolute
     /// photometry of the rays' luminous flux, labelled from the
     /// description block, the source's extent as its luminous area.
     pub fn far_field_photometry(&self, file_name: &str) -> Photometry {
+        self.far_field_photometry_and_fidelity(file_name).0
+    }
+
+    /// [`RaySet::far_field_photometry`], with how faithfully its table
+    /// holds the rays' binned map (what `info` states as the ray count's
+    /// limits).
+    pub fn far_field_photometry_and_fidelity(
+        &self,
+        file_name: &str,
+    ) -> (Photometry, crate::fidelity::TableFidelity) {
         let d = &self.header.description;
         let or = |s: &str, default: &str| {
             if s.trim().is_empty() || s.trim() == "unknown" {
@@ -110,11 +166,12 @@ impl RaySet {
         };
         let (lo, hi) = self.extent_mm().unwrap_or(([0.0; 3], [0.0; 3]));
         let flux = self.total_luminous_flux_lm();
-        let n = self.far_field_layout().resolution;
-        Photometry {
+        let (layout, ResampledTable { table, fidelity }) = self.far_field();
+        let n = layout.resolution;
+        let photometry = Photometry {
             format: Format::Tm25RayFile,
             symmetry: CPlaneSymmetry::None,
-            table: self.far_field_table(),
+            table,
             meta: Metadata {
                 manufacturer: or(&d.manufacturer, ""),
                 luminaire: or(&d.name, file_name),
@@ -144,6 +201,7 @@ impl RaySet {
                 },
                 ..Metadata::default()
             },
-        }
+        };
+        (photometry, fidelity)
     }
 }

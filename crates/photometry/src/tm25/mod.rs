@@ -23,7 +23,9 @@ mod write;
 
 pub use far_field::far_field_resolution;
 pub use luminous::{luminous_efficacy_lm_per_w, photopic_v};
-pub use read::{MAX_RAY_FILE_BYTES, ReadRayFileError, parse_ray_file, read_ray_file};
+pub use read::{
+    MAX_RAY_FILE_BYTES, ReadRayFileError, parse_ray_file, ray_file_luminous_flux, read_ray_file,
+};
 pub use write::write_ray_file;
 
 /// The file type's four bytes.
