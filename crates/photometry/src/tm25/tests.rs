@@ -538,3 +538,22 @@ fn a_radiant_flux_whose_lumens_overflow_is_refused() {
     let m = message(&bytes);
     assert!(m.contains("luminous flux must be finite"), "{m}");
 }
+
+#[test]
+fn a_bad_ray_past_the_first_blocks_is_named_by_its_index() {
+    // 400 000 rays of 7 values: three blocks of reading; the checks of
+    // each block run beside the reading of the next.
+    let n = 400_000usize;
+    let mut records = Vec::with_capacity(7 * n);
+    for i in 0..n {
+        records.extend([i as f32 * 1e-6, 0.0, 0.0, 0.0, 0.0, -1.0, 1.0]);
+    }
+    records[7 * 300_001 + 6] = -2.0;
+    records[7 * 350_000 + 3] = f32::NAN;
+    let bytes = bytes_of(&set(RayFileHeader::luminous(n as u64, n as f32), records));
+    let m = message(&bytes);
+    assert!(
+        m.contains("ray 300001:") && m.contains("not negative"),
+        "{m}"
+    );
+}
