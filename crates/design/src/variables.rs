@@ -67,6 +67,12 @@ pub struct Variable {
     pub upper: f64,
 }
 
+/// The variables' values at normalised coordinates `x` (each in [0, 1]
+/// between its bounds).
+pub fn values_at(variables: &[Variable], x: &[f64]) -> Vec<f64> {
+    variables.iter().zip(x).map(|(v, &t)| v.at(t)).collect()
+}
+
 impl Variable {
     /// The value at `t` ∈ [0, 1] between the bounds.
     pub fn at(&self, t: f64) -> f64 {

@@ -55,11 +55,7 @@ impl Run<'_> {
     }
 
     fn values(&self, x: &[f64]) -> Vec<f64> {
-        self.variables
-            .iter()
-            .zip(x)
-            .map(|(v, &t)| v.at(t))
-            .collect()
+        crate::variables::values_at(self.variables, x)
     }
 
     /// The residuals at normalised `x` (None: refused), recorded.

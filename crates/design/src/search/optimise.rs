@@ -65,11 +65,7 @@ struct Loop<'a> {
 
 impl Loop<'_> {
     fn values(&self, x: &[f64]) -> Vec<f64> {
-        self.variables
-            .iter()
-            .zip(x)
-            .map(|(v, &t)| v.at(t))
-            .collect()
+        crate::variables::values_at(self.variables, x)
     }
 
     fn halt(&self) -> Option<Stopped> {
@@ -215,11 +211,7 @@ pub fn optimise(
     let mut noise = 0.0;
     let stopped = loop {
         // The stage's noise: the best candidate with a second seed.
-        let values: Vec<f64> = variables
-            .iter()
-            .zip(&best_x)
-            .map(|(v, &t)| v.at(t))
-            .collect();
+        let values: Vec<f64> = crate::variables::values_at(variables, &best_x);
         let scene = apply(start, variables, &values);
         let mut stage_merit = f64::INFINITY;
         if let Some(scene) = &scene {
@@ -307,11 +299,7 @@ pub fn optimise(
         stage += 1;
     };
     Found {
-        values: variables
-            .iter()
-            .zip(&best_x)
-            .map(|(v, &t)| v.at(t))
-            .collect(),
+        values: crate::variables::values_at(variables, &best_x),
         merit: best_merit,
         photons,
         noise,

@@ -24,6 +24,9 @@ pub fn far_field_resolution(rays: usize) -> u32 {
 /// texels a far field is binned on.
 const RAYS_PER_TEXEL: f64 = 100.0;
 const MAX_FAR_FIELD_RESOLUTION: u32 = 512;
+/// The coarsest γ step a far field's table gets where the automatic grid
+/// would step coarser everywhere (a wide source), degrees.
+const COARSEST_STEP_DEG: f64 = 1.0;
 /// The far field's C-plane steps (degrees), tried coarsest first: a beam
 /// leaving sideways spans few C-planes, and a table on 5° planes reads a
 /// 10° cone at γ 90° 2.5 % high. 1° keeps within what EULUMDAT holds
@@ -119,14 +122,36 @@ impl RaySet {
             let c: Vec<f64> = (0..(360.0 / c_step).round() as usize)
                 .map(|k| c_step * k as f64)
                 .collect();
-            resampler.table(
+            let automatic = resampler.table(
                 layout,
                 &candela,
                 &c,
                 GammaGrid::Automatic(FidelityTargets::default()),
                 noise,
                 CPooling::Separate,
-            )
+            );
+            // Where the rays' noise lets the automatic grid step coarser than
+            // 1° everywhere, 1° steps still: a wide LED's beam angle read on 5° steps is
+            // 4° off its rays' (it is cheap to keep, and what the eye and
+            // other readers compare).
+            let finest = automatic
+                .table
+                .gammas_deg
+                .windows(2)
+                .map(|w| w[1] - w[0])
+                .fold(f64::INFINITY, f64::min);
+            if finest > COARSEST_STEP_DEG + 1e-9 {
+                resampler.table(
+                    layout,
+                    &candela,
+                    &c,
+                    GammaGrid::Step(COARSEST_STEP_DEG, FidelityTargets::default()),
+                    noise,
+                    CPooling::Separate,
+                )
+            } else {
+                automatic
+            }
         };
         let mut found = table(C_STEPS_DEG[0]);
         for &step in &C_STEPS_DEG[1..] {
