@@ -177,7 +177,9 @@ fn resume_checkpoint(
         _ => BackendRequest::Cpu,
     };
     settings.stop.photons = Some(manifest.range.len());
-    let luminaire = Luminaire::new(scene, scene_path.parent().unwrap_or(Path::new(".")))?;
+    let mut luminaire = Luminaire::new(scene, scene_path.parent().unwrap_or(Path::new(".")))?;
+    // The ray reuse the part began with: its photons go on alike.
+    luminaire.prepared.set_ray_reuse(manifest.job.ray_reuse());
     if luminaire.prepared.total_flux_lm != manifest.trace.emitter_flux_lm {
         anyhow::bail!(
             "{}: the scene now emits {} lm, the checkpoint {} lm",
