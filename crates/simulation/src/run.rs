@@ -285,11 +285,26 @@ impl Run {
             warnings.extend(table_fidelity.shortfalls());
         }
         let report = self.last;
-        let peak_relative = report.map_or_else(
-            || peak_relative_error(&map, &self.symmetry),
-            |r| r.peak_relative_error,
-        );
-        let zonal = zone_flux_relative_errors(&map, &ZONES_DEG);
+        // A ray file's photons are no more certain than its distinct
+        // rays: each relative error grows by √(photons / effective).
+        let distinct = distinct_rays.map_or(1.0, |rays| {
+            let photons = map.photons_emitted as f64;
+            let effective = lucerna_tracer::ray_kernel::effective_photons(photons, rays as f64);
+            if effective > 0.0 {
+                (photons / effective).sqrt()
+            } else {
+                1.0
+            }
+        });
+        let peak_relative = distinct
+            * report.map_or_else(
+                || peak_relative_error(&map, &self.symmetry),
+                |r| r.peak_relative_error,
+            );
+        let zonal: Vec<f64> = zone_flux_relative_errors(&map, &ZONES_DEG)
+            .into_iter()
+            .map(|z| distinct * z)
+            .collect();
         let angle_noise = |angles: [Option<f64>; 2], fraction: f64| {
             [0.0, 90.0].map(|c| {
                 let angle = angles[if c == 0.0 { 0 } else { 1 }];
@@ -306,7 +321,7 @@ impl Run {
         };
         let noise = Noise {
             peak_relative,
-            flux_relative: flux_relative_error(&map),
+            flux_relative: distinct * flux_relative_error(&map),
             zonal_relative: std::array::from_fn(|k| zonal.get(k).copied().unwrap_or(f64::INFINITY)),
             beam_angle_deg: angle_noise(figures.beam_angle_deg, 0.5),
             field_angle_deg: angle_noise(figures.field_angle_deg, 0.1),

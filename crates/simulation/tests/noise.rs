@@ -108,3 +108,36 @@ fn beam_angle_noise_matches(snapshots: Vec<Snapshot>, pooled: bool) {
         );
     }
 }
+
+/// A ray file's photons are no more certain than its distinct rays: the
+/// same luminaire baked from a 20 000-ray file with 200 000 and with
+/// 2 000 000 photons shows a peak noise that falls as √(1/N + 1/R), by a
+/// factor 1.044, not by the photons' √10.
+#[test]
+fn a_ray_files_noise_counts_its_distinct_rays() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../assets/rayfiles/parabolic_spot_ray_file_led.toml");
+    let luminaire = std::sync::Arc::new(lucerna_simulation::Luminaire::load(&path).unwrap());
+    let noise = |photons: u64| {
+        let settings = lucerna_simulation::SimulationSettings {
+            resolution: 32,
+            backend: lucerna_simulation::BackendRequest::Cpu,
+            stop: lucerna_simulation::StoppingRule {
+                photons: Some(photons),
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        lucerna_simulation::bake(luminaire.clone(), settings)
+            .unwrap()
+            .noise
+            .peak_relative
+    };
+    let (few, many) = (noise(200_000), noise(2_000_000));
+    let ratio = few / many;
+    let want = ((1.0f64 / 2e5 + 1.0 / 2e4) / (1.0 / 2e6 + 1.0 / 2e4)).sqrt();
+    assert!(
+        (ratio / want - 1.0).abs() < 0.03,
+        "peak noise {few} at 200 k photons, {many} at 2 M: {ratio}× against {want}× (photons alone: 3.2×)"
+    );
+}
