@@ -191,7 +191,7 @@ pub fn parse_scene(text: &str, path: &Path) -> Result<Scene, LoadSceneError> {
     let unread = ray_files_own_flux(&mut scene, path);
     let mut found = validation(&scene);
     for p in &mut found.problems {
-        if let Some((_, why)) = unread.iter().find(|(at, _)| *at == p.field.to_string()) {
+        if let Some((_, why)) = unread.iter().find(|(at, _)| *at == p.field) {
             p.message = format!("not given, and the ray file cannot give its own: {why}");
         }
     }
@@ -217,7 +217,7 @@ pub fn parse_scene(text: &str, path: &Path) -> Result<Scene, LoadSceneError> {
 /// Each ray-file emitter that states no `flux_lm` gets its file's own
 /// (the header's, else the rays' sum), the file found beside `path`;
 /// those whose file cannot give it, by field, with why.
-fn ray_files_own_flux(scene: &mut Scene, path: &Path) -> Vec<(String, String)> {
+fn ray_files_own_flux(scene: &mut Scene, path: &Path) -> Vec<(FieldPath, String)> {
     let dir = path.parent().unwrap_or(Path::new("."));
     let mut unread = Vec::new();
     for (i, e) in scene.emitters.iter_mut().enumerate() {
@@ -226,7 +226,10 @@ fn ray_files_own_flux(scene: &mut Scene, path: &Path) -> Vec<(String, String)> {
         {
             match lucerna_photometry::tm25::ray_file_luminous_flux(&dir.join(file)) {
                 Ok(flux) => e.flux_lm = flux,
-                Err(why) => unread.push((format!("emitter[{i}].flux_lm"), why.to_string())),
+                Err(why) => unread.push((
+                    FieldPath::default().key("emitter").index(i).key("flux_lm"),
+                    why.to_string(),
+                )),
             }
         }
     }

@@ -61,6 +61,15 @@ pub struct ExportOptions {
 /// The x and y extent (m) of triangles `range` (all when `None`) seen
 /// from below.
 fn footprint(tessellated: &TessellatedScene, range: Option<std::ops::Range<usize>>) -> (f64, f64) {
+    footprint_box(tessellated, range).map_or((0.0, 0.0), |(lo, hi)| (hi[0] - lo[0], hi[1] - lo[1]))
+}
+
+/// The x-y bounding box (m) of triangles `range` (all when `None`); None
+/// without triangles.
+fn footprint_box(
+    tessellated: &TessellatedScene,
+    range: Option<std::ops::Range<usize>>,
+) -> Option<([f64; 2], [f64; 2])> {
     let mesh = &tessellated.mesh;
     let mut lo = [f64::INFINITY; 2];
     let mut hi = [f64::NEG_INFINITY; 2];
@@ -73,39 +82,24 @@ fn footprint(tessellated: &TessellatedScene, range: Option<std::ops::Range<usize
             }
         }
     }
-    if lo[0] > hi[0] {
-        (0.0, 0.0)
-    } else {
-        (hi[0] - lo[0], hi[1] - lo[1])
-    }
+    (lo[0] <= hi[0]).then_some((lo, hi))
 }
 
-/// Whether triangles `range` seen from below fill a disk: a footprint
-/// `length_m` × `width_m` square within 2 %, every vertex within 2 % of
-/// the inscribed circle about its centre.
-fn round_footprint(
-    tessellated: &TessellatedScene,
-    range: std::ops::Range<usize>,
-    length_m: f64,
-    width_m: f64,
-) -> bool {
+/// Whether triangles `range` seen from below fill a disk: a square
+/// footprint within 2 %, every vertex within 2 % of the inscribed circle
+/// about its centre.
+fn round_footprint(tessellated: &TessellatedScene, range: std::ops::Range<usize>) -> bool {
+    let Some((lo, hi)) = footprint_box(tessellated, Some(range.clone())) else {
+        return false;
+    };
+    let (length_m, width_m) = (hi[0] - lo[0], hi[1] - lo[1]);
     let size = length_m.max(width_m);
     if !(size > 0.0) || (length_m - width_m).abs() > ROUND_TOLERANCE * size {
         return false;
     }
     let mesh = &tessellated.mesh;
-    let triangles = &mesh.triangles[range];
-    let mut lo = [f64::INFINITY; 2];
-    let mut hi = [f64::NEG_INFINITY; 2];
-    for &v in triangles.iter().flatten() {
-        let p = mesh.positions[v as usize];
-        for (k, x) in [f64::from(p.x), f64::from(p.y)].into_iter().enumerate() {
-            lo[k] = lo[k].min(x);
-            hi[k] = hi[k].max(x);
-        }
-    }
     let centre = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
-    let reach = triangles
+    let reach = mesh.triangles[range]
         .iter()
         .flatten()
         .map(|&v| {
@@ -172,7 +166,7 @@ pub fn luminous_opening(scene: &Scene, tessellated: &TessellatedScene) -> Dimens
             // surface of revolution or an OBJ mesh): a square footprint
             // whose triangles all lie within its inscribed circle (a
             // square's corners reach √2 of it).
-            let revolved = round_footprint(tessellated, range, length_m, width_m);
+            let revolved = round_footprint(tessellated, range);
             if revolved {
                 disk(length_m.max(width_m), 0.0)
             } else {

@@ -287,15 +287,8 @@ impl Run {
         let report = self.last;
         // A ray file's photons are no more certain than its distinct
         // rays: each relative error grows by √(photons / effective).
-        let distinct = distinct_rays.map_or(1.0, |rays| {
-            let photons = map.photons_emitted as f64;
-            let effective = lucerna_tracer::ray_kernel::effective_photons(photons, rays as f64);
-            if effective > 0.0 {
-                (photons / effective).sqrt()
-            } else {
-                1.0
-            }
-        });
+        let distinct =
+            lucerna_tracer::ray_kernel::noise_inflation(map.photons_emitted as f64, distinct_rays);
         let peak_relative = distinct
             * report.map_or_else(
                 || peak_relative_error(&map, &self.symmetry),
@@ -408,11 +401,9 @@ pub(crate) fn tabulate(
     // sample, looped or interpolated).
     let noise = (map.photons_emitted > 0).then(|| {
         let photons = map.photons_emitted as f64;
-        let effective = distinct_rays.map_or(photons, |rays| {
-            lucerna_tracer::ray_kernel::effective_photons(photons, rays as f64)
-        });
+        let inflation = lucerna_tracer::ray_kernel::noise_inflation(photons, distinct_rays);
         PhotonNoise {
-            lm_per_photon: map.emitter_flux_lm / effective,
+            lm_per_photon: map.emitter_flux_lm / photons * inflation * inflation,
             pooled_images: pooled_images as f64,
         }
     });

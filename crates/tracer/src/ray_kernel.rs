@@ -267,6 +267,20 @@ pub fn effective_photons(photons: f64, rays: f64) -> f64 {
     }
 }
 
+/// How much a ray file's reuse widens a relative error counted from
+/// `photons`: √(photons / effective), 1 without rays.
+pub fn noise_inflation(photons: f64, rays: Option<u64>) -> f64 {
+    let Some(rays) = rays else {
+        return 1.0;
+    };
+    let effective = effective_photons(photons, rays as f64);
+    if effective > 0.0 {
+        (photons / effective).sqrt()
+    } else {
+        1.0
+    }
+}
+
 #[cfg(test)]
 mod tests {
     #![allow(clippy::unwrap_used)] // reason: tests may panic
@@ -342,6 +356,8 @@ mod tests {
         let e = effective_photons(2e6, 1e5);
         assert!(e < 1e5 && e > 0.95e5, "{e}");
         assert!((effective_photons(1e5, 1e5) - 5e4).abs() < 1e-6);
+        assert_eq!(noise_inflation(1e6, None), 1.0);
+        assert!((noise_inflation(1e5, Some(100_000)) - 2f64.sqrt()).abs() < 1e-12);
     }
 
     #[test]
