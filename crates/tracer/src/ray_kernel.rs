@@ -33,20 +33,12 @@ use lucerna_photometry::tm25::RaySet;
 /// What a bake does when it wants more photons than the file has rays.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum RayReuse {
-    /// Each photon a ray moved by the file's cross-validated kernel.
+    /// Each photon a ray whose direction is turned by the file's
+    /// cross-validated kernel.
     #[default]
     Interpolate,
     /// Each photon exactly a ray of the file (rays used again as they are).
     Loop,
-}
-
-impl RayReuse {
-    pub fn name(self) -> &'static str {
-        match self {
-            RayReuse::Interpolate => "interpolate",
-            RayReuse::Loop => "loop",
-        }
-    }
 }
 
 /// The kernel's width: a Gaussian standard deviation of the direction
@@ -57,10 +49,8 @@ pub struct RayKernel {
     /// The factor β the cross-validation chose, carried to the number
     /// of rays the file has.
     pub beta: f64,
-    /// How many rays the cross-validation held out, and how many it
-    /// scored them against.
+    /// How many rays the cross-validation held out.
     pub held_out: usize,
-    pub reference: usize,
 }
 
 impl RayKernel {
@@ -229,7 +219,6 @@ pub fn cross_validated(rays: &RaySet) -> Option<RayKernel> {
         direction_rad: (beta * set.spread_dir) as f32,
         beta,
         held_out: held.len(),
-        reference: reference.len(),
     })
 }
 
