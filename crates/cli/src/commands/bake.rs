@@ -91,7 +91,7 @@ pub enum PartChoice {
     Part(PartSpec),
 }
 
-fn parse_part(s: &str) -> Result<PartChoice, String> {
+pub fn parse_part(s: &str) -> Result<PartChoice, String> {
     if s.trim() == "auto" {
         return Ok(PartChoice::Auto);
     }
