@@ -159,15 +159,21 @@ impl Setup {
             .filter(|p| !p.as_os_str().is_empty())
             .unwrap_or(Path::new("."))
             .to_path_buf();
-        Setup::new(scene, &scene_dir, target, max_relative_l2, tolerances, settings).map_err(
-            |e| match e {
-                ToleranceError::Spec { why, .. } => ToleranceError::Spec {
-                    path: spec_path.display().to_string(),
-                    why,
-                },
-                other => other,
-            },
+        Setup::new(
+            scene,
+            &scene_dir,
+            target,
+            max_relative_l2,
+            tolerances,
+            settings,
         )
+        .map_err(|e| match e {
+            ToleranceError::Spec { why, .. } => ToleranceError::Spec {
+                path: spec_path.display().to_string(),
+                why,
+            },
+            other => other,
+        })
     }
 
     /// An analysis of a scene already loaded.
@@ -190,11 +196,10 @@ impl Setup {
                 settings.resolution
             )));
         }
-        let judge =
-            Judge::new(target, max_relative_l2).map_err(|why| ToleranceError::Spec {
-                path: String::new(),
-                why,
-            })?;
+        let judge = Judge::new(target, max_relative_l2).map_err(|why| ToleranceError::Spec {
+            path: String::new(),
+            why,
+        })?;
         let mut variables: Vec<Variable> = Vec::new();
         for s in &tolerances.scalars {
             if let At::Variable(place) = &s.at {
@@ -221,7 +226,7 @@ impl Setup {
             });
         }
         let model = Model::new(scene, tolerances, settings.seed)
-            .map_err(|why| ToleranceError::Settings(why))?;
+            .map_err(ToleranceError::Settings)?;
         let figures = judge.figures();
         Ok(Setup {
             scene_dir: scene_dir.to_path_buf(),

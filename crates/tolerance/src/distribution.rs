@@ -53,7 +53,10 @@ impl Distribution {
             ));
         }
         if !self.offset.is_finite() {
-            return Err(format!("offset must be a finite number, got {}", self.offset));
+            return Err(format!(
+                "offset must be a finite number, got {}",
+                self.offset
+            ));
         }
         Ok(())
     }
@@ -174,7 +177,9 @@ mod tests {
     fn a_truncated_normal_stays_within_its_limits_and_has_its_closed_form_spread() {
         let d = normal(1.0, Some(1.0));
         let n = 200_000;
-        let xs: Vec<f64> = (0..n).map(|k| d.quantile((k as f64 + 0.5) / n as f64)).collect();
+        let xs: Vec<f64> = (0..n)
+            .map(|k| d.quantile((k as f64 + 0.5) / n as f64))
+            .collect();
         assert!(xs.iter().all(|x| x.abs() <= 1.0 + 1e-12));
         let var = xs.iter().map(|x| x * x).sum::<f64>() / n as f64;
         // σ² (1 − 2·1·φ(1)/(2Φ(1) − 1)) = 0.2911.

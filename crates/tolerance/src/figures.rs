@@ -20,10 +20,11 @@ pub enum Figure {
     PeakCandela,
     PeakGamma,
     PeakC,
-    /// The direction of the luminaire's flux vector (the flux-weighted
-    /// mean direction): γ from the nadir and its C-plane. A lateral LED
-    /// offset tilts it; the peak's γ of a flat-topped beam sits where
-    /// the noise puts it.
+    /// The direction of the downward flux's vector (the flux-weighted
+    /// mean direction of the light below the horizon, the beam's
+    /// centroid): γ from the nadir and its C-plane. A lateral LED offset
+    /// tilts it; the peak's γ of a flat-topped beam sits where the noise
+    /// puts it.
     CentroidGamma,
     CentroidC,
     /// The spec's cut-off: the most intensity above its γ, % of the peak.
@@ -254,8 +255,11 @@ impl Judge {
     }
 }
 
-/// The direction of a map's flux vector Σ Φ·d (γ from the nadir, its
-/// C-plane; degrees): each texel's photons at its centre direction.
+/// The direction of a map's downward flux vector Σ Φ·d (γ from the
+/// nadir, its C-plane; degrees): each texel's photons at its centre
+/// direction. Up-light is left out: a beam's centroid is where the
+/// downward light goes, and light that flips between the reflector and
+/// the sky when a part moves would turn the whole vector.
 pub fn flux_centroid(map: &IntensityMap) -> (f64, f64) {
     let v = flux_vector(map);
     let gamma = v[0].hypot(v[1]).atan2(-v[2]).to_degrees();
@@ -263,7 +267,8 @@ pub fn flux_centroid(map: &IntensityMap) -> (f64, f64) {
     (gamma, c)
 }
 
-/// Σ counts·d over the texels (photons × unit direction).
+/// Σ counts·d over the texels below the horizon (photons × unit
+/// direction).
 pub fn flux_vector(map: &IntensityMap) -> [f64; 3] {
     let mut v = [0.0; 3];
     for (t, &n) in map.counts.iter().enumerate() {
@@ -271,6 +276,9 @@ pub fn flux_vector(map: &IntensityMap) -> [f64; 3] {
             continue;
         }
         let d = map.layout.texel_centre_direction(t);
+        if d[2] >= 0.0 {
+            continue;
+        }
         for k in 0..3 {
             v[k] += n as f64 * d[k];
         }

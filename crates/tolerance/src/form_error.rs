@@ -68,12 +68,7 @@ impl FormErrorModel {
         let longest = sample_profile(points, interpolation, 16)
             .iter()
             .flat_map(|strip| strip.windows(2))
-            .map(|w| {
-                span_length(
-                    [w[0].point.x, w[0].point.y],
-                    [w[1].point.x, w[1].point.y],
-                )
-            })
+            .map(|w| span_length([w[0].point.x, w[0].point.y], [w[1].point.x, w[1].point.y]))
             .fold(0.0, f64::max)
             * 16.0;
         let spans = points.len() - 1;
@@ -260,14 +255,17 @@ mod tests {
         )
         .expect("a paraboloid converts");
         let n = model.dimension();
-        assert!(model.arc_m.windows(2).all(|w| w[1] - w[0] <= corr / 4.0 + 1e-9));
+        assert!(
+            model
+                .arc_m
+                .windows(2)
+                .all(|w| w[1] - w[0] <= corr / 4.0 + 1e-9)
+        );
         let mut rng = ChaCha8Rng::seed_from_u64(7);
         let draws = 4000;
         let samples: Vec<Vec<f64>> = (0..draws)
             .map(|_| {
-                let z: Vec<f64> = (0..n)
-                    .map(|_| standard_normal(rng.next_u64()))
-                    .collect();
+                let z: Vec<f64> = (0..n).map(|_| standard_normal(rng.next_u64())).collect();
                 // The deviations measured on the deformed points, as
                 // built: the distance moved along the normal.
                 let deformed = model.deformed(&model.deviations(&z));
@@ -300,7 +298,10 @@ mod tests {
         let want = (-0.5 * (lag / corr).powi(2)).exp();
         let cov = samples.iter().map(|s| s[i] * s[j]).sum::<f64>() / draws as f64;
         let got = cov / (sigma * sigma);
-        assert!((got - want).abs() < 0.05, "correlation {got} at lag {lag}, want {want}");
+        assert!(
+            (got - want).abs() < 0.05,
+            "correlation {got} at lag {lag}, want {want}"
+        );
         // Far apart: uncorrelated.
         let far = samples.iter().map(|s| s[0] * s[n - 1]).sum::<f64>() / draws as f64;
         assert!((far / (sigma * sigma)).abs() < 0.06);

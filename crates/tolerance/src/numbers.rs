@@ -53,7 +53,10 @@ pub mod list {
     use super::*;
 
     pub fn serialize<S: Serializer>(v: &[f64], s: S) -> Result<S::Ok, S::Error> {
-        v.iter().map(|x| to_repr(*x)).collect::<Vec<_>>().serialize(s)
+        v.iter()
+            .map(|x| to_repr(*x))
+            .collect::<Vec<_>>()
+            .serialize(s)
     }
 
     pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<f64>, D::Error> {
@@ -75,7 +78,14 @@ mod tests {
     #[test]
     fn every_number_reads_back_to_the_bit() {
         let t = T {
-            v: vec![0.1, 1.0 / 3.0, f64::INFINITY, f64::NEG_INFINITY, -0.0, 1e-300],
+            v: vec![
+                0.1,
+                1.0 / 3.0,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                -0.0,
+                1e-300,
+            ],
         };
         let text = serde_json::to_string(&t).expect("writes");
         let back: T = serde_json::from_str(&text).expect("reads");

@@ -30,7 +30,12 @@ pub fn samples_csv(setup: &Setup, records: &[SampleRecord]) -> Result<String, To
     let term_names: Vec<String> = records
         .iter()
         .find_map(|r| r.measured.as_ref())
-        .map(|m| m.terms.iter().map(|t| format!("meets {}", t.term)).collect())
+        .map(|m| {
+            m.terms
+                .iter()
+                .map(|t| format!("meets {}", t.term))
+                .collect()
+        })
         .unwrap_or_default();
     header.extend(term_names.iter().cloned());
     header.push("shortfall".to_owned());
@@ -68,14 +73,20 @@ pub fn samples_csv(setup: &Setup, records: &[SampleRecord]) -> Result<String, To
         row.push(r.refused.clone().unwrap_or_default());
         w.write_record(&row).map_err(bad)?;
     }
-    let bytes = w.into_inner().map_err(|e| ToleranceError::Output(e.to_string()))?;
+    let bytes = w
+        .into_inner()
+        .map_err(|e| ToleranceError::Output(e.to_string()))?;
     String::from_utf8(bytes).map_err(|e| ToleranceError::Output(e.to_string()))
 }
 
 /// A number as the CSVs write it: the shortest text that reads back to
 /// the same bits; empty for NaN.
 fn number(v: f64) -> String {
-    if v.is_nan() { String::new() } else { format!("{v}") }
+    if v.is_nan() {
+        String::new()
+    } else {
+        format!("{v}")
+    }
 }
 
 fn figures_csv(report: &Report) -> String {
@@ -108,7 +119,14 @@ fn yield_csv(report: &Report) -> Result<String, ToleranceError> {
     let mut w = csv::Writer::from_writer(Vec::new());
     let bad = |e: csv::Error| ToleranceError::Output(format!("yield.csv: {e}"));
     w.write_record([
-        "term", "wanted", "nominal", "nominal_meets", "passed", "samples", "yield", "ci95_low",
+        "term",
+        "wanted",
+        "nominal",
+        "nominal_meets",
+        "passed",
+        "samples",
+        "yield",
+        "ci95_low",
         "ci95_high",
     ])
     .map_err(bad)?;
@@ -140,14 +158,17 @@ fn yield_csv(report: &Report) -> Result<String, ToleranceError> {
         ])
         .map_err(bad)?;
     }
-    let bytes = w.into_inner().map_err(|e| ToleranceError::Output(e.to_string()))?;
+    let bytes = w
+        .into_inner()
+        .map_err(|e| ToleranceError::Output(e.to_string()))?;
     String::from_utf8(bytes).map_err(|e| ToleranceError::Output(e.to_string()))
 }
 
 fn sensitivities_csv(report: &Report) -> Result<String, ToleranceError> {
     let mut w = csv::Writer::from_writer(Vec::new());
     let bad = |e: csv::Error| ToleranceError::Output(format!("sensitivities.csv: {e}"));
-    w.write_record(["figure", "tolerance", "share", "noise"]).map_err(bad)?;
+    w.write_record(["figure", "tolerance", "share", "noise"])
+        .map_err(bad)?;
     for s in &report.sensitivities {
         w.write_record([
             s.figure.to_owned(),
@@ -157,7 +178,9 @@ fn sensitivities_csv(report: &Report) -> Result<String, ToleranceError> {
         ])
         .map_err(bad)?;
     }
-    let bytes = w.into_inner().map_err(|e| ToleranceError::Output(e.to_string()))?;
+    let bytes = w
+        .into_inner()
+        .map_err(|e| ToleranceError::Output(e.to_string()))?;
     String::from_utf8(bytes).map_err(|e| ToleranceError::Output(e.to_string()))
 }
 
@@ -216,7 +239,10 @@ pub fn files(
             out_dir.join("samples.csv"),
             samples_csv(setup, records)?.into_bytes(),
         ),
-        (out_dir.join("figures.csv"), figures_csv(report).into_bytes()),
+        (
+            out_dir.join("figures.csv"),
+            figures_csv(report).into_bytes(),
+        ),
         (out_dir.join("yield.csv"), yield_csv(report)?.into_bytes()),
         (
             out_dir.join("sensitivities.csv"),
@@ -296,9 +322,8 @@ pub fn part_file_name(part: u32, parts: u32) -> String {
 pub fn inputs_sha256(paths: &[&Path]) -> Result<String, ToleranceError> {
     let mut h = Sha256::new();
     for p in paths {
-        let bytes = std::fs::read(p).map_err(|e| {
-            ToleranceError::Output(format!("cannot read {}: {e}", p.display()))
-        })?;
+        let bytes = std::fs::read(p)
+            .map_err(|e| ToleranceError::Output(format!("cannot read {}: {e}", p.display())))?;
         h.update((bytes.len() as u64).to_le_bytes());
         h.update(&bytes);
     }
@@ -361,7 +386,9 @@ pub fn merge_parts(dir: &Path, expected: &Manifest) -> Result<Vec<SampleRecord>,
     for part in parts {
         let k = part.part;
         if !(1..=count).contains(&k) {
-            return Err(ToleranceError::Merge(format!("a file names part {k} of {count}")));
+            return Err(ToleranceError::Merge(format!(
+                "a file names part {k} of {count}"
+            )));
         }
         if found[(k - 1) as usize].is_some() {
             return Err(ToleranceError::Merge(format!("part {k} is there twice")));

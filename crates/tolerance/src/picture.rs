@@ -35,7 +35,10 @@ fn limits(setup: &Setup, figure: Figure) -> (Option<f64>, Option<f64>) {
     };
     match (figure, spec) {
         (Figure::Beam, Some(s)) => match s.beam_angle_deg {
-            Some(b) => (Some(b - s.beam_tolerance_deg), Some(b + s.beam_tolerance_deg)),
+            Some(b) => (
+                Some(b - s.beam_tolerance_deg),
+                Some(b + s.beam_tolerance_deg),
+            ),
             None => (None, None),
         },
         (Figure::Field, Some(s)) => (None, s.field_angle_max_deg),
@@ -124,7 +127,12 @@ fn histogram_panel(
     (lower, upper): (Option<f64>, Option<f64>),
     (mean, sd): (f64, f64),
 ) {
-    let (left, right, top, bottom) = (x0 + 44.0, x0 + PANEL_W - 16.0, y0 + 34.0, y0 + PANEL_H - 40.0);
+    let (left, right, top, bottom) = (
+        x0 + 44.0,
+        x0 + PANEL_W - 16.0,
+        y0 + 34.0,
+        y0 + PANEL_H - 40.0,
+    );
     c.text(
         x0 + 16.0,
         y0 + 6.0,
@@ -190,7 +198,12 @@ fn histogram_panel(
 /// `sensitivities.png`: per figure, each tolerance's share of its
 /// variance.
 pub fn sensitivities_png(setup: &Setup, report: &Report) -> Result<Vec<u8>, image::ImageError> {
-    let figures: Vec<Figure> = setup.figures.iter().copied().filter(|f| shown(*f)).collect();
+    let figures: Vec<Figure> = setup
+        .figures
+        .iter()
+        .copied()
+        .filter(|f| shown(*f))
+        .collect();
     let mut names: Vec<String> = Vec::new();
     for s in &report.sensitivities {
         if !names.contains(&s.tolerance) {
@@ -249,7 +262,14 @@ pub fn sensitivities_png(setup: &Setup, report: &Report) -> Result<Vec<u8>, imag
                 BLACK,
             );
         }
-        c.line(left, y0 + group_h - 8.0, right, y0 + group_h - 8.0, 1.0, [225, 225, 225]);
+        c.line(
+            left,
+            y0 + group_h - 8.0,
+            right,
+            y0 + group_h - 8.0,
+            1.0,
+            [225, 225, 225],
+        );
     }
     let axis_y = top + group_h * figures.len() as f32;
     c.line(left, top - 4.0, left, axis_y, 1.0, BLACK);
@@ -257,7 +277,13 @@ pub fn sensitivities_png(setup: &Setup, report: &Report) -> Result<Vec<u8>, imag
         let v = f64::from(k) * 0.25;
         let x = to_x(v);
         c.line(x, axis_y, x, axis_y + 4.0, 1.0, BLACK);
-        c.text_centred(x, axis_y + 14.0, &format!("{:.0} %", 100.0 * v), 12.0, BLACK);
+        c.text_centred(
+            x,
+            axis_y + 14.0,
+            &format!("{:.0} %", 100.0 * v),
+            12.0,
+            BLACK,
+        );
     }
     let ly = axis_y + 34.0;
     for (k, name) in names.iter().enumerate() {

@@ -143,7 +143,10 @@ impl Report {
                     figure: fig.key(),
                     label: fig.label(),
                     nominal: reference.nominal.values[f],
-                    as_built: reference.as_built.as_ref().map_or(f64::NAN, |m| m.values[f]),
+                    as_built: reference
+                        .as_built
+                        .as_ref()
+                        .map_or(f64::NAN, |m| m.values[f]),
                     spread,
                     photon_noise_sd: noise,
                     manufacturing_sd: (spread.sd * spread.sd - noise * noise).max(0.0).sqrt(),
@@ -263,7 +266,10 @@ fn sensitivities(setup: &Setup, traced: &[&SampleRecord]) -> Vec<Sensitivity> {
             if let Some(share) = regression_share(&rows, &y) {
                 out.push(Sensitivity {
                     figure: fig.key(),
-                    tolerance: format!("{} form error", setup.model.tolerances.form_errors[k].part_name),
+                    tolerance: format!(
+                        "{} form error",
+                        setup.model.tolerances.form_errors[k].part_name
+                    ),
                     share,
                 });
             }

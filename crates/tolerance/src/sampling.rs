@@ -101,7 +101,11 @@ impl Model {
         Draw {
             index: u32::MAX,
             deviations: vec![0.0; self.tolerances.scalars.len()],
-            form_normals: self.forms.iter().map(|f| vec![0.0; f.dimension()]).collect(),
+            form_normals: self
+                .forms
+                .iter()
+                .map(|f| vec![0.0; f.dimension()])
+                .collect(),
             uniforms: vec![0.5; self.tolerances.scalars.len()],
         }
     }

@@ -192,7 +192,11 @@ pub fn regression_share(x: &[Vec<f64>], y: &[f64]) -> Option<Share> {
             *v = if sd > 0.0 { (*v - mu) / sd } else { 0.0 };
         }
     }
-    let design = DMatrix::from_fn(n, p + 1, |i, j| if j == 0 { 1.0 } else { columns[j - 1][i] });
+    let design = DMatrix::from_fn(
+        n,
+        p + 1,
+        |i, j| if j == 0 { 1.0 } else { columns[j - 1][i] },
+    );
     let target = DVector::from_column_slice(y);
     let fit = design.clone().svd(true, true).solve(&target, 1e-12).ok()?;
     let residual = target - design * fit;

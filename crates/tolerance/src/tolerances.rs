@@ -143,13 +143,14 @@ struct RawSlope {
 
 /// Reads and checks a tolerances file against `scene`.
 pub fn load(path: &Path, scene: &Scene) -> Result<Tolerances, ToleranceError> {
-    let text = lucerna_scene::io::read_limited_text(path, lucerna_scene::io::MAX_PROFILE_FILE_BYTES)
-        .map_err(|e| ToleranceError::File {
-            path: path.display().to_string(),
-            line: 0,
-            field: String::new(),
-            why: e.to_string(),
-        })?;
+    let text =
+        lucerna_scene::io::read_limited_text(path, lucerna_scene::io::MAX_PROFILE_FILE_BYTES)
+            .map_err(|e| ToleranceError::File {
+                path: path.display().to_string(),
+                line: 0,
+                field: String::new(),
+                why: e.to_string(),
+            })?;
     parse(&text, scene).map_err(|(line, field, why)| ToleranceError::File {
         path: path.display().to_string(),
         line,
@@ -208,9 +209,15 @@ pub fn parse(text: &str, scene: &Scene) -> Result<Tolerances, Problem> {
         };
         if let Err(why) = distribution.check() {
             let (line, f) = if why.starts_with("truncate") {
-                (t.truncate.as_ref().map_or(line, |s| at_line(s.span())), "truncate")
+                (
+                    t.truncate.as_ref().map_or(line, |s| at_line(s.span())),
+                    "truncate",
+                )
             } else if why.starts_with("offset") {
-                (t.offset.as_ref().map_or(line, |s| at_line(s.span())), "offset")
+                (
+                    t.offset.as_ref().map_or(line, |s| at_line(s.span())),
+                    "offset",
+                )
             } else if let Some(n) = &t.normal {
                 (at_line(n.span()), "normal.sigma")
             } else if let Some(u) = &t.uniform {
@@ -221,7 +228,13 @@ pub fn parse(text: &str, scene: &Scene) -> Result<Tolerances, Problem> {
             return Err((line, field(f), why));
         }
         let name = t.at.get_ref().clone();
-        let at_problem = |why: String| (at_line(t.at.span()), field("at"), format!("\"{name}\": {why}"));
+        let at_problem = |why: String| {
+            (
+                at_line(t.at.span()),
+                field("at"),
+                format!("\"{name}\": {why}"),
+            )
+        };
         let (at, nominal, unit) = resolve(scene, &name).map_err(at_problem)?;
         if out.scalars.iter().any(|s| s.at == at) {
             return Err(at_problem("toleranced twice".to_owned()));
@@ -346,13 +359,17 @@ pub fn has_profile(shape: &Shape) -> bool {
 }
 
 fn find_part(scene: &Scene, name: &str) -> Result<usize, String> {
-    scene.parts.iter().position(|p| p.name == name).ok_or_else(|| {
-        let names: Vec<&str> = scene.parts.iter().map(|p| p.name.as_str()).collect();
-        format!(
-            "the scene has no part '{name}' (its parts: {})",
-            names.join(", ")
-        )
-    })
+    scene
+        .parts
+        .iter()
+        .position(|p| p.name == name)
+        .ok_or_else(|| {
+            let names: Vec<&str> = scene.parts.iter().map(|p| p.name.as_str()).collect();
+            format!(
+                "the scene has no part '{name}' (its parts: {})",
+                names.join(", ")
+            )
+        })
 }
 
 /// Where `name` acts, its nominal value and unit.
@@ -466,9 +483,14 @@ sigma_rad = 1e-3
         let (line, field, _) = problem(
             "[[form_error]]\npart = \"reflector\"\nsigma = 1e-5\ncorrelation_length = -1.0\n",
         );
-        assert_eq!((line, field.as_str()), (4, "form_error[0].correlation_length"));
+        assert_eq!(
+            (line, field.as_str()),
+            (4, "form_error[0].correlation_length")
+        );
 
-        let (line, _, why) = problem("[[tolerance]]\nat = \"LED.translate_x\"\nnormal = { sigma = 1e-4 }\nsigmaa = 1\n");
+        let (line, _, why) = problem(
+            "[[tolerance]]\nat = \"LED.translate_x\"\nnormal = { sigma = 1e-4 }\nsigmaa = 1\n",
+        );
         assert_eq!(line, 4);
         assert!(why.contains("sigmaa"), "{why}");
 

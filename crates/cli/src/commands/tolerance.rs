@@ -96,7 +96,9 @@ pub fn tolerance(args: &ToleranceArgs) -> Result<()> {
     if (args.part.is_some() || args.merge.is_some())
         && (args.time.is_some() || args.yield_precision.is_some())
     {
-        bail!("a split run is sized by --samples alone (--time and --yield-precision would make the parts differ)");
+        bail!(
+            "a split run is sized by --samples alone (--time and --yield-precision would make the parts differ)"
+        );
     }
     if args.noise_runs < 2 {
         bail!("--noise-runs must be at least 2");
@@ -168,7 +170,10 @@ pub fn tolerance(args: &ToleranceArgs) -> Result<()> {
         println!("wrote {}", path.display());
         return Ok(());
     }
-    eprintln!("tracing the nominal and its photon noise ({} streams)", settings.noise_runs);
+    eprintln!(
+        "tracing the nominal and its photon noise ({} streams)",
+        settings.noise_runs
+    );
     let reference = setup.reference()?;
     let (records, stopped) = match &args.merge {
         Some(dir) => {
@@ -190,7 +195,9 @@ pub fn tolerance(args: &ToleranceArgs) -> Result<()> {
         bail!("no sample was traced: nothing written");
     }
     match stopped {
-        Stopped::Interrupted => eprintln!("interrupted: writing the {} samples done", records.len()),
+        Stopped::Interrupted => {
+            eprintln!("interrupted: writing the {} samples done", records.len())
+        }
         Stopped::Time => eprintln!("the time is up: writing the {} samples done", records.len()),
         Stopped::Precision => eprintln!(
             "the yield's interval is within ± {} points",
@@ -301,7 +308,11 @@ fn print_report(r: &Report) {
         .iter()
         .filter(|s| s.share.share > 3.0 * s.share.noise && s.share.share >= 0.05)
         .collect();
-    drivers.sort_by(|a, b| a.figure.cmp(b.figure).then(b.share.share.total_cmp(&a.share.share)));
+    drivers.sort_by(|a, b| {
+        a.figure
+            .cmp(b.figure)
+            .then(b.share.share.total_cmp(&a.share.share))
+    });
     for s in drivers {
         println!(
             "  {:<24} driven by {:<28} {:5.1} % of its variance",
