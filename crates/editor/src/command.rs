@@ -83,6 +83,13 @@ pub enum Command {
     StartDesign,
     /// Stops the design with the best it found so far.
     StopDesign,
+    /// Runs a tolerance analysis as the Tolerance pane sets it up
+    /// (tolerance_state.rs).
+    StartTolerance,
+    /// Stops it, keeping the samples done.
+    StopTolerance,
+    /// Opens sample k of the analysis as the scene (one undo step).
+    OpenToleranceSample(u32),
     /// Ticks (or unticks) what a design may vary: `PART.FIELD` or
     /// `PART.profile[INDEX]`.
     TickDesignVariable {
@@ -110,6 +117,7 @@ impl Command {
                 | Command::Recover
                 | Command::ImportMesh(_)
                 | Command::AddRayFileEmitter(_)
+                | Command::OpenToleranceSample(_)
         )
     }
 }

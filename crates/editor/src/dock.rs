@@ -37,6 +37,7 @@ fn default_tree() -> Tree<Pane> {
         tiles.insert_pane(Pane::Profile),
         tiles.insert_pane(Pane::View(View::Room)),
         tiles.insert_pane(Pane::Design),
+        tiles.insert_pane(Pane::Tolerance),
     ];
     let left = tiles.insert_tab_tile(left);
     let right: Vec<TileId> = Pane::ALL[2..7]
@@ -174,6 +175,7 @@ impl egui_tiles::Behavior<Pane> for Behavior<'_> {
                 }
                 Pane::View(v) => photometric_view_ui(ui, self.state, self.views, v),
                 Pane::Design => design_pane_ui(ui, self.state, self.views),
+                Pane::Tolerance => crate::tolerance_pane::tolerance_pane_ui(ui, self.state),
             });
         egui_tiles::UiResponse::None
     }

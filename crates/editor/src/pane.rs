@@ -33,11 +33,13 @@ pub enum Pane {
     View(View),
     /// Design toward a target: its setup, run and merit plot.
     Design,
+    /// Tolerance analysis: the yield of the built luminaire.
+    Tolerance,
 }
 
 impl Pane {
     /// Every pane, in menu order.
-    pub const ALL: [Pane; 9] = [
+    pub const ALL: [Pane; 10] = [
         Pane::Luminaire,
         Pane::Profile,
         Pane::View(View::Polar),
@@ -47,6 +49,7 @@ impl Pane {
         Pane::View(View::Figures),
         Pane::View(View::Room),
         Pane::Design,
+        Pane::Tolerance,
     ];
 
     /// Its tab's title (also the tab button's accessible name).
@@ -61,6 +64,7 @@ impl Pane {
             Pane::View(View::Figures) => "Figures",
             Pane::View(View::Room) => "Room",
             Pane::Design => "Design",
+            Pane::Tolerance => "Tolerance",
         }
     }
 

@@ -34,6 +34,8 @@ pub struct EditorState {
     pub(crate) room: RoomLive,
     /// The Design pane's setup, run and outcome (design_state.rs).
     pub(crate) design: crate::design_state::DesignState,
+    /// The Tolerance pane's setup, run and outcome (tolerance_state.rs).
+    pub(crate) tolerance: crate::tolerance_state::ToleranceState,
     pub(crate) view: View,
     /// A folder chosen for the export dialog, until it takes it.
     pub(crate) chosen_export_folder: Option<PathBuf>,
@@ -79,6 +81,7 @@ impl EditorState {
             files: FileState::new(paths),
             room: RoomLive::default(),
             design: crate::design_state::DesignState::default(),
+            tolerance: crate::tolerance_state::ToleranceState::default(),
             view: View::default(),
             chosen_export_folder: None,
             scripted_pointer: false,
@@ -192,6 +195,7 @@ impl EditorState {
         }
         self.files_begin_frame(ctx);
         self.poll_design();
+        self.poll_tolerance();
         self.run.refresh();
     }
 
@@ -308,6 +312,9 @@ impl EditorState {
             Command::Restart => self.run.restart(),
             Command::StartDesign => self.start_design(),
             Command::StopDesign => self.stop_design(),
+            Command::StartTolerance => self.start_tolerance(),
+            Command::StopTolerance => self.stop_tolerance(),
+            Command::OpenToleranceSample(index) => self.open_tolerance_sample(index),
             Command::TickDesignVariable { vary, on } => {
                 if let Some(scene) = &self.doc.scene {
                     self.design.setup.tick(&vary, on, scene);

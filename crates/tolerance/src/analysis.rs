@@ -225,8 +225,8 @@ impl Setup {
                 upper: 0.0,
             });
         }
-        let model = Model::new(scene, tolerances, settings.seed)
-            .map_err(ToleranceError::Settings)?;
+        let model =
+            Model::new(scene, tolerances, settings.seed).map_err(ToleranceError::Settings)?;
         let figures = judge.figures();
         Ok(Setup {
             scene_dir: scene_dir.to_path_buf(),
@@ -332,21 +332,23 @@ impl Setup {
     }
 
     /// Samples `indices` in order until the budget is spent or
-    /// `interrupt` is set; what was done is kept.
+    /// `interrupt` is set; what was done is kept. `progress` hears of each
+    /// sample as it is done. (Two samples at once, one building while
+    /// the other traces, were no faster on 2 cores: BENCHMARKS.md.)
     pub fn run(
         &self,
-        indices: &[u32],
+        indices: impl IntoIterator<Item = u32>,
         budget: &Budget,
         interrupt: &AtomicBool,
-        progress: &mut dyn FnMut(&Progress),
+        progress: &mut dyn FnMut(&Progress, &SampleRecord),
     ) -> (Vec<SampleRecord>, Stopped) {
         let began = Instant::now();
         let mut evaluator = self.evaluator(self.settings.seed);
         let mut records: Vec<SampleRecord> = Vec::new();
-        let total = budget.samples.map(|n| (n as usize).min(indices.len()));
+        let total = budget.samples.map(|n| n as usize);
         let mut passed = 0;
         let mut refused = 0;
-        for &index in indices {
+        for index in indices {
             if let Some(n) = total
                 && records.len() >= n
             {
@@ -363,15 +365,18 @@ impl Setup {
             let record = self.sample(&mut evaluator, &self.model.draw(index));
             passed += usize::from(record.passes());
             refused += usize::from(record.refused.is_some());
+            let yield_so_far = Fraction::wilson(passed, records.len() + 1);
+            progress(
+                &Progress {
+                    done: records.len() + 1,
+                    total,
+                    refused,
+                    elapsed: began.elapsed(),
+                    yield_so_far,
+                },
+                &record,
+            );
             records.push(record);
-            let yield_so_far = Fraction::wilson(passed, records.len());
-            progress(&Progress {
-                done: records.len(),
-                total,
-                refused,
-                elapsed: began.elapsed(),
-                yield_so_far,
-            });
             if let Some(w) = budget.yield_half_width
                 && records.len() >= MIN_SAMPLES_FOR_PRECISION
                 && yield_so_far.half_width() <= w

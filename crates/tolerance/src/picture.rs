@@ -28,7 +28,7 @@ const PALETTE: [Colour; 8] = [
 ];
 
 /// The spec's limits on a figure: (lower, upper).
-fn limits(setup: &Setup, figure: Figure) -> (Option<f64>, Option<f64>) {
+pub fn limits(setup: &Setup, figure: Figure) -> (Option<f64>, Option<f64>) {
     let spec: Option<&Spec> = match setup.judge.aim.target() {
         Target::Spec(s) => Some(s),
         Target::Distribution { .. } => None,

@@ -159,13 +159,13 @@ fn the_yield_of_one_uniform_tolerance_is_its_analytic_fraction() {
     let reference = s.reference().unwrap();
     let indices: Vec<u32> = (0..64).collect();
     let (records, stopped) = s.run(
-        &indices,
+        indices.iter().copied(),
         &Budget {
             samples: Some(64),
             ..Budget::default()
         },
         &AtomicBool::new(false),
-        &mut |_| {},
+        &mut |_, _| {},
     );
     let report = Report::new(&s, &reference, &records, stopped, 1.0);
     let y = report.overall;
@@ -223,13 +223,13 @@ transform = { translate = [0.0, 0.0, -0.003] }
     let reference = s.reference().unwrap();
     let indices: Vec<u32> = (0..48).collect();
     let (records, stopped) = s.run(
-        &indices,
+        indices.iter().copied(),
         &Budget {
             samples: Some(48),
             ..Budget::default()
         },
         &AtomicBool::new(false),
-        &mut |_| {},
+        &mut |_, _| {},
     );
     assert!(records.iter().all(|r| r.measured.is_some()), "{records:?}");
     let report = Report::new(&s, &reference, &records, stopped, 1.0);
@@ -267,13 +267,13 @@ fn a_vanishing_form_error_leaves_the_nominal_figures() {
     let reference = s.reference().unwrap();
     let indices: Vec<u32> = (0..3).collect();
     let (records, _) = s.run(
-        &indices,
+        indices.iter().copied(),
         &Budget {
             samples: Some(3),
             ..Budget::default()
         },
         &AtomicBool::new(false),
-        &mut |_| {},
+        &mut |_, _| {},
     );
     for r in &records {
         let m = r.measured.as_ref().unwrap();
@@ -318,13 +318,13 @@ fn common_random_numbers_leave_only_the_geometrys_spread() {
         let reference = s.reference().unwrap();
         let indices: Vec<u32> = (0..12).collect();
         let (records, stopped) = s.run(
-            &indices,
+            indices.iter().copied(),
             &Budget {
                 samples: Some(12),
                 ..Budget::default()
             },
             &AtomicBool::new(false),
-            &mut |_| {},
+            &mut |_, _| {},
         );
         let report = Report::new(&s, &reference, &records, stopped, 1.0);
         let k = s

@@ -151,7 +151,7 @@ pub fn tolerance(args: &ToleranceArgs) -> Result<()> {
             samples: Some(indices.len() as u32),
             ..Budget::default()
         };
-        let (records, stopped) = sample(&setup, &indices, &budget, &interrupt);
+        let (records, stopped) = sample(&setup, indices.iter().copied(), &budget, &interrupt);
         let path = args.out.join(output::part_file_name(k, n));
         let file = PartFile {
             manifest,
@@ -186,9 +186,12 @@ pub fn tolerance(args: &ToleranceArgs) -> Result<()> {
                 time: args.time,
                 yield_half_width: args.yield_precision.map(|p| p / 100.0),
             };
-            let most = args.samples.unwrap_or(u32::MAX / 2);
-            let indices: Vec<u32> = (0..most).collect();
-            sample(&setup, &indices, &budget, &interrupt)
+            sample(
+                &setup,
+                0..args.samples.unwrap_or(u32::MAX),
+                &budget,
+                &interrupt,
+            )
         }
     };
     if records.is_empty() {
@@ -228,12 +231,12 @@ pub fn tolerance(args: &ToleranceArgs) -> Result<()> {
 /// Runs the samples with a progress bar.
 fn sample(
     setup: &Setup,
-    indices: &[u32],
+    indices: impl IntoIterator<Item = u32>,
     budget: &Budget,
     interrupt: &AtomicBool,
 ) -> (Vec<lucerna_tolerance::SampleRecord>, Stopped) {
     let bar = match budget.samples {
-        Some(n) => ProgressBar::new(u64::from(n).min(indices.len() as u64)),
+        Some(n) => ProgressBar::new(u64::from(n)),
         None => ProgressBar::new_spinner(),
     };
     bar.set_style(
@@ -242,7 +245,10 @@ fn sample(
         )
         .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
-    let mut progress = |p: &lucerna_tolerance::Progress| {
+    let mut progress = |p: &lucerna_tolerance::Progress, _: &lucerna_tolerance::SampleRecord| {
+        if p.done.is_multiple_of(TRIM_EVERY) {
+            return_freed_memory();
+        }
         bar.set_position(p.done as u64);
         let y = p.yield_so_far;
         bar.set_message(format!(
@@ -331,3 +337,25 @@ fn print_report(r: &Report) {
         r.samples as f64 / r.seconds.max(1e-9)
     );
 }
+
+/// Samples between two [`return_freed_memory`]: each trim costs the
+/// next samples their pages again (every sample: 25 % slower), so the
+/// heap may hold a few dozen samples' worth.
+const TRIM_EVERY: usize = 32;
+
+/// Hands glibc's freed heap back to the system. Each sample's mesh and
+/// BVH are made and freed across the tracer's threads, and glibc keeps
+/// such memory in its arenas: a run of thousands of samples otherwise
+/// grows by about 2.4 MB a sample (BENCHMARKS.md, "Tolerance analysis").
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+fn return_freed_memory() {
+    #[allow(unsafe_code)]
+    // SAFETY: malloc_trim walks glibc's own free lists; it takes no
+    // pointer of ours and is safe to call from any thread at any time.
+    unsafe {
+        libc::malloc_trim(0);
+    }
+}
+
+#[cfg(not(all(target_os = "linux", target_env = "gnu")))]
+fn return_freed_memory() {}
