@@ -18,6 +18,18 @@ use crate::state::EditorState;
 use crate::tolerance_state::{Message, ToleranceOutcome, ToleranceRun};
 
 impl EditorState {
+    /// Whether a tolerance analysis runs.
+    pub fn is_analysing_tolerances(&self) -> bool {
+        self.tolerance.is_running()
+    }
+
+    /// The samples of the running or last tolerance analysis, and how
+    /// many of them meet every term.
+    pub fn tolerance_samples(&self) -> (usize, usize) {
+        let records = self.tolerance.records();
+        (records.len(), records.iter().filter(|r| r.passes()).count())
+    }
+
     /// Starts an analysis of the current scene as the pane set it up; a
     /// refusal is shown in the pane and nothing changes.
     pub(crate) fn start_tolerance(&mut self) {

@@ -222,7 +222,7 @@ fn all_ui(ui: &mut Ui, setup: &mut ToleranceSetup) {
                 "°"
             };
             ui.label(format!("{}: σ {} {unit}", p.at, p.sigma));
-            if ui.small_button("✕").on_hover_text("remove").clicked() {
+            if ui.small_button("Remove").clicked() {
                 remove_placement = Some(i);
             }
         });
@@ -237,7 +237,7 @@ fn all_ui(ui: &mut Ui, setup: &mut ToleranceSetup) {
                 "{} form error: σ {} mm over {} mm",
                 f.part, f.sigma_mm, f.correlation_mm
             ));
-            if ui.small_button("✕").on_hover_text("remove").clicked() {
+            if ui.small_button("Remove").clicked() {
                 remove_form = Some(i);
             }
         });
@@ -249,7 +249,7 @@ fn all_ui(ui: &mut Ui, setup: &mut ToleranceSetup) {
     for (i, s) in setup.slope_errors.iter().enumerate() {
         ui.horizontal(|ui| {
             ui.label(format!("{} slope error: σ {} mrad", s.part, s.sigma_mrad));
-            if ui.small_button("✕").on_hover_text("remove").clicked() {
+            if ui.small_button("Remove").clicked() {
                 remove_slope = Some(i);
             }
         });

@@ -719,3 +719,84 @@ fn the_design_target_is_drawn_at_the_designs_flux_in_shape_mode() {
     assert!(peak > 5.0 * reference.peak().0, "{peak}");
     h.get_by_label_contains("as the design matches it");
 }
+
+/// The Tolerance pane, driven as a user would: the LED's placement
+/// tolerance set beside its parameters, the Design pane's spec, Run; the
+/// samples arrive and the yield is shown; the samples are those `lucerna
+/// tolerance` traces for the same tolerances, spec and seed; a sample
+/// opened from its bar is one undo step.
+#[test]
+fn a_tolerance_analysis_in_the_pane_gives_the_command_lines_samples() {
+    let mut h = editor_at(Some(example()), 32);
+    h.state_mut()
+        .show_pane(lucerna_editor::dock::Pane::Tolerance);
+    common::steps(&mut h, 3);
+    common::click(&mut h, "Run tolerance analysis");
+    h.get_by_label_contains("set a tolerance first");
+    h.get_by_label("Emitter LED").click();
+    common::steps(&mut h, 2);
+    common::click(&mut h, "translate_x");
+    common::set(&mut h, "σ translate_x", 0.3);
+    h.get_by_label_contains("LED.translate_x: σ 0.3 mm");
+    common::set(&mut h, "Samples", 6.0);
+    common::set(&mut h, "Photons per sample", 20_000.0);
+    let before = h.state().state.scene().cloned().unwrap();
+    common::click(&mut h, "Run tolerance analysis");
+    assert!(h.state().state.is_analysing_tolerances());
+    let deadline = Instant::now() + Duration::from_secs(300);
+    while h.state().state.is_analysing_tolerances() {
+        h.step();
+        assert!(Instant::now() < deadline, "the analysis did not end");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    common::steps(&mut h, 2);
+    h.get_by_label_contains("of 6 built luminaires");
+    let (samples, passed) = h.state().state.tolerance_samples();
+    assert_eq!(samples, 6);
+
+    // The library's run of the same tolerances, spec and seed.
+    let tolerances = lucerna_tolerance::tolerances::parse(
+        "[[tolerance]]\nat = \"LED.translate_x\"\nnormal = { sigma = 0.0003 }\n",
+        &before,
+    )
+    .unwrap();
+    let setup = lucerna_tolerance::Setup::new(
+        before.clone(),
+        example().parent().unwrap(),
+        lucerna_design::Target::Spec(
+            lucerna_design::Spec::parse("beam_angle_deg = 24.0\nbeam_tolerance_deg = 1.0\n")
+                .unwrap(),
+        ),
+        None,
+        tolerances,
+        lucerna_tolerance::Settings {
+            photons: 20_000,
+            noise_runs: 4,
+            ..lucerna_tolerance::Settings::default()
+        },
+    )
+    .unwrap();
+    let (records, _) = setup.run(
+        0..6,
+        &lucerna_tolerance::Budget {
+            samples: Some(6),
+            ..Default::default()
+        },
+        &std::sync::atomic::AtomicBool::new(false),
+        &mut |_, _| {},
+    );
+    assert_eq!(records.iter().filter(|r| r.passes()).count(), passed);
+
+    // Sample 2 as the scene, and back in one step.
+    command(&mut h, lucerna_editor::Command::OpenToleranceSample(2));
+    let moved = h.state().state.scene().unwrap().emitters[0]
+        .transform
+        .translate[0];
+    let want = setup.model.scene(&setup.model.draw(2)).unwrap().emitters[0]
+        .transform
+        .translate[0];
+    assert_eq!(moved, want);
+    assert!(moved != 0.0);
+    command(&mut h, lucerna_editor::Command::Undo);
+    assert_eq!(h.state().state.scene(), Some(&before));
+}
