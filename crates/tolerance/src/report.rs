@@ -83,6 +83,8 @@ pub struct Report {
     pub figures: Vec<FigureSummary>,
     pub sensitivities: Vec<Sensitivity>,
     pub worst: Option<Worst>,
+    /// What makes the numbers less sure than they look.
+    pub warnings: Vec<String>,
 }
 
 /// The figures whose sensitivities and histograms mean something (a
@@ -106,7 +108,7 @@ impl Report {
         let traced: Vec<&SampleRecord> = records.iter().filter(|r| r.measured.is_some()).collect();
         let passed = records.iter().filter(|r| r.passes()).count();
         let refused = n - traced.len();
-        let terms = reference
+        let terms: Vec<TermYield> = reference
             .nominal
             .terms
             .iter()
@@ -132,7 +134,7 @@ impl Report {
                 .filter_map(|r| r.measured.as_ref().map(|m| m.values[f]))
                 .collect()
         };
-        let figures = setup
+        let figures: Vec<FigureSummary> = setup
             .figures
             .iter()
             .enumerate()
@@ -170,6 +172,7 @@ impl Report {
                     .collect(),
             });
         let tolerances = tolerance_lines(setup);
+        let warnings = noise_warnings(&terms, &figures);
         Report {
             settings: setup.settings,
             stopped,
@@ -187,8 +190,31 @@ impl Report {
             figures,
             sensitivities,
             worst,
+            warnings,
         }
     }
+}
+
+/// A term judged on a figure whose photon noise is above a third of its
+/// spread over the samples: the samples near its limit are judged by the
+/// photons as much as by the geometry.
+fn noise_warnings(terms: &[TermYield], figures: &[FigureSummary]) -> Vec<String> {
+    let mut out = Vec::new();
+    for t in terms {
+        let Some(figure) = Figure::of_term(&t.term) else {
+            continue;
+        };
+        let Some(f) = figures.iter().find(|f| f.figure == figure.key()) else {
+            continue;
+        };
+        if f.photon_noise_sd > f.spread.sd / 3.0 && f.spread.sd > 0.0 {
+            out.push(format!(
+                "the {}'s photon noise (σ {:.4}) is above a third of its spread over the samples (σ {:.4}): more --photons would judge the samples near its limit by their geometry",
+                t.term, f.photon_noise_sd, f.spread.sd
+            ));
+        }
+    }
+    out
 }
 
 /// The tolerances in words, with their units.

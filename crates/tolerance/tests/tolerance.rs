@@ -346,3 +346,78 @@ fn common_random_numbers_leave_only_the_geometrys_spread() {
         "{independent} vs noise {noise}"
     );
 }
+
+#[test]
+fn a_target_distribution_is_judged_by_its_relative_l2_and_a_slope_error_widens_the_beam() {
+    let settings = Settings {
+        photons: 100_000,
+        resolution: 128,
+        noise_runs: 2,
+        ..Settings::default()
+    };
+    let tol = "[[tolerance]]\nat = \"LED.translate_x\"\nnormal = { sigma = 0.3e-3 }\n\n[[slope_error]]\npart = \"reflector\"\nsigma_rad = 2e-3\n";
+    // The nominal's own light as the target: a table on the spec grid.
+    let probe = setup(spot(), spec("beam_angle_deg = 3.2"), tol, settings);
+    let mut ev = probe.evaluator(99);
+    let table = ev
+        .trace(&probe.model.nominal, 400_000)
+        .expect("traced")
+        .table;
+    let target = Target::Distribution {
+        table,
+        absolute: false,
+        name: "nominal.ies".to_owned(),
+    };
+    let scene = spot();
+    let t = tolerances::parse(tol, &scene).unwrap();
+    assert!(
+        Setup::new(
+            scene.clone(),
+            Path::new("."),
+            target.clone(),
+            None,
+            t.clone(),
+            settings
+        )
+        .is_err(),
+        "a distribution needs its largest relative L2"
+    );
+    let s = Setup::new(scene, Path::new("."), target, Some(0.3), t, settings).unwrap();
+    let reference = s.reference().unwrap();
+    let l2 = s
+        .figures
+        .iter()
+        .position(|f| *f == Figure::RelativeL2)
+        .unwrap();
+    let beam = s.figures.iter().position(|f| *f == Figure::Beam).unwrap();
+    let built = reference
+        .as_built
+        .as_ref()
+        .expect("a slope error gives an as-built nominal");
+    eprintln!(
+        "nominal: L2 {:.4}, beam {:.3}°; as built (2 mrad slope error): L2 {:.4}, beam {:.3}°",
+        reference.nominal.values[l2],
+        reference.nominal.values[beam],
+        built.values[l2],
+        built.values[beam]
+    );
+    // The nominal against its own light with other photons: close.
+    assert!(reference.nominal.values[l2] < 0.1);
+    // 2 mrad of slope turns reflected rays by about 4 mrad (0.23°) each
+    // way: the flat-topped beam's edges soften (its 50 % width hardly
+    // moves, its 10 % width grows), and the light moves away from the
+    // target.
+    let field = s.figures.iter().position(|f| *f == Figure::Field).unwrap();
+    eprintln!(
+        "field {:.3}° -> {:.3}° (noise {:.4}°)",
+        reference.nominal.values[field], built.values[field], reference.noise_sd[field]
+    );
+    assert!(built.values[beam] >= reference.nominal.values[beam]);
+    assert!(
+        built.values[field]
+            > reference.nominal.values[field] + 0.1 + 3.0 * reference.noise_sd[field]
+    );
+    assert!(built.values[l2] > 2.0 * reference.nominal.values[l2]);
+    assert_eq!(reference.nominal.terms.len(), 1);
+    assert!(reference.nominal.terms[0].term.starts_with("relative L2"));
+}

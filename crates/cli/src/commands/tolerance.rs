@@ -327,6 +327,9 @@ fn print_report(r: &Report) {
             100.0 * s.share.share
         );
     }
+    for w in &r.warnings {
+        println!("warning: {w}");
+    }
     if let Some(w) = &r.worst {
         println!("worst sample: {} ({})", w.index, w.missed.join("; "));
     }
