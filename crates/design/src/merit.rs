@@ -310,6 +310,27 @@ impl Aim {
         }
     }
 
+    /// How badly a candidate misses a spec's terms: each term's shortfall
+    /// in its units of tolerance, squared and summed (0 when every term is
+    /// met; the merit without its aim and what it maximises). For a
+    /// distribution, the relative L2 difference.
+    pub fn shortfall(
+        &self,
+        table: &CandelaTable,
+        lor: f64,
+        lamp_flux_lm: f64,
+        opening: &Dimensions,
+    ) -> f64 {
+        match &self.target {
+            Target::Distribution { absolute, .. } => self.relative_l2(table, *absolute),
+            Target::Spec(spec) => spec_terms(spec, table, lor, lamp_flux_lm, opening)
+                .iter()
+                .filter(|(t, _)| !t.term.ends_with("(aim)"))
+                .map(|(t, unit)| (t.missed_by / unit).powi(2))
+                .sum(),
+        }
+    }
+
     /// Each spec term as `table` holds it (empty for a distribution).
     pub fn terms(
         &self,

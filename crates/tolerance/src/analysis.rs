@@ -175,6 +175,14 @@ impl Setup {
                 path: spec_path.display().to_string(),
                 why,
             },
+            ToleranceError::File {
+                line, field, why, ..
+            } => ToleranceError::File {
+                path: tolerances_path.display().to_string(),
+                line,
+                field,
+                why,
+            },
             other => other,
         })
     }
@@ -229,7 +237,12 @@ impl Setup {
             });
         }
         let model =
-            Model::new(scene, tolerances, settings.seed).map_err(ToleranceError::Settings)?;
+            Model::new(scene, tolerances, settings.seed).map_err(|why| ToleranceError::File {
+                path: String::new(),
+                line: 0,
+                field: String::new(),
+                why,
+            })?;
         let figures = judge.figures();
         Ok(Setup {
             scene_dir: scene_dir.to_path_buf(),

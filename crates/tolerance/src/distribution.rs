@@ -17,13 +17,16 @@ pub enum Shape {
     Uniform { half_width: f64 },
 }
 
-/// A deviation's distribution: shape, optional truncation, offset.
+/// A deviation's distribution: shape, a systematic offset, and an
+/// optional truncation of the whole deviation (offset included: parts
+/// beyond ± `truncate` are sorted out).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Distribution {
     pub shape: Shape,
-    /// Deviations beyond ±`truncate` (before the offset) never occur.
+    /// Deviations beyond ±`truncate` never occur.
     pub truncate: Option<f64>,
-    /// A systematic shift added to every deviation.
+    /// A systematic shift of every deviation (its mean before any
+    /// truncation).
     pub offset: f64,
 }
 
@@ -58,28 +61,67 @@ impl Distribution {
                 self.offset
             ));
         }
+        if self.kept_mass() < 1e-9 {
+            return Err(format!(
+                "truncate: the offset {} puts every deviation beyond ± {}",
+                self.offset,
+                self.truncate.unwrap_or(0.0)
+            ));
+        }
         Ok(())
+    }
+
+    /// The normal's cumulative bounds of the kept interval, in standard
+    /// units.
+    fn normal_bounds(&self, sigma: f64) -> (f64, f64) {
+        let unit = Normal::standard();
+        match self.truncate {
+            Some(t) => (
+                unit.cdf((-t - self.offset) / sigma),
+                unit.cdf((t - self.offset) / sigma),
+            ),
+            None => (0.0, 1.0),
+        }
+    }
+
+    /// The uniform's kept interval.
+    fn uniform_interval(&self, half_width: f64) -> (f64, f64) {
+        let (mut lo, mut hi) = (self.offset - half_width, self.offset + half_width);
+        if let Some(t) = self.truncate {
+            lo = lo.max(-t);
+            hi = hi.min(t);
+        }
+        (lo, hi)
+    }
+
+    /// The share of the untruncated distribution that is kept.
+    fn kept_mass(&self) -> f64 {
+        match self.shape {
+            Shape::Normal { sigma } => {
+                let (a, b) = self.normal_bounds(sigma);
+                b - a
+            }
+            Shape::Uniform { half_width } => {
+                let (lo, hi) = self.uniform_interval(half_width);
+                ((hi - lo) / (2.0 * half_width)).max(0.0)
+            }
+        }
     }
 
     /// The deviation whose cumulative probability is `u` ∈ (0, 1).
     pub fn quantile(&self, u: f64) -> f64 {
         let u = u.clamp(EDGE, 1.0 - EDGE);
-        let deviation = match self.shape {
+        match self.shape {
             Shape::Normal { sigma } => {
-                let unit = Normal::standard();
-                let (lo, hi) = match self.truncate {
-                    Some(t) => (unit.cdf(-t / sigma), unit.cdf(t / sigma)),
-                    None => (0.0, 1.0),
-                };
-                let p = (lo + u * (hi - lo)).clamp(EDGE, 1.0 - EDGE);
-                sigma * unit.inverse_cdf(p)
+                let (a, b) = self.normal_bounds(sigma);
+                let p = (a + u * (b - a)).clamp(EDGE * EDGE, 1.0 - EDGE * EDGE);
+                self.offset + sigma * Normal::standard().inverse_cdf(p)
             }
             Shape::Uniform { half_width } => {
-                let h = self.truncate.map_or(half_width, |t| t.min(half_width));
-                h * (2.0 * u - 1.0)
+                let (lo, hi) = self.uniform_interval(half_width);
+                lo + u * (hi - lo)
             }
-        };
-        self.offset + deviation
+        }
     }
 
     /// The deviation's standard deviation (about its mean).
@@ -88,17 +130,22 @@ impl Distribution {
             Shape::Normal { sigma } => match self.truncate {
                 None => sigma,
                 Some(t) => {
-                    // Truncated normal at ±b (b = t/σ): variance
-                    // σ²(1 − 2bφ(b)/(2Φ(b) − 1)).
-                    let unit = Normal::standard();
-                    let b = t / sigma;
-                    let phi = (-0.5 * b * b).exp() / (2.0 * std::f64::consts::PI).sqrt();
-                    let mass = 2.0 * unit.cdf(b) - 1.0;
-                    sigma * (1.0 - 2.0 * b * phi / mass).max(0.0).sqrt()
+                    // A normal truncated to [α, β] (standard units):
+                    // σ²(1 + (αφ(α) − βφ(β))/Z − ((φ(α) − φ(β))/Z)²).
+                    let (al, be) = ((-t - self.offset) / sigma, (t - self.offset) / sigma);
+                    let phi = |x: f64| (-0.5 * x * x).exp() / (2.0 * std::f64::consts::PI).sqrt();
+                    let (a, b) = self.normal_bounds(sigma);
+                    let z = b - a;
+                    let m = (phi(al) - phi(be)) / z;
+                    sigma
+                        * (1.0 + (al * phi(al) - be * phi(be)) / z - m * m)
+                            .max(0.0)
+                            .sqrt()
                 }
             },
             Shape::Uniform { half_width } => {
-                self.truncate.map_or(half_width, |t| t.min(half_width)) / 3f64.sqrt()
+                let (lo, hi) = self.uniform_interval(half_width);
+                (hi - lo) / 12f64.sqrt()
             }
         }
     }
@@ -106,21 +153,19 @@ impl Distribution {
     /// The fraction of draws at or below `x` (the analytic distribution
     /// function; the tests' truth for yields).
     pub fn cdf(&self, x: f64) -> f64 {
-        let d = x - self.offset;
         match self.shape {
             Shape::Normal { sigma } => {
                 let unit = Normal::standard();
-                match self.truncate {
-                    None => unit.cdf(d / sigma),
-                    Some(t) => {
-                        let (lo, hi) = (unit.cdf(-t / sigma), unit.cdf(t / sigma));
-                        ((unit.cdf(d.clamp(-t, t) / sigma) - lo) / (hi - lo)).clamp(0.0, 1.0)
-                    }
-                }
+                let (a, b) = self.normal_bounds(sigma);
+                let x = match self.truncate {
+                    Some(t) => x.clamp(-t, t),
+                    None => x,
+                };
+                ((unit.cdf((x - self.offset) / sigma) - a) / (b - a)).clamp(0.0, 1.0)
             }
             Shape::Uniform { half_width } => {
-                let h = self.truncate.map_or(half_width, |t| t.min(half_width));
-                ((d + h) / (2.0 * h)).clamp(0.0, 1.0)
+                let (lo, hi) = self.uniform_interval(half_width);
+                ((x - lo) / (hi - lo)).clamp(0.0, 1.0)
             }
         }
     }
@@ -132,11 +177,11 @@ impl Distribution {
             Shape::Normal { sigma } => format!("normal σ {sigma}"),
             Shape::Uniform { half_width } => format!("uniform ±{half_width}"),
         };
-        if let Some(t) = self.truncate {
-            s.push_str(&format!(", truncated at ±{t}"));
-        }
         if self.offset != 0.0 {
             s.push_str(&format!(", offset {}", self.offset));
+        }
+        if let Some(t) = self.truncate {
+            s.push_str(&format!(", truncated at ±{t}"));
         }
         s
     }
@@ -185,6 +230,36 @@ mod tests {
         // σ² (1 − 2·1·φ(1)/(2Φ(1) − 1)) = 0.2911.
         assert!((var.sqrt() - d.standard_deviation()).abs() < 1e-3);
         assert!((d.standard_deviation() - 0.2911f64.sqrt()).abs() < 1e-3);
+    }
+
+    #[test]
+    fn the_truncation_bounds_the_whole_deviation_offset_included() {
+        let d = Distribution {
+            shape: Shape::Normal { sigma: 1.0 },
+            truncate: Some(1.5),
+            offset: 1.0,
+        };
+        let xs: Vec<f64> = (0..1000)
+            .map(|k| d.quantile((k as f64 + 0.5) / 1000.0))
+            .collect();
+        assert!(xs.iter().all(|x| x.abs() <= 1.5 + 1e-12));
+        let n = 200_000;
+        let xs: Vec<f64> = (0..n)
+            .map(|k| d.quantile((k as f64 + 0.5) / n as f64))
+            .collect();
+        let mean = xs.iter().sum::<f64>() / n as f64;
+        let sd = (xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n as f64).sqrt();
+        assert!(
+            (sd - d.standard_deviation()).abs() < 2e-3,
+            "{sd} vs {}",
+            d.standard_deviation()
+        );
+        let beyond = Distribution {
+            shape: Shape::Uniform { half_width: 0.1 },
+            truncate: Some(0.2),
+            offset: 0.5,
+        };
+        assert!(beyond.check().is_err());
     }
 
     #[test]

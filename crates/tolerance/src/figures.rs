@@ -13,7 +13,8 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Figure {
-    /// The full beam angle (50 %), the wider of the two main planes.
+    /// The full beam angle (50 %): of the two main planes, the one a
+    /// spec's beam term judges (farther from its aim), else the wider.
     Beam,
     /// The full field angle (10 %), the wider of the two main planes.
     Field,
@@ -223,8 +224,15 @@ impl Judge {
         let shortfall = if self.max_relative_l2.is_some() {
             l2
         } else {
-            self.aim.merit(table, lor, lamp_flux_lm, &traced.opening)
+            self.aim
+                .shortfall(table, lor, lamp_flux_lm, &traced.opening)
         };
+        // The beam as its term judges it (the plane farther from the
+        // aim), so a sample drawn inside the limits meets the term.
+        let beam_term = terms
+            .iter()
+            .find(|t| Figure::of_term(&t.term) == Some(Figure::Beam))
+            .map(|t| t.value);
         let widest = |a: [Option<f64>; 2]| {
             let v = a.map(|x| x.unwrap_or(if f.peak_cd > 0.0 { 360.0 } else { 0.0 }));
             v[0].max(v[1])
@@ -234,7 +242,7 @@ impl Judge {
             .figures()
             .iter()
             .map(|fig| match fig {
-                Figure::Beam => widest(f.beam_angle_deg),
+                Figure::Beam => beam_term.unwrap_or_else(|| widest(f.beam_angle_deg)),
                 Figure::Field => widest(f.field_angle_deg),
                 Figure::PeakCandela => f.peak_cd,
                 Figure::PeakGamma => f.peak_gamma_deg,

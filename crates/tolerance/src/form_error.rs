@@ -71,6 +71,13 @@ impl FormErrorModel {
             .map(|w| span_length([w[0].point.x, w[0].point.y], [w[1].point.x, w[1].point.y]))
             .fold(0.0, f64::max)
             * 16.0;
+        if points.len() > MAX_POINTS {
+            return Err(format!(
+                "the profile of part '{}' has {} points: a form error deforms at most {MAX_POINTS}",
+                part.name,
+                points.len()
+            ));
+        }
         let spans = points.len() - 1;
         let wanted = (4.0 * longest / error.correlation_length_m).ceil().max(1.0);
         let most = ((MAX_POINTS - 1) / spans).max(1);

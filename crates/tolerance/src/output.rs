@@ -91,12 +91,12 @@ fn number(v: f64) -> String {
 
 fn figures_csv(report: &Report) -> String {
     let mut s = String::from(
-        "figure,nominal,as_built_nominal,mean,sd,photon_noise_sd,manufacturing_sd,q05,q50,q95,min,max,samples\n",
+        "figure,nominal,as_built_nominal,mean,sd,photon_noise_sd,manufacturing_sd,q05,q50,q95,min,max,samples,unbounded\n",
     );
     for f in &report.figures {
         let p = &f.spread;
         s.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
             f.figure,
             number(f.nominal),
             number(f.as_built),
@@ -109,7 +109,8 @@ fn figures_csv(report: &Report) -> String {
             number(p.q95),
             number(p.min),
             number(p.max),
-            p.count
+            p.count,
+            p.unbounded
         ));
     }
     s
@@ -277,6 +278,21 @@ pub fn files(
     Ok(files)
 }
 
+/// Writes the analysis's `files` into `out_dir` all or none; a
+/// `worst.toml` of an earlier run there is removed when this one has
+/// none (every sample refused), so what is there is this run's.
+pub fn write_analysis(files: &[(PathBuf, Vec<u8>)], out_dir: &Path) -> Result<(), ToleranceError> {
+    write(files)?;
+    let worst = out_dir.join("worst.toml");
+    if !files.iter().any(|(p, _)| *p == worst) && worst.exists() {
+        std::fs::remove_file(&worst).map_err(|source| ToleranceError::Write {
+            path: worst.display().to_string(),
+            source,
+        })?;
+    }
+    Ok(())
+}
+
 /// Writes `files` all or none.
 pub fn write(files: &[(PathBuf, Vec<u8>)]) -> Result<(), ToleranceError> {
     if let Some((path, _)) = files.first()
@@ -303,6 +319,8 @@ pub struct Manifest {
     pub samples: u32,
     pub parts: u32,
     pub settings: Settings,
+    /// A target distribution's largest relative L2 (None for a spec).
+    pub max_relative_l2: Option<f64>,
 }
 
 /// One part's samples.
@@ -311,6 +329,33 @@ pub struct PartFile {
     pub manifest: Manifest,
     pub part: u32,
     pub records: Vec<SampleRecord>,
+}
+
+/// The most parts a run is split into (as a split bake's).
+pub const MAX_PARTS: u32 = 1_000_000;
+
+/// Refuses records that do not fit the analysis: each traced one must
+/// have a value per figure and a result per term of the nominal's.
+pub fn check_records(
+    setup: &Setup,
+    terms: usize,
+    records: &[SampleRecord],
+) -> Result<(), ToleranceError> {
+    for r in records {
+        if let Some(m) = &r.measured
+            && (m.values.len() != setup.figures.len() || m.terms.len() != terms)
+        {
+            return Err(ToleranceError::Merge(format!(
+                "sample {} has {} figures and {} terms, the analysis {} and {}",
+                r.index,
+                m.values.len(),
+                m.terms.len(),
+                setup.figures.len(),
+                terms
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// The part file's name.
@@ -376,7 +421,15 @@ pub fn merge_parts(dir: &Path, expected: &Manifest) -> Result<Vec<SampleRecord>,
         }
         parts.push(part);
     }
-    let Some(count) = parts.first().map(|p| p.manifest.parts) else {
+    let count = parts.first().map(|p| p.manifest.parts);
+    if let Some(n) = count
+        && !(1..=MAX_PARTS).contains(&n)
+    {
+        return Err(ToleranceError::Merge(format!(
+            "the part files say the run has {n} parts (1 to {MAX_PARTS})"
+        )));
+    }
+    let Some(count) = count else {
         return Err(ToleranceError::Merge(format!(
             "{} holds no part file (tolerance.part-K-of-N.json)",
             dir.display()

@@ -104,7 +104,9 @@ pub fn histograms_png(
             .filter_map(|r| r.measured.as_ref().map(|m| m.values[*f]))
             .filter(|v| v.is_finite())
             .collect();
-        let summary = &report.figures[*f];
+        let Some(summary) = report.figures.iter().find(|s| s.figure == figure.key()) else {
+            continue;
+        };
         histogram_panel(
             &mut c,
             (x0, y0),

@@ -36,8 +36,9 @@ pub struct FigureSummary {
     /// of the nominal.
     #[serde(with = "crate::numbers::one")]
     pub photon_noise_sd: f64,
-    /// √(σ² − photon noise²): the spread that manufacturing makes
-    /// (0 where the spread is within the noise).
+    /// The spread manufacturing makes: with common random numbers the
+    /// samples' σ itself (their photon noise is mostly one shift for
+    /// all); with independent streams √(σ² − photon noise²).
     #[serde(with = "crate::numbers::one")]
     pub manufacturing_sd: f64,
 }
@@ -87,8 +88,9 @@ pub struct Report {
     pub warnings: Vec<String>,
 }
 
-/// The figures whose sensitivities and histograms mean something (a
-/// C-plane angle wraps, and is noise where the light is on the axis).
+/// The figures whose spread, sensitivities and histograms mean
+/// something (a C-plane angle wraps, and is noise where the light is on
+/// the axis: it is in samples.csv only).
 pub fn shown(figure: Figure) -> bool {
     !matches!(figure, Figure::PeakC | Figure::CentroidC)
 }
@@ -138,6 +140,7 @@ impl Report {
             .figures
             .iter()
             .enumerate()
+            .filter(|(_, fig)| shown(**fig))
             .map(|(f, fig)| {
                 let spread = Spread::of(&column(f));
                 let noise = reference.noise_sd[f];
@@ -151,7 +154,12 @@ impl Report {
                         .map_or(f64::NAN, |m| m.values[f]),
                     spread,
                     photon_noise_sd: noise,
-                    manufacturing_sd: (spread.sd * spread.sd - noise * noise).max(0.0).sqrt(),
+                    manufacturing_sd: match setup.settings.streams {
+                        crate::analysis::Streams::Common => spread.sd,
+                        crate::analysis::Streams::Independent => {
+                            (spread.sd * spread.sd - noise * noise).max(0.0).sqrt()
+                        }
+                    },
                 }
             })
             .collect();
@@ -251,6 +259,10 @@ pub fn tolerance_lines(setup: &Setup) -> Vec<ToleranceLine> {
 /// deviations at a few points along the profile.
 fn sensitivities(setup: &Setup, traced: &[&SampleRecord]) -> Vec<Sensitivity> {
     let draws: Vec<_> = traced.iter().map(|r| setup.model.draw(r.index)).collect();
+    let deviations: Vec<Vec<Vec<f64>>> = draws
+        .iter()
+        .map(|d| setup.model.form_deviations(d))
+        .collect();
     let mut out = Vec::new();
     for (f, fig) in setup.figures.iter().enumerate() {
         if !shown(*fig) {
@@ -280,12 +292,12 @@ fn sensitivities(setup: &Setup, traced: &[&SampleRecord]) -> Vec<Sensitivity> {
             let rows: Vec<Vec<f64>> = pairs
                 .iter()
                 .map(|(i, _)| {
-                    let d = form.deviations(&draws[*i].form_normals[k]);
+                    let d = &deviations[*i][k];
                     let mut row: Vec<f64> = at.iter().map(|&j| d[j]).collect();
                     // A deformation's size and its slopes' (what widens
                     // a beam whichever way the surface bends).
-                    row.push(rms(&d));
-                    row.push(rms(&form.slopes(&d)));
+                    row.push(rms(d));
+                    row.push(rms(&form.slopes(d)));
                     row
                 })
                 .collect();

@@ -64,9 +64,15 @@ impl Model {
 
     /// Sample `index`'s deviations.
     pub fn draw(&self, index: u32) -> Draw {
-        let scramble = self.seed.wrapping_mul(0x9E37_79B9) ^ 0x5EED_1E55;
+        // The sequence holds 2¹⁶ points per scramble: each further block
+        // of 2¹⁶ samples is a Sobol set scrambled afresh (randomised
+        // quasi-Monte Carlo in blocks), never a point used before.
+        let block = index >> 16;
+        let scramble = (self.seed.wrapping_mul(0x9E37_79B9) ^ 0x5EED_1E55)
+            .wrapping_add(block.wrapping_mul(0x85EB_CA6B))
+            .rotate_left(block % 31);
         let uniforms: Vec<f64> = (0..self.tolerances.scalars.len())
-            .map(|d| f64::from(sobol_burley::sample(index, d as u32, scramble)))
+            .map(|d| f64::from(sobol_burley::sample(index & 0xFFFF, d as u32, scramble)))
             .collect();
         let deviations = self
             .tolerances
@@ -196,4 +202,32 @@ pub fn roughen(scene: &mut Scene, part: usize, sigma_rad: f64) {
 pub fn standard_normal(bits: u64) -> f64 {
     let u = ((bits >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
     Normal::standard().inverse_cdf(u)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn samples_past_the_sequences_2_16_points_are_new_points() {
+        let scene = lucerna_scene::parse_scene(
+            include_str!("../../../assets/luminaires/parabolic_spot.toml"),
+            std::path::Path::new("spot.toml"),
+        )
+        .expect("the example reads");
+        let t = crate::tolerances::parse(
+            "[[tolerance]]\nat = \"LED.translate_x\"\nuniform = { half_width = 1e-3 }\n\n[[tolerance]]\nat = \"LED.translate_y\"\nuniform = { half_width = 1e-3 }\n",
+            &scene,
+        )
+        .expect("reads");
+        let m = Model::new(scene, t, 3).expect("a model");
+        for k in [0u32, 1, 7, 12345] {
+            assert_ne!(m.draw(k).uniforms, m.draw(k + (1 << 16)).uniforms);
+            assert_eq!(m.draw(k), m.draw(k), "sample {k} is one luminaire");
+        }
+        // Still evenly spread within a block: each half of the x range
+        // holds half of the first 1024 samples.
+        let low = (0..1024).filter(|&k| m.draw(k).uniforms[0] < 0.5).count();
+        assert_eq!(low, 512);
+    }
 }

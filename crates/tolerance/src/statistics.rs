@@ -56,6 +56,9 @@ impl Fraction {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Spread {
     pub count: usize,
+    /// Of them, the infinite ones (a UGR the table cannot give): in the
+    /// quantiles and the extremes, not in the mean and σ.
+    pub unbounded: usize,
     pub mean: f64,
     pub sd: f64,
     pub q05: f64,
@@ -66,14 +69,18 @@ pub struct Spread {
 }
 
 impl Spread {
-    /// Of the finite values (a refused sample has none).
+    /// Of the values that are numbers (a refused sample has none): the
+    /// mean and σ of the finite ones.
     pub fn of(values: &[f64]) -> Spread {
-        let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
-        v.sort_by(f64::total_cmp);
+        let mut all: Vec<f64> = values.iter().copied().filter(|x| !x.is_nan()).collect();
+        all.sort_by(f64::total_cmp);
+        let v: Vec<f64> = all.iter().copied().filter(|x| x.is_finite()).collect();
         let n = v.len();
-        if n == 0 {
+        let unbounded = all.len() - n;
+        if all.is_empty() {
             return Spread {
                 count: 0,
+                unbounded: 0,
                 mean: f64::NAN,
                 sd: f64::NAN,
                 q05: f64::NAN,
@@ -83,21 +90,26 @@ impl Spread {
                 max: f64::NAN,
             };
         }
-        let mean = v.iter().sum::<f64>() / n as f64;
+        let mean = if n > 0 {
+            v.iter().sum::<f64>() / n as f64
+        } else {
+            f64::NAN
+        };
         let sd = if n > 1 {
             (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1) as f64).sqrt()
         } else {
             0.0
         };
         Spread {
-            count: n,
+            count: all.len(),
+            unbounded,
             mean,
             sd,
-            q05: quantile(&v, 0.05),
-            q50: quantile(&v, 0.5),
-            q95: quantile(&v, 0.95),
-            min: v[0],
-            max: v[n - 1],
+            q05: quantile(&all, 0.05),
+            q50: quantile(&all, 0.5),
+            q95: quantile(&all, 0.95),
+            min: all[0],
+            max: all[all.len() - 1],
         }
     }
 }
@@ -112,7 +124,11 @@ pub fn quantile(sorted: &[f64], p: f64) -> f64 {
     let h = (n - 1) as f64 * p.clamp(0.0, 1.0);
     let lo = h.floor() as usize;
     let hi = (lo + 1).min(n - 1);
-    sorted[lo] + (h - lo as f64) * (sorted[hi] - sorted[lo])
+    let f = h - lo as f64;
+    if f == 0.0 || sorted[lo] == sorted[hi] {
+        return sorted[lo];
+    }
+    sorted[lo] + f * (sorted[hi] - sorted[lo])
 }
 
 /// A tolerance's first-order share of a figure's variance, with the

@@ -6,7 +6,7 @@
 //! normal = { sigma = 0.1e-3 }   # PART.FIELD (a shape parameter), EMITTER.flux_lm
 //! truncate = 0.3e-3             # optional: no deviation beyond ±0.3 mm
 //!
-//! [[tolerance]]
+//! [[tolerance]]                 # (not beside a form error of the same part)
 //! at = "reflector.focal_length"
 //! uniform = { half_width = 0.05e-3 }
 //!
@@ -341,6 +341,25 @@ pub fn parse(text: &str, scene: &Scene) -> Result<Tolerances, Problem> {
             sigma_rad: sigma,
         });
     }
+    // A form error redraws its part's shape from the nominal profile: a
+    // shape parameter toleranced beside it would never act.
+    for (i, item) in raw.tolerance.iter().enumerate() {
+        let Some(s) = out.scalars.get(i) else {
+            continue;
+        };
+        if let At::Variable(Place::Field { part, .. }) = &s.at
+            && let Some(f) = out.form_errors.iter().find(|f| f.part == *part)
+        {
+            return Err((
+                at_line(item.get_ref().at.span()),
+                format!("tolerance[{i}].at"),
+                format!(
+                    "\"{}\": part '{}' has a form error, which deforms its nominal profile: tolerance its shape parameters or its form, not both",
+                    s.name, f.part_name
+                ),
+            ));
+        }
+    }
     if out.scalars.is_empty() && out.form_errors.is_empty() && out.slope_errors.is_empty() {
         return Err((
             0,
@@ -430,11 +449,6 @@ uniform = { half_width = 0.05e-3 }
 at = "LED.flux_lm"
 normal = { sigma = 20.0 }
 
-[[form_error]]
-part = "reflector"
-sigma = 0.05e-3
-correlation_length = 10e-3
-
 [[slope_error]]
 part = "reflector"
 sigma_rad = 1e-3
@@ -445,8 +459,13 @@ sigma_rad = 1e-3
         assert_eq!(t.scalars.len(), 3);
         assert_eq!(t.scalars[1].nominal, 0.025);
         assert_eq!(t.scalars[2].at, At::EmitterFlux(0));
-        assert_eq!(t.form_errors[0].part, 0);
         assert_eq!(t.slope_errors[0].sigma_rad, 1e-3);
+        let t = parse(
+            "[[tolerance]]\nat = \"reflector.rotate_x\"\nnormal = { sigma = 0.5 }\n\n[[form_error]]\npart = \"reflector\"\nsigma = 0.05e-3\ncorrelation_length = 10e-3\n",
+            &spot(),
+        )
+        .expect("a placement beside a form error");
+        assert_eq!(t.form_errors[0].part, 0);
     }
 
     fn problem(text: &str) -> Problem {
@@ -496,5 +515,11 @@ sigma_rad = 1e-3
 
         let (_, _, why) = problem("");
         assert!(why.contains("no tolerance"), "{why}");
+
+        let (line, field, why) = problem(
+            "[[form_error]]\npart = \"reflector\"\nsigma = 1e-5\ncorrelation_length = 0.01\n\n[[tolerance]]\nat = \"reflector.focal_length\"\nnormal = { sigma = 1e-5 }\n",
+        );
+        assert_eq!((line, field.as_str()), (7, "tolerance[0].at"));
+        assert!(why.contains("not both"), "{why}");
     }
 }

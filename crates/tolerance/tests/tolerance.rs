@@ -327,15 +327,12 @@ fn common_random_numbers_leave_only_the_geometrys_spread() {
             &mut |_, _| {},
         );
         let report = Report::new(&s, &reference, &records, stopped, 1.0);
-        let k = s
+        let peak = report
             .figures
             .iter()
-            .position(|f| *f == Figure::PeakCandela)
+            .find(|f| f.figure == Figure::PeakCandela.key())
             .unwrap();
-        (
-            report.figures[k].spread.sd,
-            report.figures[k].photon_noise_sd,
-        )
+        (peak.spread.sd, peak.photon_noise_sd)
     };
     let (common, noise) = spread(Streams::Common);
     let (independent, _) = spread(Streams::Independent);

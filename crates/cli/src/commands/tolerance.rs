@@ -135,6 +135,7 @@ pub fn tolerance(args: &ToleranceArgs) -> Result<()> {
             samples: args.samples.unwrap_or(0),
             parts,
             settings,
+            max_relative_l2: args.max_relative_l2,
         })
     };
     let interrupt = Arc::new(AtomicBool::new(false));
@@ -170,14 +171,19 @@ pub fn tolerance(args: &ToleranceArgs) -> Result<()> {
         println!("wrote {}", path.display());
         return Ok(());
     }
+    // A merge checks its parts before it traces anything.
+    let merged = match &args.merge {
+        Some(dir) => Some(output::merge_parts(dir, &manifest(0)?)?),
+        None => None,
+    };
     eprintln!(
         "tracing the nominal and its photon noise ({} streams)",
         settings.noise_runs
     );
     let reference = setup.reference()?;
-    let (records, stopped) = match &args.merge {
-        Some(dir) => {
-            let records = output::merge_parts(dir, &manifest(0)?)?;
+    let (records, stopped) = match merged {
+        Some(records) => {
+            output::check_records(&setup, reference.nominal.terms.len(), &records)?;
             (records, Stopped::Samples)
         }
         None => {
@@ -216,7 +222,7 @@ pub fn tolerance(args: &ToleranceArgs) -> Result<()> {
         began.elapsed().as_secs_f64(),
     );
     let files = output::files(&setup, &report, &records, &args.out)?;
-    output::write(&files).context("nothing was written")?;
+    output::write_analysis(&files, &args.out).context("nothing was written")?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
         return Ok(());
