@@ -9,6 +9,7 @@ pub mod axial;
 pub mod check;
 pub mod exact;
 pub mod file;
+pub mod finish;
 pub mod generators;
 pub mod io;
 pub mod mesh;

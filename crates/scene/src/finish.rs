@@ -1,0 +1,596 @@
+//! Reflector surface finishes from their geometry: hammered or peened
+//! dimples, ripples (sinusoids or trochoids), or a measured slope spread,
+//! and the slope statistics a tracer needs to treat the finish as a
+//! microfacet distribution (Bruneton, Neyret & Holzschuch 2010, "Real-time
+//! realistic ocean lighting using seamless transitions from geometry to
+//! BRDF", with one correction: a manufactured finish is often a single
+//! structure, whose slopes are not Gaussian — a sinusoid's follow the
+//! arcsine law, dimples leave flat land that reflects like a mirror — so
+//! the distribution is the finish's own, tabulated, with the flat share
+//! kept apart).
+//!
+//! Slopes are (∂h/∂u, ∂h/∂v) of the finish's height h over the part's
+//! surface: u along the profile (a revolved or extruded part's meridian),
+//! v across it (around the axis, or along the extrusion).
+
+use serde::{Deserialize, Serialize};
+
+/// How a part's surface is finished.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Finish {
+    /// Spherical-cap dimples (hammered, peened): caps of a sphere of
+    /// `radius`, `depth` deep, centred on a hexagonal or square pattern of
+    /// `pitch` (m); the land between them stays flat.
+    Dimples {
+        pitch: f64,
+        depth: f64,
+        radius: f64,
+        #[serde(default)]
+        pattern: DimplePattern,
+    },
+    /// A sum of waves (rippled, orange peel).
+    Ripples { waves: Vec<Ripple> },
+    /// A measured finish given by its slope spread: Gaussian slopes of
+    /// standard deviations `sigma_u`, `sigma_v` (along and across, before
+    /// the turn by `orientation_deg` about the normal).
+    Slopes {
+        sigma_u: f64,
+        sigma_v: f64,
+        #[serde(default)]
+        orientation_deg: f64,
+    },
+}
+
+/// Where the dimples' centres lie.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DimplePattern {
+    #[default]
+    Hexagonal,
+    Square,
+}
+
+/// One wave train of a rippled finish.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Ripple {
+    /// Crest-to-mean height (m).
+    pub amplitude: f64,
+    /// m.
+    pub wavelength: f64,
+    /// The direction the wave runs in the surface: 0° along the profile
+    /// (the beam widened radially), 90° across it (around the axis).
+    #[serde(default)]
+    pub direction_deg: f64,
+    #[serde(default)]
+    pub shape: WaveShape,
+}
+
+/// A wave's profile.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WaveShape {
+    /// h = a·sin(kx).
+    #[default]
+    Sine,
+    /// Gerstner's trochoid x = s − a·sin(ks), h = a·cos(ks): sharp crests.
+    Trochoid,
+}
+
+/// The steepest root-mean-square slope a finish may have: beyond it
+/// facets face away from light arriving along the mean normal.
+pub const MAX_RMS_SLOPE: f64 = 1.0;
+
+/// Slopes at or below this magnitude are flat land.
+const FLAT: f64 = 1e-12;
+
+/// A finish's slope distribution.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SlopeStatistics {
+    /// Mean slope (u, v): zero for every finish here.
+    pub mean: [f64; 2],
+    /// Covariance [σu², σuv, σv²] of the slopes (flat land included).
+    pub covariance: [f64; 3],
+    /// The area share whose slope is exactly zero (the land between
+    /// dimples): a mirror-like share of the reflection.
+    pub flat_share: f64,
+    /// The rest, tabulated.
+    pub table: SlopeTable,
+}
+
+/// A 2-D table of the slopes' probability over [−range, range]² in
+/// `bins` × `bins` cells (u fastest); it sums to 1 − flat share.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SlopeTable {
+    pub range: f64,
+    pub bins: usize,
+    pub probability: Vec<f64>,
+}
+
+/// Cells per table axis.
+pub const TABLE_BINS: usize = 128;
+
+impl SlopeTable {
+    fn new(range: f64) -> SlopeTable {
+        SlopeTable {
+            range,
+            bins: TABLE_BINS,
+            probability: vec![0.0; TABLE_BINS * TABLE_BINS],
+        }
+    }
+
+    fn add(&mut self, s: [f64; 2], weight: f64) {
+        let cell = |x: f64| {
+            let t = (x + self.range) / (2.0 * self.range);
+            ((t * self.bins as f64) as isize).clamp(0, self.bins as isize - 1) as usize
+        };
+        let k = cell(s[1]) * self.bins + cell(s[0]);
+        self.probability[k] += weight;
+    }
+
+    /// The marginal probability of the u slope per cell.
+    pub fn marginal_u(&self) -> Vec<f64> {
+        (0..self.bins)
+            .map(|i| (0..self.bins).map(|j| self.probability[j * self.bins + i]).sum())
+            .collect()
+    }
+
+    /// The centre of cell `i` along an axis.
+    pub fn centre(&self, i: usize) -> f64 {
+        -self.range + (i as f64 + 0.5) * 2.0 * self.range / self.bins as f64
+    }
+}
+
+/// Accumulates slopes into statistics.
+struct Accumulator {
+    weight: f64,
+    flat: f64,
+    sum: [f64; 2],
+    sum2: [f64; 3],
+    table: SlopeTable,
+}
+
+impl Accumulator {
+    fn new(range: f64) -> Accumulator {
+        Accumulator {
+            weight: 0.0,
+            flat: 0.0,
+            sum: [0.0; 2],
+            sum2: [0.0; 3],
+            table: SlopeTable::new(range),
+        }
+    }
+
+    fn add(&mut self, s: [f64; 2], w: f64) {
+        self.weight += w;
+        if s[0].hypot(s[1]) <= FLAT {
+            self.flat += w;
+            return;
+        }
+        self.sum[0] += w * s[0];
+        self.sum[1] += w * s[1];
+        self.sum2[0] += w * s[0] * s[0];
+        self.sum2[1] += w * s[0] * s[1];
+        self.sum2[2] += w * s[1] * s[1];
+        self.table.add(s, w);
+    }
+
+    fn finish(mut self) -> SlopeStatistics {
+        let w = self.weight.max(1e-300);
+        for p in &mut self.table.probability {
+            *p /= w;
+        }
+        let mean = [self.sum[0] / w, self.sum[1] / w];
+        SlopeStatistics {
+            mean,
+            covariance: [
+                self.sum2[0] / w - mean[0] * mean[0],
+                self.sum2[1] / w - mean[0] * mean[1],
+                self.sum2[2] / w - mean[1] * mean[1],
+            ],
+            flat_share: self.flat / w,
+            table: self.table,
+        }
+    }
+}
+
+impl Finish {
+    /// Each problem as (field, why): nothing for a finish that can be
+    /// made and traced.
+    pub fn problems(&self) -> Vec<(String, String)> {
+        let mut out = Vec::new();
+        let positive = |out: &mut Vec<(String, String)>, field: &str, v: f64| {
+            if !(v.is_finite() && v > 0.0) {
+                out.push((field.to_owned(), format!("must be a positive length (m), got {v}")));
+                false
+            } else {
+                true
+            }
+        };
+        match self {
+            Finish::Dimples {
+                pitch,
+                depth,
+                radius,
+                ..
+            } => {
+                let ok = positive(&mut out, "pitch", *pitch)
+                    & positive(&mut out, "depth", *depth)
+                    & positive(&mut out, "radius", *radius);
+                if !ok {
+                    return out;
+                }
+                if depth > radius {
+                    out.push((
+                        "depth".to_owned(),
+                        format!(
+                            "a spherical cap is at most as deep as its sphere's radius ({radius} m), got {depth} m"
+                        ),
+                    ));
+                    return out;
+                }
+                let diameter = 2.0 * dimple_footprint(*radius, *depth);
+                if *pitch < diameter * (1.0 - 1e-12) {
+                    out.push((
+                        "pitch".to_owned(),
+                        format!(
+                            "dimples of radius {radius} m and depth {depth} m are {diameter:.6} m across: the pitch must be at least that, got {pitch} m"
+                        ),
+                    ));
+                }
+            }
+            Finish::Ripples { waves } => {
+                if waves.is_empty() {
+                    out.push(("waves".to_owned(), "name at least one wave".to_owned()));
+                }
+                for (i, w) in waves.iter().enumerate() {
+                    let at = |f: &str| format!("waves[{i}].{f}");
+                    positive(&mut out, &at("amplitude"), w.amplitude);
+                    positive(&mut out, &at("wavelength"), w.wavelength);
+                    if !w.direction_deg.is_finite() {
+                        out.push((at("direction_deg"), "must be a finite angle".to_owned()));
+                    }
+                    let kh = 2.0 * std::f64::consts::PI * w.amplitude / w.wavelength;
+                    if w.shape == WaveShape::Trochoid && kh >= 1.0 {
+                        out.push((
+                            at("amplitude"),
+                            format!(
+                                "a trochoid loops over itself where 2π·amplitude/wavelength ≥ 1, got {kh:.3}"
+                            ),
+                        ));
+                    }
+                }
+            }
+            Finish::Slopes {
+                sigma_u,
+                sigma_v,
+                orientation_deg,
+            } => {
+                for (f, v) in [("sigma_u", sigma_u), ("sigma_v", sigma_v)] {
+                    if !(v.is_finite() && *v >= 0.0) {
+                        out.push((f.to_owned(), format!("must be a slope ≥ 0, got {v}")));
+                    }
+                }
+                if !orientation_deg.is_finite() {
+                    out.push(("orientation_deg".to_owned(), "must be a finite angle".to_owned()));
+                }
+            }
+        }
+        if out.is_empty() {
+            let c = self.statistics().covariance;
+            let rms = (c[0] + c[2]).sqrt();
+            if rms > MAX_RMS_SLOPE {
+                out.push((
+                    match self {
+                        Finish::Dimples { .. } => "depth",
+                        Finish::Ripples { .. } => "waves",
+                        Finish::Slopes { .. } => "sigma_u",
+                    }
+                    .to_owned(),
+                    format!(
+                        "the finish's rms slope is {rms:.3}, above {MAX_RMS_SLOPE}: its facets would face away from the light"
+                    ),
+                ));
+            }
+        }
+        out
+    }
+
+    /// The finish's slope distribution, from its geometry: dimples
+    /// integrated numerically over one cell of the pattern, waves over
+    /// their phases, measured slopes as the Gaussian they state.
+    pub fn statistics(&self) -> SlopeStatistics {
+        match self {
+            Finish::Dimples {
+                pitch,
+                depth,
+                radius,
+                pattern,
+            } => dimple_statistics(*pitch, *depth, *radius, *pattern),
+            Finish::Ripples { waves } => ripple_statistics(waves),
+            Finish::Slopes {
+                sigma_u,
+                sigma_v,
+                orientation_deg,
+            } => gaussian_statistics(*sigma_u, *sigma_v, orientation_deg.to_radians()),
+        }
+    }
+}
+
+/// The radius of a cap of a sphere of `radius`, `depth` deep, on the
+/// surface.
+pub fn dimple_footprint(radius: f64, depth: f64) -> f64 {
+    (2.0 * radius * depth - depth * depth).max(0.0).sqrt()
+}
+
+/// Samples per cell axis of the dimples' numeric integral.
+const DIMPLE_SAMPLES: usize = 600;
+
+fn dimple_statistics(pitch: f64, depth: f64, radius: f64, pattern: DimplePattern) -> SlopeStatistics {
+    let r = dimple_footprint(radius, depth).min(0.5 * pitch);
+    let steepest = r / (radius * radius - r * r).max(1e-300).sqrt();
+    let mut acc = Accumulator::new(steepest.max(1e-9) * 1.0001);
+    // A rectangular period of the pattern: p × p holding one dimple
+    // (square), p × √3·p holding two (hexagonal).
+    let (w, h, centres): (f64, f64, Vec<[f64; 2]>) = match pattern {
+        DimplePattern::Square => (pitch, pitch, vec![[0.0, 0.0]]),
+        DimplePattern::Hexagonal => {
+            let h = 3f64.sqrt() * pitch;
+            (pitch, h, vec![[0.0, 0.0], [0.5 * pitch, 0.5 * h]])
+        }
+    };
+    let ny = ((DIMPLE_SAMPLES as f64) * h / w).round() as usize;
+    for j in 0..ny {
+        let y = (j as f64 + 0.5) / ny as f64 * h;
+        for i in 0..DIMPLE_SAMPLES {
+            let x = (i as f64 + 0.5) / DIMPLE_SAMPLES as f64 * w;
+            // The nearest centre, periodic images included.
+            let mut best = (f64::INFINITY, [0.0, 0.0]);
+            for c in &centres {
+                for dy in [-h, 0.0, h] {
+                    for dx in [-w, 0.0, w] {
+                        let d = [x - c[0] - dx, y - c[1] - dy];
+                        let rho = d[0].hypot(d[1]);
+                        if rho < best.0 {
+                            best = (rho, d);
+                        }
+                    }
+                }
+            }
+            let (rho, d) = best;
+            let slope = if rho < r {
+                // h = −(√(R² − ρ²) − (R − depth)): ∂h/∂ρ = ρ/√(R² − ρ²).
+                let g = 1.0 / (radius * radius - rho * rho).sqrt();
+                [d[0] * g, d[1] * g]
+            } else {
+                [0.0, 0.0]
+            };
+            acc.add(slope, 1.0);
+        }
+    }
+    acc.finish()
+}
+
+/// Phase samples of the wave sums (a Kronecker sequence over the
+/// waves' phases: independent phases, as waves of unrelated wavelengths
+/// have over a surface).
+const RIPPLE_SAMPLES: usize = 1 << 18;
+
+fn ripple_statistics(waves: &[Ripple]) -> SlopeStatistics {
+    let slope_of = |w: &Ripple, phase: f64| -> (f64, f64) {
+        // (slope along the wave, weight of this phase in surface length)
+        let k = 2.0 * std::f64::consts::PI / w.wavelength;
+        let kh = k * w.amplitude;
+        match w.shape {
+            WaveShape::Sine => (kh * phase.cos(), 1.0),
+            WaveShape::Trochoid => {
+                // x = s − a·sin(ks), h = a·cos(ks): dh/dx = −kh·sin / (1 − kh·cos),
+                // dx/ds = 1 − kh·cos weighting the phases by surface length.
+                let dxds = 1.0 - kh * phase.cos();
+                (-kh * phase.sin() / dxds, dxds)
+            }
+        }
+    };
+    let steepest: f64 = waves
+        .iter()
+        .map(|w| {
+            let kh = 2.0 * std::f64::consts::PI * w.amplitude / w.wavelength;
+            match w.shape {
+                WaveShape::Sine => kh,
+                WaveShape::Trochoid => kh / (1.0 - kh * kh).max(1e-12).sqrt(),
+            }
+        })
+        .sum();
+    let mut acc = Accumulator::new(steepest.max(1e-9) * 1.0001);
+    // Irrational steps (the square roots of primes), one per wave.
+    const STEPS: [f64; 8] = [
+        0.414_213_562_373_095_1,
+        0.732_050_807_568_877_2,
+        0.236_067_977_499_789_7,
+        0.645_751_311_064_590_6,
+        0.316_624_790_355_399_8,
+        0.605_551_275_463_989_3,
+        0.123_105_625_617_660_5,
+        0.358_898_943_540_673_5,
+    ];
+    for j in 0..RIPPLE_SAMPLES {
+        let mut s = [0.0, 0.0];
+        let mut weight = 1.0;
+        for (i, w) in waves.iter().enumerate() {
+            let t = if i == 0 {
+                (j as f64 + 0.5) / RIPPLE_SAMPLES as f64
+            } else {
+                (0.5 + j as f64 * STEPS[(i - 1) % STEPS.len()] + i as f64 * 0.1).fract()
+            };
+            let (slope, wt) = slope_of(w, std::f64::consts::TAU * t);
+            let dir = w.direction_deg.to_radians();
+            s[0] += slope * dir.cos();
+            s[1] += slope * dir.sin();
+            weight *= wt;
+        }
+        acc.add(s, weight);
+    }
+    acc.finish()
+}
+
+fn gaussian_statistics(sigma_u: f64, sigma_v: f64, angle: f64) -> SlopeStatistics {
+    let (c, s) = (angle.cos(), angle.sin());
+    let (a, b) = (sigma_u * sigma_u, sigma_v * sigma_v);
+    let covariance = [c * c * a + s * s * b, c * s * (a - b), s * s * a + c * c * b];
+    let range = 5.0 * sigma_u.max(sigma_v).max(1e-9);
+    let mut table = SlopeTable::new(range);
+    // The density integrated by the midpoint rule over each cell,
+    // normalised over the table (the 5σ tails left out).
+    let det = (covariance[0] * covariance[2] - covariance[1] * covariance[1]).max(1e-300);
+    let n = table.bins;
+    let mut total = 0.0;
+    for j in 0..n {
+        for i in 0..n {
+            let (x, y) = (table.centre(i), table.centre(j));
+            let q = (covariance[2] * x * x - 2.0 * covariance[1] * x * y + covariance[0] * y * y)
+                / det;
+            let p = (-0.5 * q).exp();
+            table.probability[j * n + i] = p;
+            total += p;
+        }
+    }
+    if total > 0.0 {
+        for p in &mut table.probability {
+            *p /= total;
+        }
+    }
+    SlopeStatistics {
+        mean: [0.0, 0.0],
+        covariance,
+        flat_share: 0.0,
+        table,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_sinusoids_slopes_have_its_closed_form_variance_and_the_arcsine_law() {
+        let (a, lambda) = (0.02e-3, 1e-3);
+        let f = Finish::Ripples {
+            waves: vec![Ripple {
+                amplitude: a,
+                wavelength: lambda,
+                direction_deg: 0.0,
+                shape: WaveShape::Sine,
+            }],
+        };
+        let s = f.statistics();
+        let amp = 2.0 * std::f64::consts::PI * a / lambda;
+        let want = amp * amp / 2.0;
+        assert!((s.covariance[0] / want - 1.0).abs() < 1e-4, "{:?}", s.covariance);
+        assert!(s.covariance[2].abs() < 1e-12 && s.flat_share == 0.0);
+        // The arcsine law: P(s ≤ x) = 1/2 + asin(x/A)/π, cell by cell.
+        let m = s.table.marginal_u();
+        let width = 2.0 * s.table.range / s.table.bins as f64;
+        let cdf = |x: f64| 0.5 + (x / amp).clamp(-1.0, 1.0).asin() / std::f64::consts::PI;
+        for (i, p) in m.iter().enumerate() {
+            let lo = s.table.centre(i) - 0.5 * width;
+            let want = cdf(lo + width) - cdf(lo);
+            assert!((p - want).abs() < 2e-3, "cell {i}: {p} against {want}");
+        }
+    }
+
+    #[test]
+    fn a_trochoids_variance_is_the_papers_appendix_formula() {
+        let (a, lambda) = (0.1e-3, 1e-3);
+        let f = Finish::Ripples {
+            waves: vec![Ripple {
+                amplitude: a,
+                wavelength: lambda,
+                direction_deg: 90.0,
+                shape: WaveShape::Trochoid,
+            }],
+        };
+        let s = f.statistics();
+        let kh: f64 = 2.0 * std::f64::consts::PI * a / lambda;
+        let want = 1.0 - (1.0 - kh * kh).sqrt();
+        // Along v (90°): all of it.
+        assert!((s.covariance[2] / want - 1.0).abs() < 1e-3, "{} vs {want}", s.covariance[2]);
+        assert!(s.covariance[0].abs() < 1e-9 * want);
+    }
+
+    #[test]
+    fn dimples_match_their_integral_and_leave_their_land_flat() {
+        let (pitch, depth, radius) = (2e-3, 0.15e-3, 3.4e-3);
+        for pattern in [DimplePattern::Hexagonal, DimplePattern::Square] {
+            let s = Finish::Dimples {
+                pitch,
+                depth,
+                radius,
+                pattern,
+            }
+            .statistics();
+            let r = dimple_footprint(radius, depth);
+            let cell = match pattern {
+                DimplePattern::Hexagonal => 3f64.sqrt() / 2.0 * pitch * pitch,
+                DimplePattern::Square => pitch * pitch,
+            };
+            let dimpled = std::f64::consts::PI * r * r / cell;
+            assert!((s.flat_share - (1.0 - dimpled)).abs() < 2e-3, "{pattern:?}: {}", s.flat_share);
+            // E|s|² = (π/cell)(R² ln(R²/(R² − r²)) − r²), half per axis.
+            let (r2, big) = (r * r, radius * radius);
+            let want = std::f64::consts::PI / cell * (big * (big / (big - r2)).ln() - r2) / 2.0;
+            for v in [s.covariance[0], s.covariance[2]] {
+                assert!((v / want - 1.0).abs() < 5e-3, "{pattern:?}: {v} vs {want}");
+            }
+            assert!(s.covariance[1].abs() < 1e-3 * want);
+        }
+    }
+
+    #[test]
+    fn measured_slopes_are_the_gaussian_they_state_turned() {
+        let s = Finish::Slopes {
+            sigma_u: 0.02,
+            sigma_v: 0.01,
+            orientation_deg: 90.0,
+        }
+        .statistics();
+        assert!((s.covariance[0] - 1e-4).abs() < 1e-12);
+        assert!((s.covariance[2] - 4e-4).abs() < 1e-12);
+        let total: f64 = s.table.probability.iter().sum();
+        assert!((total - 1.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn impossible_finishes_are_refused_naming_the_field() {
+        let field = |f: Finish| f.problems().into_iter().map(|p| p.0).collect::<Vec<_>>();
+        let dimples = |pitch: f64, depth: f64, radius: f64| Finish::Dimples {
+            pitch,
+            depth,
+            radius,
+            pattern: DimplePattern::Hexagonal,
+        };
+        assert!(field(dimples(2e-3, 0.15e-3, 3.4e-3)).is_empty());
+        assert_eq!(field(dimples(1e-3, 0.15e-3, 3.4e-3)), ["pitch"]);
+        assert_eq!(field(dimples(2e-3, 0.5e-3, 0.4e-3)), ["depth"]);
+        assert_eq!(field(dimples(2e-3, f64::NAN, 3.4e-3)), ["depth"]);
+        let wave = |amplitude: f64, shape: WaveShape| Finish::Ripples {
+            waves: vec![Ripple {
+                amplitude,
+                wavelength: 1e-3,
+                direction_deg: 0.0,
+                shape,
+            }],
+        };
+        assert_eq!(field(wave(-1e-5, WaveShape::Sine)), ["waves[0].amplitude"]);
+        assert_eq!(field(wave(0.2e-3, WaveShape::Trochoid)), ["waves[0].amplitude"]);
+        // A sine of slope amplitude 2π·0.3 = 1.9: rms 1.33 > 1.
+        assert_eq!(field(wave(0.3e-3, WaveShape::Sine)), ["waves"]);
+        let slopes = Finish::Slopes {
+            sigma_u: 1.2,
+            sigma_v: 0.1,
+            orientation_deg: 0.0,
+        };
+        let p = slopes.problems();
+        assert!(p[0].1.contains("above 1"), "{p:?}");
+    }
+}
