@@ -241,3 +241,54 @@ fn a_perturbation_that_cannot_be_built_is_a_failed_sample_not_a_crash() {
     let samples = std::fs::read_to_string(out.join("samples.csv")).unwrap();
     assert!(samples.contains("refused"), "{samples}");
 }
+
+#[test]
+fn ctrl_c_writes_the_samples_done() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = assets().join("luminaires/parabolic_spot.toml");
+    let spec = dir.path().join("spec.toml");
+    std::fs::write(&spec, SPEC).unwrap();
+    let tol = dir.path().join("tol.toml");
+    std::fs::write(&tol, TOLERANCES).unwrap();
+    let out = dir.path().join("out");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_lucerna"))
+        .args([
+            "tolerance",
+            scene.to_str().unwrap(),
+            "--spec",
+            spec.to_str().unwrap(),
+            "--tolerances",
+            tol.to_str().unwrap(),
+            "--samples",
+            "100000",
+            "--photons",
+            "20000",
+            "--resolution",
+            "64",
+            "--noise-runs",
+            "2",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_secs(4));
+    let sent = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(sent.success());
+    let done = child.wait_with_output().unwrap();
+    let (stdout, stderr) = (text(&done.stdout), text(&done.stderr));
+    assert!(done.status.success(), "{stderr}");
+    assert!(stderr.contains("interrupted: writing the"), "{stderr}");
+    let samples = std::fs::read_to_string(out.join("samples.csv")).unwrap();
+    let rows = samples.lines().count() - 1;
+    assert!(rows > 0 && rows < 100_000, "{rows} samples");
+    assert!(
+        stdout.contains(&format!("of {rows} built luminaires")),
+        "{stdout}"
+    );
+}

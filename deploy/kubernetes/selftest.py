@@ -7,7 +7,9 @@ with its $(VAR) references expanded from the container's env the way the
 kubelet does; then the merge Job's command (merge-job.yaml). The volume's
 /data is a temporary folder, the run is scaled down (4 parts, 2 000 000
 photons, 64² texels) and the merged files are compared byte for byte with
-one `lucerna bake` of the same photons. With kubernetes-validate installed
+one `lucerna bake` of the same photons; the same for a split `lucerna
+tolerance` run (tolerance-indexed-job.yaml, tolerance-merge-job.yaml)
+against one process's. With kubernetes-validate installed
 (pip install kubernetes-validate) the manifests are first checked against
 the Kubernetes API schema, strictly.
 
@@ -95,7 +97,41 @@ def main():
             if a != b:
                 sys.exit(f"k8s selftest: {name} of the merged parts differs from one process's")
             say(f"k8s selftest: {name} of the merged {PARTS} parts = the single run's ({len(a)} bytes)")
+    tolerance_selftest(lucerna)
     say("k8s selftest: passed")
+
+
+def tolerance_selftest(lucerna):
+    """The tolerance Indexed Job's command once per index, then its merge
+    Job's, against one process's run of the same samples (scaled down:
+    8 samples of 20 000 photons at 64² texels)."""
+    _, part = container("tolerance-indexed-job.yaml")
+    _, merge = container("tolerance-merge-job.yaml")
+    small = ["--photons", "20000", "--resolution", RESOLUTION, "--noise-runs", "2"]
+    with tempfile.TemporaryDirectory(prefix="lucerna-k8s-tolerance.") as tmp:
+        data = Path(tmp) / "data"
+        folder = data / "tolerance"
+        folder.mkdir(parents=True)
+        shutil.copy(REPO / "assets/luminaires/parabolic_spot.toml", folder)
+        for name in ["parabolic_spot_spec.toml", "parabolic_spot_tolerances.toml"]:
+            shutil.copy(REPO / "assets/tolerances" / name, folder)
+        overrides = {"PARTS": str(PARTS), "SAMPLES": "8"}
+        for index in range(PARTS):
+            args, env = command(part, data, overrides)
+            run(lucerna, args + small, dict(env, JOB_COMPLETION_INDEX=str(index)))
+        args, env = command(merge, data, {"SAMPLES": "8"})
+        run(lucerna, args + small, env)
+        results = Path(args[args.index("--out") + 1])
+        single = Path(tmp) / "single"
+        i = args.index("--merge")
+        one = args[:i] + args[i + 2:]
+        one[one.index("--out") + 1] = str(single)
+        run(lucerna, one + small, env)
+        for name in ["samples.csv", "yield.csv", "figures.csv", "sensitivities.csv"]:
+            a, b = (single / name).read_bytes(), (results / name).read_bytes()
+            if a != b:
+                sys.exit(f"k8s selftest: tolerance {name} of the merged parts differs from one process's")
+            say(f"k8s selftest: tolerance {name} of the merged {PARTS} parts = the single run's ({len(a)} bytes)")
 
 
 if __name__ == "__main__":
