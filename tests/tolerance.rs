@@ -251,7 +251,7 @@ fn ctrl_c_writes_the_samples_done() {
     let tol = dir.path().join("tol.toml");
     std::fs::write(&tol, TOLERANCES).unwrap();
     let out = dir.path().join("out");
-    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_lucerna"))
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_lucerna"))
         .args([
             "tolerance",
             scene.to_str().unwrap(),

@@ -132,7 +132,11 @@ impl SlopeTable {
     /// The marginal probability of the u slope per cell.
     pub fn marginal_u(&self) -> Vec<f64> {
         (0..self.bins)
-            .map(|i| (0..self.bins).map(|j| self.probability[j * self.bins + i]).sum())
+            .map(|i| {
+                (0..self.bins)
+                    .map(|j| self.probability[j * self.bins + i])
+                    .sum()
+            })
             .collect()
     }
 
@@ -202,7 +206,10 @@ impl Finish {
         let mut out = Vec::new();
         let positive = |out: &mut Vec<(String, String)>, field: &str, v: f64| {
             if !(v.is_finite() && v > 0.0) {
-                out.push((field.to_owned(), format!("must be a positive length (m), got {v}")));
+                out.push((
+                    field.to_owned(),
+                    format!("must be a positive length (m), got {v}"),
+                ));
                 false
             } else {
                 true
@@ -273,7 +280,10 @@ impl Finish {
                     }
                 }
                 if !orientation_deg.is_finite() {
-                    out.push(("orientation_deg".to_owned(), "must be a finite angle".to_owned()));
+                    out.push((
+                        "orientation_deg".to_owned(),
+                        "must be a finite angle".to_owned(),
+                    ));
                 }
             }
         }
@@ -327,7 +337,12 @@ pub fn dimple_footprint(radius: f64, depth: f64) -> f64 {
 /// Samples per cell axis of the dimples' numeric integral.
 const DIMPLE_SAMPLES: usize = 600;
 
-fn dimple_statistics(pitch: f64, depth: f64, radius: f64, pattern: DimplePattern) -> SlopeStatistics {
+fn dimple_statistics(
+    pitch: f64,
+    depth: f64,
+    radius: f64,
+    pattern: DimplePattern,
+) -> SlopeStatistics {
     let r = dimple_footprint(radius, depth).min(0.5 * pitch);
     let steepest = r / (radius * radius - r * r).max(1e-300).sqrt();
     let mut acc = Accumulator::new(steepest.max(1e-9) * 1.0001);
@@ -437,7 +452,11 @@ fn ripple_statistics(waves: &[Ripple]) -> SlopeStatistics {
 fn gaussian_statistics(sigma_u: f64, sigma_v: f64, angle: f64) -> SlopeStatistics {
     let (c, s) = (angle.cos(), angle.sin());
     let (a, b) = (sigma_u * sigma_u, sigma_v * sigma_v);
-    let covariance = [c * c * a + s * s * b, c * s * (a - b), s * s * a + c * c * b];
+    let covariance = [
+        c * c * a + s * s * b,
+        c * s * (a - b),
+        s * s * a + c * c * b,
+    ];
     let range = 5.0 * sigma_u.max(sigma_v).max(1e-9);
     let mut table = SlopeTable::new(range);
     // The density integrated by the midpoint rule over each cell,
@@ -448,8 +467,8 @@ fn gaussian_statistics(sigma_u: f64, sigma_v: f64, angle: f64) -> SlopeStatistic
     for j in 0..n {
         for i in 0..n {
             let (x, y) = (table.centre(i), table.centre(j));
-            let q = (covariance[2] * x * x - 2.0 * covariance[1] * x * y + covariance[0] * y * y)
-                / det;
+            let q =
+                (covariance[2] * x * x - 2.0 * covariance[1] * x * y + covariance[0] * y * y) / det;
             let p = (-0.5 * q).exp();
             table.probability[j * n + i] = p;
             total += p;
@@ -486,7 +505,11 @@ mod tests {
         let s = f.statistics();
         let amp = 2.0 * std::f64::consts::PI * a / lambda;
         let want = amp * amp / 2.0;
-        assert!((s.covariance[0] / want - 1.0).abs() < 1e-4, "{:?}", s.covariance);
+        assert!(
+            (s.covariance[0] / want - 1.0).abs() < 1e-4,
+            "{:?}",
+            s.covariance
+        );
         assert!(s.covariance[2].abs() < 1e-12 && s.flat_share == 0.0);
         // The arcsine law: P(s ≤ x) = 1/2 + asin(x/A)/π, cell by cell.
         let m = s.table.marginal_u();
@@ -514,7 +537,11 @@ mod tests {
         let kh: f64 = 2.0 * std::f64::consts::PI * a / lambda;
         let want = 1.0 - (1.0 - kh * kh).sqrt();
         // Along v (90°): all of it.
-        assert!((s.covariance[2] / want - 1.0).abs() < 1e-3, "{} vs {want}", s.covariance[2]);
+        assert!(
+            (s.covariance[2] / want - 1.0).abs() < 1e-3,
+            "{} vs {want}",
+            s.covariance[2]
+        );
         assert!(s.covariance[0].abs() < 1e-9 * want);
     }
 
@@ -535,7 +562,11 @@ mod tests {
                 DimplePattern::Square => pitch * pitch,
             };
             let dimpled = std::f64::consts::PI * r * r / cell;
-            assert!((s.flat_share - (1.0 - dimpled)).abs() < 2e-3, "{pattern:?}: {}", s.flat_share);
+            assert!(
+                (s.flat_share - (1.0 - dimpled)).abs() < 2e-3,
+                "{pattern:?}: {}",
+                s.flat_share
+            );
             // E|s|² = (π/cell)(R² ln(R²/(R² − r²)) − r²), half per axis.
             let (r2, big) = (r * r, radius * radius);
             let want = std::f64::consts::PI / cell * (big * (big / (big - r2)).ln() - r2) / 2.0;
@@ -582,7 +613,10 @@ mod tests {
             }],
         };
         assert_eq!(field(wave(-1e-5, WaveShape::Sine)), ["waves[0].amplitude"]);
-        assert_eq!(field(wave(0.2e-3, WaveShape::Trochoid)), ["waves[0].amplitude"]);
+        assert_eq!(
+            field(wave(0.2e-3, WaveShape::Trochoid)),
+            ["waves[0].amplitude"]
+        );
         // A sine of slope amplitude 2π·0.3 = 1.9: rms 1.33 > 1.
         assert_eq!(field(wave(0.3e-3, WaveShape::Sine)), ["waves"]);
         let slopes = Finish::Slopes {
