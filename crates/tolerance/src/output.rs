@@ -293,19 +293,13 @@ pub fn write_analysis(files: &[(PathBuf, Vec<u8>)], out_dir: &Path) -> Result<()
     Ok(())
 }
 
-/// Writes `files` all or none.
+/// Writes `files` all or none (as the design writes its own).
 pub fn write(files: &[(PathBuf, Vec<u8>)]) -> Result<(), ToleranceError> {
-    if let Some((path, _)) = files.first()
-        && let Some(parent) = path.parent()
-    {
-        std::fs::create_dir_all(parent).map_err(|source| ToleranceError::Write {
-            path: parent.display().to_string(),
-            source,
-        })?;
-    }
-    lucerna_scene::write_all_atomically(files).map_err(|(path, source)| ToleranceError::Write {
-        path: path.display().to_string(),
-        source,
+    lucerna_design::output::write(files).map_err(|e| match e {
+        lucerna_design::DesignError::Write { path, source } => {
+            ToleranceError::Write { path, source }
+        }
+        other => ToleranceError::Output(other.to_string()),
     })
 }
 
