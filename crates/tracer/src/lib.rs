@@ -9,6 +9,7 @@ pub mod cpu;
 // only after run-time feature detection.
 #[allow(unsafe_code)]
 pub mod cpu_features;
+pub mod finish_brdf;
 pub mod gpu;
 pub mod paths;
 pub mod prepared;
