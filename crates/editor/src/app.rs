@@ -146,6 +146,7 @@ impl EditorApp {
         self.state.begin_frame(&ctx);
         let before = self.state.doc.scene.clone();
         self.state.design.ticks_shown = self.dock.is_visible(Pane::Design);
+        self.state.tolerance.shown = self.dock.is_visible(Pane::Tolerance);
         if let Some(b) = &mut self.benchmark {
             b.begin_frame(&mut self.state, &mut self.windows.export, &ctx, frame_start);
         }

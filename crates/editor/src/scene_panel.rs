@@ -74,6 +74,7 @@ pub fn scene_panel_ui(ui: &mut Ui, state: &mut EditorState) {
                         commands.push(Command::DeletePart(i));
                     }
                 });
+                tolerances_ui(ui, scene, &Selection::Part(i), &mut state.tolerance);
             }
         }
         Some(Selection::Emitter(i)) => {
@@ -87,6 +88,7 @@ pub fn scene_panel_ui(ui: &mut Ui, state: &mut EditorState) {
                         commands.push(Command::Edit(SceneEdit::DeleteEmitter(i)));
                     }
                 });
+                tolerances_ui(ui, scene, &Selection::Emitter(i), &mut state.tolerance);
             }
         }
         Some(Selection::Material(name)) => {
@@ -735,4 +737,19 @@ fn material_ui(ui: &mut Ui, m: &mut Material) {
             number(ui, "Transmittance", transmittance, 0.0..=1.0, 0.005, "");
         }
     }
+}
+
+/// The selected part's or emitter's manufacturing tolerances, under its
+/// parameters, while the Tolerance pane is shown (and no analysis runs).
+fn tolerances_ui(
+    ui: &mut Ui,
+    scene: &Scene,
+    selection: &Selection,
+    tolerance: &mut crate::tolerance_state::ToleranceState,
+) {
+    if !tolerance.shown || tolerance.is_running() {
+        return;
+    }
+    ui.separator();
+    crate::tolerance_pane::selected_ui(ui, scene, Some(selection), &mut tolerance.setup);
 }

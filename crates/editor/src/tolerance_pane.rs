@@ -35,8 +35,9 @@ pub fn tolerance_pane_ui(ui: &mut Ui, state: &mut EditorState) {
             let running = state.tolerance.is_running();
             ui.add_enabled_ui(!running, |ui| {
                 ui.add_space(4.0);
-                let selection = state.doc.selection.clone();
-                selected_ui(ui, &scene, selection.as_ref(), &mut state.tolerance.setup);
+                ui.label(
+                    "A part's or an emitter's tolerances are set in the scene panel, under its parameters: select it.",
+                );
                 ui.add_space(4.0);
                 ui.strong("Every tolerance");
                 all_ui(ui, &mut state.tolerance.setup);
@@ -90,8 +91,9 @@ pub fn tolerance_pane_ui(ui: &mut Ui, state: &mut EditorState) {
     }
 }
 
-/// The tolerances of the selected part or emitter.
-fn selected_ui(
+/// The tolerances of the selected part or emitter (shown by the scene
+/// panel under its parameters).
+pub(crate) fn selected_ui(
     ui: &mut Ui,
     scene: &Scene,
     selection: Option<&Selection>,
@@ -102,10 +104,7 @@ fn selected_ui(
         Some(Selection::Emitter(i)) if *i < scene.emitters.len() => {
             (&scene.emitters[*i].name, None)
         }
-        _ => {
-            ui.label("Select a part or an emitter (scene panel or 3D view) to set its tolerances.");
-            return;
-        }
+        _ => return,
     };
     ui.strong(format!("Tolerances of '{name}' (normal σ)"));
     egui::Grid::new("tolerance placements")

@@ -175,6 +175,10 @@ pub struct ToleranceState {
     pub outcome: Option<ToleranceOutcome>,
     /// Why the last Run was refused or failed.
     pub error: Option<String>,
+    /// Whether the Tolerance pane is shown (set each frame): the scene
+    /// panel then shows the selected item's tolerances under its
+    /// parameters.
+    pub shown: bool,
 }
 
 impl std::fmt::Debug for ToleranceState {
