@@ -328,6 +328,73 @@ impl Finish {
     }
 }
 
+impl Finish {
+    /// The finish's height (m) at (u, v) on the surface (u along the
+    /// profile, v across it), about its mean plane: what the geometry of
+    /// the finish is, for tessellating it and for checking its
+    /// statistics. Waves start at phase 0; a measured Gaussian finish has
+    /// no one geometry (None).
+    pub fn height(&self, u: f64, v: f64) -> Option<f64> {
+        match self {
+            Finish::Dimples {
+                pitch,
+                depth,
+                radius,
+                pattern,
+            } => {
+                let r = dimple_footprint(*radius, *depth).min(0.5 * pitch);
+                let (w, h, centres): (f64, f64, &[[f64; 2]]) = match pattern {
+                    DimplePattern::Square => (*pitch, *pitch, &[[0.0, 0.0]]),
+                    DimplePattern::Hexagonal => {
+                        (*pitch, 3f64.sqrt() * pitch, &[[0.0, 0.0], [0.5, 0.5]])
+                    }
+                };
+                // The position within one period of the pattern.
+                let (x, y) = (u.rem_euclid(w), v.rem_euclid(h));
+                let mut rho = f64::INFINITY;
+                for c in centres {
+                    let (cx, cy) = (c[0] * w, c[1] * h);
+                    for dy in [-h, 0.0, h] {
+                        for dx in [-w, 0.0, w] {
+                            rho = rho.min((x - cx - dx).hypot(y - cy - dy));
+                        }
+                    }
+                }
+                Some(if rho < r {
+                    -((radius * radius - rho * rho).sqrt() - (radius - depth))
+                } else {
+                    0.0
+                })
+            }
+            Finish::Ripples { waves } => Some(
+                waves
+                    .iter()
+                    .map(|w| {
+                        let dir = w.direction_deg.to_radians();
+                        let x = u * dir.cos() + v * dir.sin();
+                        let k = 2.0 * std::f64::consts::PI / w.wavelength;
+                        match w.shape {
+                            WaveShape::Sine => w.amplitude * (k * x).sin(),
+                            WaveShape::Trochoid => {
+                                // x = s − a·sin(ks), h = a·cos(ks): s by
+                                // Newton from x (x − s is at most a).
+                                let mut s = x;
+                                for _ in 0..30 {
+                                    let f = s - w.amplitude * (k * s).sin() - x;
+                                    let df = 1.0 - w.amplitude * k * (k * s).cos();
+                                    s -= f / df;
+                                }
+                                w.amplitude * (k * s).cos()
+                            }
+                        }
+                    })
+                    .sum(),
+            ),
+            Finish::Slopes { .. } => None,
+        }
+    }
+}
+
 /// The radius of a cap of a sphere of `radius`, `depth` deep, on the
 /// surface.
 pub fn dimple_footprint(radius: f64, depth: f64) -> f64 {
@@ -626,5 +693,80 @@ mod tests {
         };
         let p = slopes.problems();
         assert!(p[0].1.contains("above 1"), "{p:?}");
+    }
+
+    /// The slopes of the height function, by central differences over a
+    /// patch of the surface, have the statistics computed from the
+    /// finish's parameters: the two descriptions are one finish.
+    #[test]
+    fn the_height_field_has_the_statistics_of_its_finish() {
+        let finishes = [
+            Finish::Dimples {
+                pitch: 2e-3,
+                depth: 0.15e-3,
+                radius: 3.4e-3,
+                pattern: DimplePattern::Hexagonal,
+            },
+            Finish::Dimples {
+                pitch: 2.5e-3,
+                depth: 0.1e-3,
+                radius: 2e-3,
+                pattern: DimplePattern::Square,
+            },
+            Finish::Ripples {
+                waves: vec![Ripple {
+                    amplitude: 0.05e-3,
+                    wavelength: 1e-3,
+                    direction_deg: 0.0,
+                    shape: WaveShape::Trochoid,
+                }],
+            },
+        ];
+        for f in &finishes {
+            let want = f.statistics();
+            // A patch of whole periods of the pattern.
+            let (w, h) = match f {
+                Finish::Dimples {
+                    pitch,
+                    pattern: DimplePattern::Hexagonal,
+                    ..
+                } => (3.0 * pitch, 2.0 * 3f64.sqrt() * pitch),
+                Finish::Dimples { pitch, .. } => (3.0 * pitch, 3.0 * pitch),
+                _ => (6e-3, 6e-3),
+            };
+            let (nu, nv) = (1200, (1200.0 * h / w) as usize);
+            let e = 1e-7;
+            let (mut suu, mut svv, mut flat) = (0.0, 0.0, 0usize);
+            for j in 0..nv {
+                for i in 0..nu {
+                    let (u, v) = (
+                        (i as f64 + 0.5) / nu as f64 * w,
+                        (j as f64 + 0.5) / nv as f64 * h,
+                    );
+                    let hu =
+                        (f.height(u + e, v).unwrap() - f.height(u - e, v).unwrap()) / (2.0 * e);
+                    let hv =
+                        (f.height(u, v + e).unwrap() - f.height(u, v - e).unwrap()) / (2.0 * e);
+                    suu += hu * hu;
+                    svv += hv * hv;
+                    if hu.hypot(hv) < 1e-9 {
+                        flat += 1;
+                    }
+                }
+            }
+            let n = (nu * nv) as f64;
+            let got = [suu / n, svv / n];
+            let total = want.covariance[0] + want.covariance[2];
+            assert!(
+                ((got[0] + got[1]) / total - 1.0).abs() < 0.02,
+                "{f:?}: {got:?} against {:?}",
+                want.covariance
+            );
+            assert!(
+                (flat as f64 / n - want.flat_share).abs() < 0.01,
+                "{f:?}: flat {}",
+                flat as f64 / n
+            );
+        }
     }
 }
