@@ -26,6 +26,7 @@ fn only_the_editor_knows_egui() {
         "lucerna-room",
         "lucerna-simulation",
         "lucerna-design",
+        "lucerna-tolerance",
         "lucerna-cli",
     ] {
         assert_free_of(krate, &["egui", "eframe", "winit"]);
