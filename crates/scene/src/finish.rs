@@ -343,23 +343,8 @@ impl Finish {
                 pattern,
             } => {
                 let r = dimple_footprint(*radius, *depth).min(0.5 * pitch);
-                let (w, h, centres): (f64, f64, &[[f64; 2]]) = match pattern {
-                    DimplePattern::Square => (*pitch, *pitch, &[[0.0, 0.0]]),
-                    DimplePattern::Hexagonal => {
-                        (*pitch, 3f64.sqrt() * pitch, &[[0.0, 0.0], [0.5, 0.5]])
-                    }
-                };
-                // The position within one period of the pattern.
-                let (x, y) = (u.rem_euclid(w), v.rem_euclid(h));
-                let mut rho = f64::INFINITY;
-                for c in centres {
-                    let (cx, cy) = (c[0] * w, c[1] * h);
-                    for dy in [-h, 0.0, h] {
-                        for dx in [-w, 0.0, w] {
-                            rho = rho.min((x - cx - dx).hypot(y - cy - dy));
-                        }
-                    }
-                }
+                let d = PatternCell::of(*pitch, *pattern).offset(u, v);
+                let rho = d[0].hypot(d[1]);
                 Some(if rho < r {
                     -((radius * radius - rho * rho).sqrt() - (radius - depth))
                 } else {
@@ -401,6 +386,54 @@ pub fn dimple_footprint(radius: f64, depth: f64) -> f64 {
     (2.0 * radius * depth - depth * depth).max(0.0).sqrt()
 }
 
+/// One rectangular period of a dimple pattern: p × p holding one dimple
+/// (square), p × √3·p holding two (hexagonal).
+struct PatternCell {
+    width: f64,
+    height: f64,
+    centres: Vec<[f64; 2]>,
+}
+
+impl PatternCell {
+    fn of(pitch: f64, pattern: DimplePattern) -> PatternCell {
+        match pattern {
+            DimplePattern::Square => PatternCell {
+                width: pitch,
+                height: pitch,
+                centres: vec![[0.0, 0.0]],
+            },
+            DimplePattern::Hexagonal => {
+                let h = 3f64.sqrt() * pitch;
+                PatternCell {
+                    width: pitch,
+                    height: h,
+                    centres: vec![[0.0, 0.0], [0.5 * pitch, 0.5 * h]],
+                }
+            }
+        }
+    }
+
+    /// (u, v) less the nearest dimple centre, the pattern's periodic
+    /// images included.
+    fn offset(&self, u: f64, v: f64) -> [f64; 2] {
+        let (w, h) = (self.width, self.height);
+        let (x, y) = (u.rem_euclid(w), v.rem_euclid(h));
+        let mut best = (f64::INFINITY, [0.0, 0.0]);
+        for c in &self.centres {
+            for dy in [-h, 0.0, h] {
+                for dx in [-w, 0.0, w] {
+                    let d = [x - c[0] - dx, y - c[1] - dy];
+                    let rho = d[0].hypot(d[1]);
+                    if rho < best.0 {
+                        best = (rho, d);
+                    }
+                }
+            }
+        }
+        best.1
+    }
+}
+
 /// Samples per cell axis of the dimples' numeric integral.
 const DIMPLE_SAMPLES: usize = 600;
 
@@ -413,34 +446,15 @@ fn dimple_statistics(
     let r = dimple_footprint(radius, depth).min(0.5 * pitch);
     let steepest = r / (radius * radius - r * r).max(1e-300).sqrt();
     let mut acc = Accumulator::new(steepest.max(1e-9) * 1.0001);
-    // A rectangular period of the pattern: p × p holding one dimple
-    // (square), p × √3·p holding two (hexagonal).
-    let (w, h, centres): (f64, f64, Vec<[f64; 2]>) = match pattern {
-        DimplePattern::Square => (pitch, pitch, vec![[0.0, 0.0]]),
-        DimplePattern::Hexagonal => {
-            let h = 3f64.sqrt() * pitch;
-            (pitch, h, vec![[0.0, 0.0], [0.5 * pitch, 0.5 * h]])
-        }
-    };
+    let cell = PatternCell::of(pitch, pattern);
+    let (w, h) = (cell.width, cell.height);
     let ny = ((DIMPLE_SAMPLES as f64) * h / w).round() as usize;
     for j in 0..ny {
         let y = (j as f64 + 0.5) / ny as f64 * h;
         for i in 0..DIMPLE_SAMPLES {
             let x = (i as f64 + 0.5) / DIMPLE_SAMPLES as f64 * w;
-            // The nearest centre, periodic images included.
-            let mut best = (f64::INFINITY, [0.0, 0.0]);
-            for c in &centres {
-                for dy in [-h, 0.0, h] {
-                    for dx in [-w, 0.0, w] {
-                        let d = [x - c[0] - dx, y - c[1] - dy];
-                        let rho = d[0].hypot(d[1]);
-                        if rho < best.0 {
-                            best = (rho, d);
-                        }
-                    }
-                }
-            }
-            let (rho, d) = best;
+            let d = cell.offset(x, y);
+            let rho = d[0].hypot(d[1]);
             let slope = if rho < r {
                 // h = −(√(R² − ρ²) − (R − depth)): ∂h/∂ρ = ρ/√(R² − ρ²).
                 let g = 1.0 / (radius * radius - rho * rho).sqrt();
