@@ -400,27 +400,19 @@ struct Histogram {
     width: f64,
 }
 
-/// The samples' values in bins over their range (and the nominal's and
-/// the limits').
+/// The samples' values in the report picture's bins
+/// ([`lucerna_tolerance::picture::Binning`]), each bar with its worst
+/// sample.
 fn histogram(
     values: &[(u32, f64, f64)],
     nominal: f64,
     (lower, upper): (Option<f64>, Option<f64>),
 ) -> Histogram {
-    let mut lo = values.iter().map(|v| v.1).fold(f64::INFINITY, f64::min);
-    let mut hi = values.iter().map(|v| v.1).fold(f64::NEG_INFINITY, f64::max);
-    for v in [Some(nominal), lower, upper].into_iter().flatten() {
-        if v.is_finite() {
-            lo = lo.min(v);
-            hi = hi.max(v);
-        }
-    }
-    let span = (hi - lo).max(1e-9 * hi.abs().max(1.0));
-    let n = ((values.len() as f64).sqrt().ceil() as usize).clamp(6, 30);
-    let width = span / n as f64;
-    let mut bars: Vec<HistogramBar> = (0..n)
+    let plain: Vec<f64> = values.iter().map(|v| v.1).collect();
+    let binning = lucerna_tolerance::picture::Binning::over(&plain, &[Some(nominal), lower, upper]);
+    let mut bars: Vec<HistogramBar> = (0..binning.bins)
         .map(|k| {
-            let centre = lo + (k as f64 + 0.5) * width;
+            let centre = binning.centre(k);
             HistogramBar {
                 centre,
                 samples: Vec::new(),
@@ -429,14 +421,17 @@ fn histogram(
             }
         })
         .collect();
-    let mut worst_shortfall = vec![f64::NEG_INFINITY; n];
+    let mut worst_shortfall = vec![f64::NEG_INFINITY; binning.bins];
     for &(index, v, shortfall) in values {
-        let k = (((v - lo) / width) as usize).min(n - 1);
+        let k = binning.index(v);
         bars[k].samples.push(index);
         if shortfall > worst_shortfall[k] {
             worst_shortfall[k] = shortfall;
             bars[k].worst = Some(index);
         }
     }
-    Histogram { bars, width }
+    Histogram {
+        bars,
+        width: binning.width,
+    }
 }

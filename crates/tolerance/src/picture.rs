@@ -50,6 +50,54 @@ pub fn limits(setup: &Setup, figure: Figure) -> (Option<f64>, Option<f64>) {
     }
 }
 
+/// The bins of a figure's histogram (the picture's and the editor's):
+/// over the values, the nominal and the spec's limits, 5 % wider, about
+/// √n bins.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Binning {
+    pub lo: f64,
+    pub width: f64,
+    pub bins: usize,
+    /// The margin added either side.
+    pub pad: f64,
+}
+
+impl Binning {
+    /// Bins over `values` (finite ones) and the finite `marks`.
+    pub fn over(values: &[f64], marks: &[Option<f64>]) -> Binning {
+        let finite = values
+            .iter()
+            .copied()
+            .chain(marks.iter().flatten().copied())
+            .filter(|v| v.is_finite());
+        let (lo, hi) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
+        let (lo, hi) = if lo <= hi { (lo, hi) } else { (0.0, 1.0) };
+        let pad = ((hi - lo) * 0.05).max(1e-9 * hi.abs().max(1.0));
+        let bins = ((values.len() as f64).sqrt().ceil() as usize).clamp(8, 40);
+        Binning {
+            lo: lo - pad,
+            width: (hi - lo + 2.0 * pad) / bins as f64,
+            bins,
+            pad,
+        }
+    }
+
+    pub fn hi(&self) -> f64 {
+        self.lo + self.width * self.bins as f64
+    }
+
+    /// The bin of `v` (the ends hold what lies beyond).
+    pub fn index(&self, v: f64) -> usize {
+        (((v - self.lo) / self.width).max(0.0) as usize).min(self.bins - 1)
+    }
+
+    pub fn centre(&self, bin: usize) -> f64 {
+        self.lo + (bin as f64 + 0.5) * self.width
+    }
+}
+
 /// `histograms.png`: one panel per figure.
 pub fn histograms_png(
     setup: &Setup,
@@ -146,29 +194,19 @@ fn histogram_panel(
         c.text(left, top + 40.0, "no sample", 14.0, GREY);
         return;
     }
-    // The range: the values, the nominal and the limits, a little wider.
-    let mut lo = values.iter().copied().fold(f64::INFINITY, f64::min);
-    let mut hi = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    for v in [Some(nominal), lower, upper].into_iter().flatten() {
-        if v.is_finite() {
-            lo = lo.min(v);
-            hi = hi.max(v);
-        }
-    }
-    let pad = ((hi - lo) * 0.05).max(1e-9 * hi.abs().max(1.0));
-    let (lo, hi) = (lo - pad, hi + pad);
-    let bins = ((values.len() as f64).sqrt().ceil() as usize).clamp(8, 40);
+    let binning = Binning::over(values, &[Some(nominal), lower, upper]);
+    let (lo, hi, bins) = (binning.lo, binning.hi(), binning.bins);
+    let pad = binning.pad;
     let mut counts = vec![0usize; bins];
     for v in values {
-        let b = (((v - lo) / (hi - lo)) * bins as f64) as usize;
-        counts[b.min(bins - 1)] += 1;
+        counts[binning.index(*v)] += 1;
     }
     let most = counts.iter().copied().max().unwrap_or(1).max(1);
     let to_x = |v: f64| left + ((v - lo) / (hi - lo)) as f32 * (right - left);
     let bin_w = (right - left) / bins as f32;
     for (b, &n) in counts.iter().enumerate() {
         let h = (bottom - top) * n as f32 / most as f32;
-        let centre = lo + (b as f64 + 0.5) * (hi - lo) / bins as f64;
+        let centre = binning.centre(b);
         let outside = lower.is_some_and(|l| centre < l) || upper.is_some_and(|u| centre > u);
         c.fill_rect(
             (left + b as f32 * bin_w + 1.0) as i64,
@@ -294,4 +332,23 @@ pub fn sensitivities_png(setup: &Setup, report: &Report) -> Result<Vec<u8>, imag
         c.text(40.0, y - 2.0, name, 14.0, BLACK);
     }
     c.png()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_bins_hold_the_values_and_the_limits() {
+        let values: Vec<f64> = (0..100).map(|k| 3.0 + 0.01 * f64::from(k)).collect();
+        let b = Binning::over(&values, &[Some(2.0), None, Some(f64::NAN)]);
+        assert_eq!(b.bins, 10);
+        assert!(b.lo < 2.0 && b.hi() > 3.99);
+        assert_eq!(b.index(b.lo), 0);
+        assert_eq!(b.index(b.hi() + 1.0), 9);
+        for v in &values {
+            let k = b.index(*v);
+            assert!((v - b.centre(k)).abs() <= 0.5 * b.width + 1e-12);
+        }
+    }
 }
