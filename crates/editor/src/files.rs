@@ -57,6 +57,7 @@ pub fn starter_scene() -> Scene {
             material: "mirror".to_owned(),
             enabled: true,
             transform: Transform::default(),
+            finish: None,
         }],
         opening: None,
     };

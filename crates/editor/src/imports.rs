@@ -98,6 +98,7 @@ pub fn mesh_part(
             scale: [scale; 3],
             ..Transform::default()
         },
+        finish: None,
     };
     alone.parts = vec![part.clone()];
     alone.emitters.clear();

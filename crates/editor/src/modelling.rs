@@ -498,6 +498,7 @@ pub fn new_part(scene: &mut Scene, kind: NewPart) -> Part {
         material,
         enabled: true,
         transform: Transform::default(),
+        finish: None,
     }
 }
 

@@ -146,6 +146,19 @@ impl SlopeTable {
     }
 }
 
+/// The statistics of weighted slope samples, tabulated over
+/// [−range, range]² (slopes beyond it in the edge cells).
+pub(crate) fn statistics_of_samples(
+    range: f64,
+    samples: impl IntoIterator<Item = ([f64; 2], f64)>,
+) -> SlopeStatistics {
+    let mut acc = Accumulator::new(range);
+    for (s, w) in samples {
+        acc.add(s, w);
+    }
+    acc.finish()
+}
+
 /// Accumulates slopes into statistics.
 struct Accumulator {
     weight: f64,

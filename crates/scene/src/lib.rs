@@ -10,6 +10,7 @@ pub mod check;
 pub mod exact;
 pub mod file;
 pub mod finish;
+pub mod finish_layout;
 pub mod generators;
 pub mod io;
 pub mod mesh;
@@ -31,6 +32,7 @@ pub use mesh::{MeshDefect, TriangleMesh};
 pub use model::*;
 pub use shapes::ShapeGenerator;
 pub use tessellate::{
-    SurfaceKind, TessellateError, TessellatedScene, emitter_exact, emitter_mesh, tessellate,
+    FinishSplit, SurfaceKind, TessellateError, TessellatedScene, emitter_exact, emitter_mesh,
+    tessellate, tessellate_with,
 };
 pub use validate::{Invalid, Validation, validate, validation};

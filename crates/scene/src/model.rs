@@ -277,6 +277,10 @@ pub struct Part {
     pub enabled: bool,
     #[serde(default, skip_serializing_if = "Transform::is_identity")]
     pub transform: Transform,
+    /// How the surface is finished (hammered, rippled, …) on top of its
+    /// shape and material.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub finish: Option<crate::finish::Finish>,
 }
 
 /// Shape of a light-emitting surface, in the emitter's local frame.

@@ -8,6 +8,7 @@ use glam::DVec2;
 
 use crate::check::{MAX_PART_TRIANGLES, MAX_SCENE_TRIANGLES};
 use crate::exact::{ExactSurface, elliptic_arc};
+use crate::finish_layout::{FinishLayout, SurfaceFinish, finished_mesh, split_by_scale};
 use crate::generators::revolve;
 use crate::mesh::{MeshDefect, TriangleMesh};
 use crate::model::{EmitterShape, Material, Scene};
@@ -45,6 +46,28 @@ pub struct TessellatedScene {
     /// Materials by index, with their scene names.
     pub materials: Vec<(String, Material)>,
     pub surfaces: Vec<SurfaceRange>,
+    /// Per material (parallel to `materials`): the finish its triangles
+    /// are traced with. A finished part's surfaces get materials of
+    /// their own, so a material index names one finish.
+    pub material_finish: Vec<Option<std::sync::Arc<SurfaceFinish>>>,
+    /// Per triangle, its corners' surface coordinates [u, v, radius]
+    /// under its part's finish layout ([`crate::finish_layout`]), where
+    /// some finish is traced as shading normals; empty otherwise.
+    pub finish_corners: Vec<[[f32; 3]; 3]>,
+}
+
+/// Where a finish's scales are cut (see
+/// [`crate::finish_layout::split_by_scale`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FinishSplit {
+    /// Features at least this long (m) that the mesh does not resolve
+    /// are traced as shading normals; None: all of them as the BRDF
+    /// (the far field is the same; normals keep where each feature is).
+    pub normals_from: Option<f64>,
+    /// Cut every finish with a geometry into its part's mesh, split to
+    /// triangles of at most this edge (m): the real surface, for a
+    /// toolmaker's file or a reference trace.
+    pub geometry_edge: Option<f64>,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -173,6 +196,15 @@ pub fn emitter_triangle_count(shape: &EmitterShape) -> u64 {
 /// relative paths of OBJ meshes. Each part's mesh is checked, so a NaN,
 /// a degenerate triangle or an absurd size is reported, never traced.
 pub fn tessellate(scene: &Scene, scene_dir: &Path) -> Result<TessellatedScene, TessellateError> {
+    tessellate_with(scene, scene_dir, FinishSplit::default())
+}
+
+/// [`tessellate`] with finishes split at `split`.
+pub fn tessellate_with(
+    scene: &Scene,
+    scene_dir: &Path,
+    split: FinishSplit,
+) -> Result<TessellatedScene, TessellateError> {
     let mut materials: Vec<(String, Material)> = scene
         .materials
         .iter()
@@ -193,7 +225,11 @@ pub fn tessellate(scene: &Scene, scene_dir: &Path) -> Result<TessellatedScene, T
         triangle_material: Vec::new(),
         materials: Vec::new(),
         surfaces: Vec::new(),
+        material_finish: Vec::new(),
+        finish_corners: Vec::new(),
     };
+    // Finished surfaces: (material index, triangles, finish).
+    let mut finished: Vec<(u32, Range<usize>, std::sync::Arc<SurfaceFinish>)> = Vec::new();
     let push = |out: &mut TessellatedScene,
                 name: &str,
                 kind: SurfaceKind,
@@ -251,11 +287,69 @@ pub fn tessellate(scene: &Scene, scene_dir: &Path) -> Result<TessellatedScene, T
                 })?;
         for surface in &surfaces {
             within_scene_limit(&out, &part.name, surface.mesh.triangle_count() as u64)?;
-            let mesh = surface.mesh.transformed(&luminaire_from_part);
+            let mut mesh = surface.mesh.transformed(&luminaire_from_part);
             mesh.check()
                 .map_err(|d| mesh_error(&part.name, surface.group.as_deref(), d))?;
             let material = surface.material.as_deref().unwrap_or(&part.material);
-            let m = material_index(&materials, &part.name, material)?;
+            let mut m = material_index(&materials, &part.name, material)?;
+            if let Some(finish) = &part.finish {
+                let layout = FinishLayout::of_shape(&part.shape);
+                let (bands, max_edge) = match split.geometry_edge {
+                    Some(edge) if finish.height(0.0, 0.0).is_some() => (
+                        crate::finish_layout::FinishBands {
+                            geometry: Some(finish.clone()),
+                            ..Default::default()
+                        },
+                        edge,
+                    ),
+                    _ => (
+                        split_by_scale(finish, mean_edge(&mesh), split.normals_from),
+                        f64::INFINITY,
+                    ),
+                };
+                if let Some(geometry) = &bands.geometry
+                    && let Some(cut) = finished_mesh(&surface.mesh, &layout, geometry, max_edge)
+                {
+                    within_scene_limit(
+                        &out,
+                        &part.name,
+                        (cut.triangle_count() - surface.mesh.triangle_count()) as u64,
+                    )?;
+                    let longest = (0..cut.triangle_count())
+                        .map(|t| {
+                            let [a, b, c] = cut.corners(t);
+                            (b - a).length().max((c - b).length()).max((a - c).length())
+                        })
+                        .fold(0.0, f64::max);
+                    if longest > max_edge * 1.001 {
+                        // Each halving of the edge quadruples the triangles.
+                        let levels = (longest / max_edge).log2().ceil();
+                        return Err(TessellateError::SceneTriangles {
+                            surface: part.name.clone(),
+                            triangles: (cut.triangle_count() as f64 * 4f64.powf(levels)) as u64,
+                            max: MAX_SCENE_TRIANGLES,
+                        });
+                    }
+                    let cut = cut.transformed(&luminaire_from_part);
+                    cut.check()
+                        .map_err(|d| mesh_error(&part.name, surface.group.as_deref(), d))?;
+                    mesh = cut;
+                }
+                if bands.normals.is_some() || bands.brdf.is_some() {
+                    let own = materials[m as usize].1.clone();
+                    materials.push((format!("{material} (finish of '{}')", part.name), own));
+                    m = (materials.len() - 1) as u32;
+                    let f = SurfaceFinish::new(
+                        &part.name,
+                        &bands,
+                        layout,
+                        luminaire_from_part,
+                        &mesh,
+                    );
+                    let first = out.mesh.triangle_count();
+                    finished.push((m, first..first + mesh.triangle_count(), f.into()));
+                }
+            }
             push(&mut out, &part.name, SurfaceKind::Part, index, &mesh, m);
         }
     }
@@ -287,6 +381,40 @@ pub fn tessellate(scene: &Scene, scene_dir: &Path) -> Result<TessellatedScene, T
             m,
         );
     }
+    out.material_finish = vec![None; materials.len()];
     out.materials = materials;
+    for (m, _, f) in &finished {
+        out.material_finish[*m as usize] = Some(f.clone());
+    }
+    if finished.iter().any(|(_, _, f)| f.normals.is_some()) {
+        out.finish_corners = vec![[[0.0; 3]; 3]; out.mesh.triangle_count()];
+        for (_, range, f) in finished.iter().filter(|(_, _, f)| f.normals.is_some()) {
+            let part_from_luminaire = f.luminaire_from_part.inverse();
+            for t in range.clone() {
+                let corners = out.mesh.corners(t).map(|p| {
+                    let c = f
+                        .layout
+                        .coordinates(part_from_luminaire.transform_point3(p));
+                    [c.u as f32, c.v as f32, c.radius.unwrap_or(0.0) as f32]
+                });
+                out.finish_corners[t] = corners;
+            }
+        }
+    }
     Ok(out)
+}
+
+/// The mean edge length of a mesh's triangles (m).
+fn mean_edge(mesh: &TriangleMesh) -> f64 {
+    let n = mesh.triangle_count();
+    if n == 0 {
+        return 0.0;
+    }
+    let total: f64 = (0..n)
+        .map(|t| {
+            let [a, b, c] = mesh.corners(t);
+            ((b - a).length() + (c - b).length() + (a - c).length()) / 3.0
+        })
+        .sum();
+    total / n as f64
 }

@@ -109,6 +109,20 @@ impl Checker<'_> {
         let shape = part.shape.generator();
         shape.validate(&at.key("shape"), self);
         self.transform(at, &part.transform);
+        if let Some(finish) = &part.finish {
+            for (field, why) in finish.problems() {
+                let mut path = at.key("finish");
+                for k in field.split('.') {
+                    path = match k.split_once('[') {
+                        Some((name, index)) => path
+                            .key(name)
+                            .index(index.trim_end_matches(']').parse().unwrap_or(0)),
+                        None => path.key(k),
+                    };
+                }
+                self.fail(path, why);
+            }
+        }
         // A mesh's triangles are in its file: the OBJ reader and the
         // tessellation hold it to the same limits.
         let triangles = shape.triangle_count().unwrap_or(0);
@@ -223,6 +237,19 @@ pub fn validation(scene: &Scene) -> Validation {
     }
     for (i, p) in scene.parts.iter().enumerate() {
         let part_triangles = c.part(&root.key("part").index(i), p);
+        if p.finish.is_some()
+            && let Some(m) = scene.materials.get(&p.material)
+            && matches!(m, Material::Dielectric { .. } | Material::Diffuser { .. })
+        {
+            c.fail(
+                root.key("part").index(i).key("finish"),
+                format!(
+                    "a finish is traced on reflecting surfaces (mirror, rough_conductor, lambertian); '{}' is a {}",
+                    p.material,
+                    m.kind()
+                ),
+            );
+        }
         part_over_limit |= part_triangles > MAX_PART_TRIANGLES;
         if p.enabled {
             triangles = triangles.saturating_add(part_triangles);

@@ -127,6 +127,7 @@ fn scene_of(shapes: Vec<Shape>) -> Scene {
                 shape,
                 material: "alu".into(),
                 enabled: true,
+                finish: None,
             })
             .collect(),
     }

@@ -194,13 +194,36 @@ impl Photon {
         }
         // The material and geometric normal come with the hit; a smooth
         // triangle's vertex normals from its shading record.
-        let m = &scene.materials[TriangleShading::material_of_tag(hit.tag) as usize];
+        let material = TriangleShading::material_of_tag(hit.tag) as usize;
+        let m = &scene.materials[material];
         let geometric = hit.normal;
-        let shading_normal = shading_normal(scene, &hit);
-        let (ng, ns) = facing_normals(geometric, shading_normal, dir);
+        let mut shading_normal = shading_normal(scene, &hit);
+        // A finish: its normals band tilts the shading normal where the
+        // photon lands; its BRDF band draws a visible facet about which
+        // the material then scatters. What leaves into the surface is
+        // lost (shadowed).
+        let finish = scene.material_finish.get(material).and_then(Option::as_ref);
+        let mut tangents = None;
+        if let Some(f) = finish {
+            let t = crate::finish_trace::tangents(f, position, shading_normal);
+            shading_normal = crate::finish_trace::normals_band(scene, f, &hit, shading_normal, t);
+            tangents = Some(t);
+        }
+        let (ng, mut ns) = facing_normals(geometric, shading_normal, dir);
+        if let (Some(f), Some(t)) = (finish, tangents)
+            && let Some(brdf) = &f.brdf
+        {
+            match crate::finish_trace::facet(brdf, t, ns, dir, rng) {
+                Some(facet) => ns = facet,
+                None => return Some(Fate::Absorbed),
+            }
+        }
         let next = match m.kind {
             kind::LAMBERTIAN => (rng.next_f32() < m.reflectance)
                 .then(|| cosine_hemisphere(ns, rng.next_f32(), rng.next_f32())),
+            kind::MIRROR if finish.is_some() => {
+                (rng.next_f32() < m.reflectance).then(|| reflect(dir, ns))
+            }
             kind::MIRROR => (rng.next_f32() < m.reflectance).then(|| specular(dir, ns, ng)),
             kind::ROUGH_CONDUCTOR => rough_conductor(m, dir, ns, rng),
             kind::DIFFUSER => {
@@ -227,6 +250,9 @@ impl Photon {
         let Some(next) = next else {
             return Some(Fate::Absorbed);
         };
+        if finish.is_some() && next.dot(ng) <= 0.0 {
+            return Some(Fate::Absorbed);
+        }
         // Leave the surface on the side the new direction goes.
         let side = if next.dot(geometric) > 0.0 {
             geometric

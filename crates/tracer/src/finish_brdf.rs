@@ -1,5 +1,4 @@
-//! A finished mirror's reflection (issue 52, second part: the sampler and
-//! its density; not yet wired into the kernels): the microfacet
+//! A finished surface's reflection: the microfacet
 //! distribution is the finish's own tabulated slope distribution
 //! ([`lucerna_scene::finish::SlopeStatistics`]) with its flat land as a
 //! mirror-like share, not a Gaussian of the same variance.
@@ -88,10 +87,23 @@ impl FinishBrdf {
     /// visible facet, from a stream of uniforms; None where the
     /// reflection is lost into the surface or no facet was accepted.
     pub fn sample(&self, wo: [f64; 3], next: &mut dyn FnMut() -> f64) -> Option<[f64; 3]> {
+        let m = self.sample_facet(wo, next)?;
+        let d = wo[0] * m[0] + wo[1] * m[1] + wo[2] * m[2];
+        let wi = [
+            2.0 * d * m[0] - wo[0],
+            2.0 * d * m[1] - wo[1],
+            2.0 * d * m[2] - wo[2],
+        ];
+        (wi[2] > 0.0).then_some(wi)
+    }
+
+    /// The unit normal of a facet visible from `wo` (local frame, wo_z >
+    /// 0), drawn in proportion to its slope probability times its
+    /// projected area toward `wo`; None where no facet was accepted.
+    pub fn sample_facet(&self, wo: [f64; 3], next: &mut dyn FnMut() -> f64) -> Option<[f64; 3]> {
         let bound = wo[2] + self.range * (wo[0].abs() + wo[1].abs());
-        let table = 1.0 - self.flat;
         for _ in 0..MAX_TRIES {
-            let s = if next() * (self.flat + table) < self.flat {
+            let s = if next() < self.flat {
                 [0.0, 0.0]
             } else {
                 self.table_slope(next(), next(), next())
@@ -101,16 +113,45 @@ impl FinishBrdf {
                 continue;
             }
             let len = (1.0 + s[0] * s[0] + s[1] * s[1]).sqrt();
-            let m = [-s[0] / len, -s[1] / len, 1.0 / len];
-            let d = wo[0] * m[0] + wo[1] * m[1] + wo[2] * m[2];
-            let wi = [
-                2.0 * d * m[0] - wo[0],
-                2.0 * d * m[1] - wo[1],
-                2.0 * d * m[2] - wo[2],
-            ];
-            return (wi[2] > 0.0).then_some(wi);
+            return Some([-s[0] / len, -s[1] / len, 1.0 / len]);
         }
         None
+    }
+
+    /// The share of the light arriving from `wo` that a mirror of
+    /// reflectance 1 with this finish sends back out (the rest is
+    /// reflected into the surface and lost: the shadowing), by
+    /// quadrature over the table.
+    pub fn reflected_share(&self, wo: [f64; 3]) -> f64 {
+        let w = self.cell_width();
+        let sub = 4;
+        let (mut out, mut all) = (self.flat * wo[2], self.flat * wo[2]);
+        for j in 0..self.bins {
+            for i in 0..self.bins {
+                let p = self.probability[j * self.bins + i];
+                if p == 0.0 {
+                    continue;
+                }
+                for b in 0..sub {
+                    for a in 0..sub {
+                        let s = [
+                            -self.range + (i as f64 + (a as f64 + 0.5) / sub as f64) * w,
+                            -self.range + (j as f64 + (b as f64 + 0.5) / sub as f64) * w,
+                        ];
+                        let visible = (wo[2] - wo[0] * s[0] - wo[1] * s[1]).max(0.0);
+                        let q = p * visible / (sub * sub) as f64;
+                        all += q;
+                        let len2 = 1.0 + s[0] * s[0] + s[1] * s[1];
+                        // wi_z = 2 (wo·m) m_z − wo_z, m = (−s, 1)/√len2.
+                        let wi_z = 2.0 * visible / len2 - wo[2];
+                        if wi_z > 0.0 {
+                            out += q;
+                        }
+                    }
+                }
+            }
+        }
+        out / all
     }
 
     /// The expected visible projected area from `wo` per unit surface

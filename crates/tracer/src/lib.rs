@@ -10,6 +10,7 @@ pub mod cpu;
 #[allow(unsafe_code)]
 pub mod cpu_features;
 pub mod finish_brdf;
+pub mod finish_trace;
 pub mod gpu;
 pub mod paths;
 pub mod prepared;

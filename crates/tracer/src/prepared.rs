@@ -166,12 +166,25 @@ pub struct TraceEmitter {
     pub ray_kernel: Option<crate::ray_kernel::RayKernel>,
 }
 
+/// A finished surface ready to trace: its BRDF band's sampler and its
+/// layout for the normals band and the frame.
+#[derive(Debug, Clone)]
+pub struct TraceFinish {
+    pub surface: Arc<lucerna_scene::finish_layout::SurfaceFinish>,
+    pub brdf: Option<Arc<crate::finish_brdf::FinishBrdf>>,
+}
+
 #[derive(Debug, Clone)]
 pub struct PreparedScene {
     pub bvh: Bvh,
     /// One per triangle, in the scene's order (like `bvh.triangles`).
     pub shading: Vec<TriangleShading>,
     pub materials: Vec<TraceMaterial>,
+    /// Per material: the finish its triangles are traced with.
+    pub material_finish: Vec<Option<TraceFinish>>,
+    /// Per triangle, its corners' finish coordinates where a finish is
+    /// traced as normals (see [`TessellatedScene::finish_corners`]).
+    pub finish_corners: Vec<[[f32; 3]; 3]>,
     pub emitters: Vec<TraceEmitter>,
     /// Cumulative flux fraction per emitter.
     pub emitter_cdf: Vec<f32>,
@@ -354,6 +367,21 @@ impl PreparedScene {
             .iter()
             .map(|(_, m)| TraceMaterial::from_material(m))
             .collect();
+        let material_finish: Vec<Option<TraceFinish>> = tessellated
+            .material_finish
+            .iter()
+            .map(|f| {
+                f.as_ref().map(|surface| TraceFinish {
+                    brdf: surface
+                        .brdf_statistics
+                        .as_ref()
+                        .map(|s| Arc::new(crate::finish_brdf::FinishBrdf::new(s))),
+                    surface: surface.clone(),
+                })
+            })
+            .chain(std::iter::repeat(None))
+            .take(materials.len())
+            .collect();
         let tags: Vec<u32> = shading.iter().map(|s| s.tag(&materials)).collect();
         let start = Instant::now();
         let Some(bvh) = make_bvh(&corners, &tags) else {
@@ -449,6 +477,8 @@ impl PreparedScene {
             bvh,
             shading,
             materials,
+            material_finish,
+            finish_corners: tessellated.finish_corners.clone(),
             emitters,
             emitter_cdf,
             total_flux_lm,

@@ -1,0 +1,815 @@
+//! Where a finish's structure lies on its part: the surface coordinates
+//! its pattern is laid out in, and its geometry on the part's surface
+//! (for a finish traced as normals or as triangles, and for the
+//! toolmaker's STEP/STL).
+//!
+//! A revolved part is laid out along its profile's arc length u and
+//! around its axis: dimples in rings at the pattern's row pitch, each ring
+//! holding a whole number of dimples as near the pitch as its
+//! circumference allows, so the pattern stays the pitch the toolmaker
+//! names everywhere on the part (a pattern on (u, r·φ) would shear by
+//! φ·dr/du away from φ = 0). An extruded part is laid out along its
+//! profile and along the extrusion, which is exact (the surface is
+//! developable); any other part on its own x and y.
+
+use glam::{DVec2, DVec3};
+
+use crate::exact::{ExactSurface, ProfileCurve};
+use crate::finish::{DimplePattern, Finish, dimple_footprint};
+use crate::mesh::TriangleMesh;
+use crate::model::Shape;
+
+/// How a part's surface is parametrised for its finish.
+#[derive(Debug, Clone, PartialEq)]
+pub enum FinishLayout {
+    /// About the part's z axis: u along the profile (arc length, m), v
+    /// the angle around (rad).
+    Revolution(ProfileArc),
+    /// Along y: u along the profile (arc length, m), v = y (m).
+    Extrusion(ProfileArc),
+    /// u = x, v = y (m) in the part's frame.
+    Plane,
+}
+
+/// A profile sampled densely, with its arc length at each sample.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProfileArc {
+    points: Vec<DVec2>,
+    arc: Vec<f64>,
+}
+
+/// Samples per profile curve: a quadratic or cubic span's arc length
+/// within 1e-6 of its length, and a nearest point within a micrometre on
+/// a reflector of 100 mm.
+const SAMPLES_PER_CURVE: usize = 512;
+
+impl ProfileArc {
+    fn of(curves: &[ProfileCurve]) -> Option<ProfileArc> {
+        let mut points: Vec<DVec2> = Vec::new();
+        for c in curves {
+            for k in 0..=SAMPLES_PER_CURVE {
+                let p = c.point(k as f64 / SAMPLES_PER_CURVE as f64);
+                if points.last().is_none_or(|q| (*q - p).length() > 0.0) {
+                    points.push(p);
+                }
+            }
+        }
+        if points.len() < 2 {
+            return None;
+        }
+        let mut arc = Vec::with_capacity(points.len());
+        let mut s = 0.0;
+        arc.push(0.0);
+        for w in points.windows(2) {
+            s += (w[1] - w[0]).length();
+            arc.push(s);
+        }
+        Some(ProfileArc { points, arc })
+    }
+
+    /// The profile's whole length (m).
+    pub fn length(&self) -> f64 {
+        *self.arc.last().unwrap_or(&0.0)
+    }
+
+    /// The arc length of the profile point nearest `q`.
+    pub fn nearest(&self, q: DVec2) -> f64 {
+        let mut best = (f64::INFINITY, 0.0);
+        for (i, w) in self.points.windows(2).enumerate() {
+            let d = w[1] - w[0];
+            let len2 = d.length_squared();
+            let t = if len2 > 0.0 {
+                ((q - w[0]).dot(d) / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let dist = (w[0] + d * t - q).length_squared();
+            if dist < best.0 {
+                best = (dist, self.arc[i] + t * (self.arc[i + 1] - self.arc[i]));
+            }
+        }
+        best.1
+    }
+
+    /// The profile point at arc length `s` (clamped to the profile).
+    pub fn point_at(&self, s: f64) -> DVec2 {
+        let i = self
+            .arc
+            .partition_point(|&a| a < s)
+            .clamp(1, self.arc.len() - 1);
+        let (a0, a1) = (self.arc[i - 1], self.arc[i]);
+        let t = if a1 > a0 {
+            ((s - a0) / (a1 - a0)).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        self.points[i - 1].lerp(self.points[i], t)
+    }
+}
+
+/// A point's surface coordinates under a [`FinishLayout`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfacePoint {
+    /// Along the profile (m), or x.
+    pub u: f64,
+    /// Around the axis (rad) for a revolution, else along y (m).
+    pub v: f64,
+    /// The distance from the axis (m) for a revolution.
+    pub radius: Option<f64>,
+}
+
+impl FinishLayout {
+    /// The layout of a part of `shape`: from its exact surface where it
+    /// has one surface of revolution or extrusion.
+    pub fn of_shape(shape: &Shape) -> FinishLayout {
+        let exact = shape.generator().exact().unwrap_or_default();
+        match exact.as_slice() {
+            [ExactSurface::Revolution(curves)] => ProfileArc::of(curves)
+                .map(FinishLayout::Revolution)
+                .unwrap_or(FinishLayout::Plane),
+            [ExactSurface::Extrusion { profile, .. }, ..] => ProfileArc::of(profile)
+                .map(FinishLayout::Extrusion)
+                .unwrap_or(FinishLayout::Plane),
+            _ => FinishLayout::Plane,
+        }
+    }
+
+    /// A part-frame point's surface coordinates.
+    pub fn coordinates(&self, p: DVec3) -> SurfacePoint {
+        match self {
+            FinishLayout::Revolution(arc) => {
+                let r = p.x.hypot(p.y);
+                SurfacePoint {
+                    u: arc.nearest(DVec2::new(r, p.z)),
+                    v: p.y.atan2(p.x),
+                    radius: Some(r),
+                }
+            }
+            FinishLayout::Extrusion(arc) => SurfacePoint {
+                u: arc.nearest(DVec2::new(p.x, p.z)),
+                v: p.y,
+                radius: None,
+            },
+            FinishLayout::Plane => SurfacePoint {
+                u: p.x,
+                v: p.y,
+                radius: None,
+            },
+        }
+    }
+
+    /// The finish's height (m, along the surface's normal) at `at`;
+    /// None for a finish given only by its slopes.
+    pub fn height(&self, finish: &Finish, at: SurfacePoint) -> Option<f64> {
+        let (FinishLayout::Revolution(arc), Some(r)) = (self, at.radius) else {
+            return finish.height(at.u, at.v);
+        };
+        match finish {
+            Finish::Dimples {
+                pitch,
+                depth,
+                radius,
+                pattern,
+            } => Some(ring_dimple_height(
+                arc, *pitch, *depth, *radius, *pattern, at.u, at.v, r,
+            )),
+            Finish::Ripples { .. } => {
+                // Around the axis as arc length from φ = 0, within a turn
+                // of it (the pattern's seam at φ = ±π).
+                finish.height(at.u, r * at.v)
+            }
+            Finish::Slopes { .. } => None,
+        }
+    }
+
+    /// The finish's slope (∂h/∂u, ∂h/∂v per metre of surface) at `at`,
+    /// by central differences over a thousandth of its finest feature.
+    pub fn slope(&self, finish: &Finish, at: SurfacePoint) -> Option<[f64; 2]> {
+        let step = 1e-3 * finish_feature_size(finish);
+        let dv = match at.radius {
+            Some(r) => step / r.max(1e-9),
+            None => step,
+        };
+        let h = |du: f64, dvv: f64| {
+            self.height(
+                finish,
+                SurfacePoint {
+                    u: at.u + du,
+                    v: at.v + dvv,
+                    radius: at.radius,
+                },
+            )
+        };
+        Some([
+            (h(step, 0.0)? - h(-step, 0.0)?) / (2.0 * step),
+            (h(0.0, dv)? - h(0.0, -dv)?) / (2.0 * step),
+        ])
+    }
+}
+
+/// The finest structure of a finish (m): the dimples' pitch, the
+/// shortest wavelength; a slope-only finish has none (0).
+pub fn finish_feature_size(finish: &Finish) -> f64 {
+    match finish {
+        Finish::Dimples { pitch, .. } => *pitch,
+        Finish::Ripples { waves } => waves
+            .iter()
+            .map(|w| w.wavelength)
+            .fold(f64::INFINITY, f64::min),
+        Finish::Slopes { .. } => 0.0,
+    }
+}
+
+/// Triangle edges per feature from which a part's own mesh carries a
+/// finish's feature as geometry: a sine sampled by eight edges per
+/// wavelength keeps its rms slope within 3 % (sin(π/8)/(π/8)).
+pub const GEOMETRY_EDGES_PER_FEATURE: f64 = 8.0;
+
+/// A finish split by scale against its part's tessellation (the paper's
+/// §4): what the mesh resolves is geometry, what is larger than the cut
+/// the shading normals, the rest the BRDF's slope distribution.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct FinishBands {
+    pub geometry: Option<Finish>,
+    pub normals: Option<Finish>,
+    pub brdf: Option<Finish>,
+}
+
+/// Splits `finish` for a part whose triangles' edges are `edge` (m)
+/// long: features of at least [`GEOMETRY_EDGES_PER_FEATURE`] edges are
+/// geometry; of at least `normals_from` (m) normals; the rest BRDF.
+/// Waves split one by one; dimples are one feature; measured slopes are
+/// always BRDF.
+pub fn split_by_scale(finish: &Finish, edge: f64, normals_from: Option<f64>) -> FinishBands {
+    #[derive(Clone, Copy, PartialEq)]
+    enum Band {
+        Geometry,
+        Normals,
+        Brdf,
+    }
+    let band = |size: f64| {
+        if size >= GEOMETRY_EDGES_PER_FEATURE * edge {
+            Band::Geometry
+        } else if normals_from.is_some_and(|c| size >= c) {
+            Band::Normals
+        } else {
+            Band::Brdf
+        }
+    };
+    let mut out = FinishBands::default();
+    let mut put = |b: Band, f: Finish| match b {
+        Band::Geometry => out.geometry = Some(f),
+        Band::Normals => out.normals = Some(f),
+        Band::Brdf => out.brdf = Some(f),
+    };
+    match finish {
+        Finish::Dimples { pitch, .. } => put(band(*pitch), finish.clone()),
+        Finish::Ripples { waves } => {
+            for b in [Band::Geometry, Band::Normals, Band::Brdf] {
+                let mine: Vec<_> = waves
+                    .iter()
+                    .filter(|w| band(w.wavelength) == b)
+                    .cloned()
+                    .collect();
+                if !mine.is_empty() {
+                    put(b, Finish::Ripples { waves: mine });
+                }
+            }
+        }
+        Finish::Slopes { .. } => put(Band::Brdf, finish.clone()),
+    }
+    out
+}
+
+/// How the finish's u and v directions are found at a point of the part
+/// in luminaire coordinates: v around an axis, along one, or a fixed
+/// direction; u across v in the surface.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TangentRule {
+    /// v = axis × (p − origin), normalised (increasing angle).
+    Around { axis: DVec3, origin: DVec3 },
+    /// v = the direction, less its part along the normal.
+    Along { direction: DVec3 },
+}
+
+impl TangentRule {
+    fn of(layout: &FinishLayout, luminaire_from_part: &glam::DAffine3) -> TangentRule {
+        let m = luminaire_from_part.matrix3;
+        match layout {
+            FinishLayout::Revolution(_) => TangentRule::Around {
+                axis: (m * DVec3::Z).normalize_or(DVec3::Z),
+                origin: luminaire_from_part.translation,
+            },
+            FinishLayout::Extrusion(_) | FinishLayout::Plane => TangentRule::Along {
+                direction: (m * DVec3::Y).normalize_or(DVec3::Y),
+            },
+        }
+    }
+
+    /// The unit v direction at `p` on a surface of normal `n`; None
+    /// where it is undefined (on the axis, or v along the normal).
+    pub fn v_direction(&self, p: DVec3, n: DVec3) -> Option<DVec3> {
+        let v = match *self {
+            TangentRule::Around { axis, origin } => axis.cross(p - origin),
+            TangentRule::Along { direction } => direction - n * direction.dot(n),
+        };
+        let v = v - n * v.dot(n);
+        (v.length_squared() > 1e-20).then(|| v.normalize())
+    }
+}
+
+/// A finished part as the tracer needs it: the bands it traces (not the
+/// geometry, which is in the mesh), and how to find the finish's
+/// directions and coordinates at a hit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurfaceFinish {
+    pub part: String,
+    pub normals: Option<Finish>,
+    pub brdf: Option<Finish>,
+    pub layout: FinishLayout,
+    pub luminaire_from_part: glam::DAffine3,
+    pub tangents: TangentRule,
+    /// ±1: u = handedness · (v × n) for the part's own normals n.
+    pub handedness: f64,
+    /// The BRDF band's slope statistics as laid out on this part.
+    pub brdf_statistics: Option<crate::finish::SlopeStatistics>,
+}
+
+impl SurfaceFinish {
+    /// The finish of a part whose mesh (luminaire coordinates, the
+    /// part's own normals) is `mesh`.
+    pub fn new(
+        part: &str,
+        bands: &FinishBands,
+        layout: FinishLayout,
+        luminaire_from_part: glam::DAffine3,
+        mesh: &TriangleMesh,
+    ) -> SurfaceFinish {
+        let tangents = TangentRule::of(&layout, &luminaire_from_part);
+        let handedness = handedness(&layout, &tangents, mesh, &luminaire_from_part);
+        SurfaceFinish {
+            part: part.to_owned(),
+            brdf_statistics: bands.brdf.as_ref().map(|f| layout.statistics(f)),
+            normals: bands.normals.clone(),
+            brdf: bands.brdf.clone(),
+            layout,
+            luminaire_from_part,
+            tangents,
+            handedness,
+        }
+    }
+}
+
+/// ±1: the sense of u against v × n for a part's mesh (luminaire
+/// coordinates, the part's own normals), from the vertex whose frame is
+/// best defined.
+fn handedness(
+    layout: &FinishLayout,
+    rule: &TangentRule,
+    mesh: &TriangleMesh,
+    luminaire_from_part: &glam::DAffine3,
+) -> f64 {
+    let part_from_luminaire = luminaire_from_part.inverse();
+    let mut handedness = 1.0;
+    let mut best = 0.0;
+    for (p, n) in mesh.positions.iter().zip(&mesh.normals).step_by(7) {
+        let (p, n) = (p.as_dvec3(), n.as_dvec3().normalize_or_zero());
+        let Some(v) = rule.v_direction(p, n) else {
+            continue;
+        };
+        let across = v.cross(n);
+        let step = 1e-5;
+        let at = |q: DVec3| layout.coordinates(part_from_luminaire.transform_point3(q)).u;
+        let du = at(p + across * step) - at(p - across * step);
+        if du.abs() > best {
+            best = du.abs();
+            handedness = du.signum();
+        }
+    }
+    handedness
+}
+
+/// Dimples in rings about the axis: ring j centred at u = (j + ½)·row
+/// pitch holds n = round(2π r_j / pitch) dimples at equal angles, every
+/// other ring turned by half a step on a hexagonal pattern. Rings of
+/// different counts drift in and out of step around the part, so their
+/// dimples overlap in places: the part's slope statistics are taken from
+/// this layout ([`FinishLayout::statistics`]), not from a plane lattice.
+struct Rings<'a> {
+    arc: &'a ProfileArc,
+    pitch: f64,
+    footprint: f64,
+    row_pitch: f64,
+    hexagonal: bool,
+}
+
+impl Rings<'_> {
+    /// The offset (along u, around as arc length at the point's radius
+    /// `r`) of the nearest dimple centre within a footprint, if any.
+    fn nearest(&self, u: f64, phi: f64, r: f64) -> Option<[f64; 2]> {
+        let j0 = (u / self.row_pitch).floor() as i64;
+        let mut best: Option<(f64, [f64; 2])> = None;
+        for j in j0 - 1..=j0 + 1 {
+            let s_j = (j as f64 + 0.5) * self.row_pitch;
+            let du = u - s_j;
+            if du.abs() >= self.footprint {
+                continue;
+            }
+            let r_j = self.arc.point_at(s_j).x.abs().max(1e-9);
+            let n = (std::f64::consts::TAU * r_j / self.pitch).round().max(1.0);
+            let step = std::f64::consts::TAU / n;
+            let offset = if self.hexagonal && j.rem_euclid(2) == 1 {
+                0.5
+            } else {
+                0.0
+            };
+            let k = (phi / step - offset).round();
+            for kk in [k - 1.0, k, k + 1.0] {
+                let centre = (kk + offset) * step;
+                let dphi = (phi - centre + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+                    - std::f64::consts::PI;
+                let d = [du, r * dphi];
+                let rho = d[0].hypot(d[1]);
+                if rho < self.footprint && best.is_none_or(|b| rho < b.0) {
+                    best = Some((rho, d));
+                }
+            }
+        }
+        best.map(|b| b.1)
+    }
+}
+
+fn rings(arc: &ProfileArc, pitch: f64, depth: f64, radius: f64, pattern: DimplePattern) -> Rings<'_> {
+    Rings {
+        arc,
+        pitch,
+        footprint: dimple_footprint(radius, depth).min(0.5 * pitch),
+        row_pitch: match pattern {
+            DimplePattern::Hexagonal => 0.5 * 3f64.sqrt() * pitch,
+            DimplePattern::Square => pitch,
+        },
+        hexagonal: pattern == DimplePattern::Hexagonal,
+    }
+}
+
+#[allow(clippy::too_many_arguments)] // reason: one dimple pattern, spelt out
+fn ring_dimple_height(
+    arc: &ProfileArc,
+    pitch: f64,
+    depth: f64,
+    radius: f64,
+    pattern: DimplePattern,
+    u: f64,
+    phi: f64,
+    r: f64,
+) -> f64 {
+    match rings(arc, pitch, depth, radius, pattern).nearest(u, phi, r) {
+        Some(d) => {
+            let rho2 = d[0] * d[0] + d[1] * d[1];
+            -((radius * radius - rho2).sqrt() - (radius - depth))
+        }
+        None => 0.0,
+    }
+}
+
+/// Samples per pitch, each way, of a revolved part's dimple statistics.
+const LAYOUT_SAMPLES_PER_PITCH: f64 = 48.0;
+/// At most this many samples in all (a large part is sampled more
+/// coarsely: its rings repeat).
+const LAYOUT_MAX_SAMPLES: f64 = 4.0e6;
+
+impl FinishLayout {
+    /// The slope statistics of `finish` as laid out on this part: a
+    /// revolved part's dimple rings integrated over its surface (area
+    /// weighted, slopes in closed form); any other finish or layout has
+    /// its plane pattern's ([`Finish::statistics`]).
+    pub fn statistics(&self, finish: &Finish) -> crate::finish::SlopeStatistics {
+        let (
+            FinishLayout::Revolution(arc),
+            Finish::Dimples {
+                pitch,
+                depth,
+                radius,
+                pattern,
+            },
+        ) = (self, finish)
+        else {
+            return finish.statistics();
+        };
+        let rings = rings(arc, *pitch, *depth, *radius, *pattern);
+        let length = arc.length();
+        let r_max = arc.points.iter().map(|p| p.x.abs()).fold(0.0, f64::max);
+        let area_in_pitches = length * std::f64::consts::TAU * r_max / (pitch * pitch);
+        let per_pitch = LAYOUT_SAMPLES_PER_PITCH
+            .min((LAYOUT_MAX_SAMPLES / area_in_pitches.max(1e-9)).sqrt())
+            .max(4.0);
+        let step = pitch / per_pitch;
+        let n_u = ((length / step).ceil() as usize).max(1);
+        let footprint = rings.footprint;
+        let steepest = footprint / (radius * radius - footprint * footprint).max(1e-300).sqrt();
+        let samples = (0..n_u).flat_map(|i| {
+            let u = (i as f64 + 0.5) / n_u as f64 * length;
+            let r = arc.point_at(u).x.abs();
+            let n_phi = ((std::f64::consts::TAU * r / step).ceil() as usize).max(1);
+            let rings = &rings;
+            (0..n_phi).map(move |k| {
+                let phi = (k as f64 + 0.5) / n_phi as f64 * std::f64::consts::TAU;
+                // Each sample stands for r·dφ·du of surface.
+                let w = r / n_phi as f64 * std::f64::consts::TAU;
+                let slope = match rings.nearest(u, phi, r) {
+                    Some(d) => {
+                        let g = 1.0 / (radius * radius - d[0] * d[0] - d[1] * d[1]).sqrt();
+                        [d[0] * g, d[1] * g]
+                    }
+                    None => [0.0, 0.0],
+                };
+                (slope, w)
+            })
+        });
+        crate::finish::statistics_of_samples(steepest.max(1e-9) * 1.0001, samples)
+    }
+}
+
+/// `mesh` (the part's own, in its frame) with the finish cut into it:
+/// triangles split until no edge is longer than `max_edge` (m), each new
+/// vertex put back on the layout's exact surface, then every vertex moved
+/// along its normal by the finish's height, and the normals made those
+/// of the finished surface. None for a finish given only by its slopes.
+pub fn finished_mesh(
+    mesh: &TriangleMesh,
+    layout: &FinishLayout,
+    finish: &Finish,
+    max_edge: f64,
+) -> Option<TriangleMesh> {
+    finish.height(0.0, 0.0)?;
+    let mut m = mesh.clone();
+    let limit2 = (max_edge * max_edge) as f32;
+    // Split every edge longer than the limit at its midpoint, pass after
+    // pass: both triangles of an edge share its midpoint, so the mesh
+    // stays watertight where it was.
+    for _ in 0..64 {
+        if m.triangles.len() as u64 > crate::check::MAX_SCENE_TRIANGLES {
+            // Too fine to build: the caller sees the edges left long.
+            break;
+        }
+        match split_long_edges(&m, layout, limit2) {
+            Some(next) => m = next,
+            None => break,
+        }
+    }
+    let mut out = m.clone();
+    // The finish's directions in the part's frame, u's sense found once.
+    let rule = TangentRule::of(layout, &glam::DAffine3::IDENTITY);
+    let handedness = handedness(layout, &rule, &m, &glam::DAffine3::IDENTITY);
+    for (i, p) in m.positions.iter().enumerate() {
+        let p = p.as_dvec3();
+        let at = layout.coordinates(p);
+        let h = layout.height(finish, at).unwrap_or(0.0);
+        let n = m.normals[i].as_dvec3().normalize_or_zero();
+        out.positions[i] = (p + n * h).as_vec3();
+        // The finished surface's normal, n − s_u·u − s_v·v, from the
+        // finish's slope where the vertex lies.
+        if let (Some(v), Some([su, sv])) = (rule.v_direction(p, n), layout.slope(finish, at)) {
+            let u = v.cross(n) * handedness;
+            out.normals[i] = (n - u * su - v * sv).normalize_or(n).as_vec3();
+        }
+    }
+    Some(out)
+}
+
+/// One pass of splitting each triangle's longest edge, where longer
+/// than √`limit2`, at its midpoint, put back on the layout's surface (a revolution's profile
+/// turned to the midpoint's angle); None where no edge is too long.
+fn split_long_edges(m: &TriangleMesh, layout: &FinishLayout, limit2: f32) -> Option<TriangleMesh> {
+    use std::collections::{HashMap, HashSet};
+    let length2 =
+        |a: u32, b: u32| (m.positions[a as usize] - m.positions[b as usize]).length_squared();
+    // Each triangle's longest edge, where too long (Rivara's bisection:
+    // a thin triangle is split across, not into more thin ones); a
+    // neighbour splits a marked edge too, so the mesh stays conforming.
+    let key = |a: u32, b: u32| (a.min(b), a.max(b));
+    // Each triangle turned so its longest edge comes first.
+    let turned: Vec<[u32; 3]> = m
+        .triangles
+        .iter()
+        .map(|&[a, b, c]| {
+            let turns = [[a, b, c], [b, c, a], [c, a, b]];
+            let k = (0..3)
+                .max_by(|&x, &y| {
+                    let [p, q, _] = turns[x];
+                    let [u, v, _] = turns[y];
+                    length2(p, q).total_cmp(&length2(u, v))
+                })
+                .unwrap_or(0);
+            turns[k]
+        })
+        .collect();
+    let mut marked: HashSet<(u32, u32)> = turned
+        .iter()
+        .filter(|t| length2(t[0], t[1]) > limit2)
+        .map(|t| key(t[0], t[1]))
+        .collect();
+    if marked.is_empty() {
+        return None;
+    }
+    // Closure: a triangle with any edge split splits its longest too.
+    loop {
+        let before = marked.len();
+        for t in &turned {
+            if marked.contains(&key(t[1], t[2])) || marked.contains(&key(t[2], t[0])) {
+                marked.insert(key(t[0], t[1]));
+            }
+        }
+        if marked.len() == before {
+            break;
+        }
+    }
+    let long = |a: u32, b: u32| marked.contains(&(a.min(b), a.max(b)));
+    let mut out = TriangleMesh {
+        positions: m.positions.clone(),
+        normals: m.normals.clone(),
+        triangles: Vec::with_capacity(m.triangles.len() * 3),
+    };
+    let mut midpoints: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut midpoint = |out: &mut TriangleMesh, a: u32, b: u32| -> Option<u32> {
+        if !long(a, b) {
+            return None;
+        }
+        let key = (a.min(b), a.max(b));
+        if let Some(&k) = midpoints.get(&key) {
+            return Some(k);
+        }
+        let (pa, pb) = (
+            m.positions[a as usize].as_dvec3(),
+            m.positions[b as usize].as_dvec3(),
+        );
+        let mut p = 0.5 * (pa + pb);
+        if let FinishLayout::Revolution(arc) = layout {
+            let r = p.x.hypot(p.y);
+            if r > 0.0 {
+                let s = arc.nearest(DVec2::new(r, p.z));
+                let q = arc.point_at(s);
+                p = DVec3::new(p.x / r * q.x, p.y / r * q.x, q.y);
+            }
+        }
+        let n = (m.normals[a as usize] + m.normals[b as usize]).normalize_or_zero();
+        out.positions.push(p.as_vec3());
+        out.normals.push(n);
+        let k = (out.positions.len() - 1) as u32;
+        midpoints.insert(key, k);
+        Some(k)
+    };
+    for &[p, q, r] in &turned {
+        // p–q is the longest edge: split it first, then the halves.
+        let a = midpoint(&mut out, p, q);
+        let b = midpoint(&mut out, q, r);
+        let c = midpoint(&mut out, r, p);
+        match (a, b, c) {
+            (None, _, _) => out.triangles.push([p, q, r]),
+            (Some(a), None, None) => out.triangles.extend([[p, a, r], [a, q, r]]),
+            (Some(a), Some(b), None) => out.triangles.extend([[p, a, r], [a, q, b], [a, b, r]]),
+            (Some(a), None, Some(c)) => out.triangles.extend([[p, a, c], [a, r, c], [a, q, r]]),
+            (Some(a), Some(b), Some(c)) => {
+                out.triangles
+                    .extend([[p, a, c], [a, r, c], [a, q, b], [a, b, r]]);
+            }
+        }
+    }
+    Some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::finish::WaveShape;
+    use crate::shapes::{Extruded, Paraboloid};
+
+    fn paraboloid() -> Shape {
+        Shape::Paraboloid(Paraboloid {
+            focal_length: 10e-3,
+            aperture_diameter: 60e-3,
+            neck_diameter: 12e-3,
+            segments_around: 96,
+            segments_along: 32,
+            faceted: false,
+        })
+    }
+
+    #[test]
+    fn a_revolutions_coordinates_are_its_profiles_arc_length_and_angle() {
+        let layout = FinishLayout::of_shape(&paraboloid());
+        let FinishLayout::Revolution(arc) = &layout else {
+            panic!("{layout:?}");
+        };
+        // z = f − r²/4f from r 6 to 30 mm: arc length ∫√(1 + (r/2f)²) dr.
+        let f: f64 = 10e-3;
+        let exact = |r: f64| {
+            let x = r / (2.0 * f);
+            f * (x * (1.0 + x * x).sqrt() + x.asinh())
+        };
+        let want = exact(30e-3) - exact(6e-3);
+        assert!((arc.length() / want - 1.0).abs() < 1e-6, "{}", arc.length());
+        let r = 20e-3;
+        let p = DVec3::new(0.0, r, f - r * r / (4.0 * f));
+        let c = layout.coordinates(p);
+        assert!((c.u - (exact(r) - exact(6e-3))).abs() < 1e-7, "{c:?}");
+        assert!((c.v - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+    }
+
+    #[test]
+    fn ring_dimples_statistics_are_the_parts_own() {
+        // Over the whole part, the land's share of the area (sampled
+        // uniformly over the surface) is the pattern's own within the
+        // ring count's rounding.
+        let shape = paraboloid();
+        let layout = FinishLayout::of_shape(&shape);
+        let finish = Finish::Dimples {
+            pitch: 2e-3,
+            depth: 0.15e-3,
+            radius: 3.4e-3,
+            pattern: DimplePattern::Hexagonal,
+        };
+        let FinishLayout::Revolution(arc) = &layout else {
+            panic!()
+        };
+        let (mut flat, mut total) = (0.0, 0.0);
+        // Random points (a test's own generator), weighted by radius.
+        let mut x = 12345u64;
+        let mut uniform = move || {
+            x = x
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            ((x >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+        };
+        for _ in 0..400 {
+            for _ in 0..400 {
+                let u = uniform() * arc.length();
+                let r = arc.point_at(u).x;
+                let v = uniform() * std::f64::consts::TAU;
+                let h = layout
+                    .height(
+                        &finish,
+                        SurfacePoint {
+                            u,
+                            v,
+                            radius: Some(r),
+                        },
+                    )
+                    .unwrap();
+                total += r;
+                if h == 0.0 {
+                    flat += r;
+                }
+            }
+        }
+        // The part's own statistics see the same land.
+        let want = layout.statistics(&finish).flat_share;
+        assert!(
+            (flat / total - want).abs() < 0.005,
+            "{} vs {want}",
+            flat / total
+        );
+        // Rings of different counts overlap in places: more land than
+        // the plane lattice's, which a test of the part must not assume.
+        let lattice = finish.statistics().flat_share;
+        assert!(want > lattice, "{want} vs {lattice}");
+    }
+
+    #[test]
+    fn a_finished_mesh_carries_the_finish_and_stays_on_the_surface() {
+        let shape = Shape::Extruded(Extruded {
+            profile: vec![[-20e-3, 0.0], [20e-3, 0.0]],
+            length: 40e-3,
+            interpolation: Default::default(),
+            segments_per_span: 4,
+            end_caps: false,
+        });
+        let mesh = shape.generator().generate().unwrap();
+        let layout = FinishLayout::of_shape(&shape);
+        let finish = Finish::Ripples {
+            waves: vec![crate::finish::Ripple {
+                amplitude: 0.1e-3,
+                wavelength: 4e-3,
+                direction_deg: 90.0,
+                shape: WaveShape::Sine,
+            }],
+        };
+        let out = finished_mesh(&mesh, &layout, &finish, 0.25e-3).unwrap();
+        assert!(out.triangle_count() > 16 * 16 * 4);
+        out.check().unwrap();
+        // Every vertex is displaced by the wave's height along z (the
+        // flat sheet's normal), to float precision.
+        for p in &out.positions {
+            let want = 0.1e-3 * (std::f64::consts::TAU * f64::from(p.y) / 4e-3).sin();
+            let z = f64::from(p.z);
+            assert!((z.abs() - want.abs()).abs() < 1e-8, "{p:?}: {want}");
+        }
+        // A slope-only finish has no geometry.
+        let slopes = Finish::Slopes {
+            sigma_u: 0.1,
+            sigma_v: 0.1,
+            orientation_deg: 0.0,
+        };
+        assert!(finished_mesh(&mesh, &layout, &slopes, 1e-3).is_none());
+    }
+}

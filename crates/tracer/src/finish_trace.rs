@@ -1,0 +1,105 @@
+//! A finish where a photon lands: the finish's u and v directions, its
+//! normals band tilting the shading normal, and a visible facet of its
+//! BRDF band ([`crate::finish_brdf`]). The CPU tracer's; the WGSL kernel
+//! has the BRDF band's twin.
+
+use glam::{DVec3, Vec3A};
+use lucerna_scene::finish_layout::{FinishLayout, SurfacePoint};
+
+use crate::bvh::Hit;
+use crate::finish_brdf::FinishBrdf;
+use crate::prepared::{PreparedScene, TraceFinish};
+use crate::rng::PhotonRng;
+use crate::sampling::basis;
+
+/// The finish's unit directions at a point: u along the profile (as its
+/// coordinate grows), v around or along the part.
+#[derive(Debug, Clone, Copy)]
+pub struct Tangents {
+    pub u: Vec3A,
+    pub v: Vec3A,
+}
+
+/// The finish's directions at `position` on a surface whose own (not
+/// facing) shading normal is `n`.
+#[inline]
+pub fn tangents(f: &TraceFinish, position: Vec3A, n: Vec3A) -> Tangents {
+    let s = &f.surface;
+    let v = s
+        .tangents
+        .v_direction(
+            DVec3::from(position.to_array().map(f64::from)),
+            DVec3::from(n.to_array().map(f64::from)),
+        )
+        .map(|v| Vec3A::new(v.x as f32, v.y as f32, v.z as f32))
+        .unwrap_or_else(|| basis(n).1);
+    let u = v.cross(n).normalize_or_zero() * s.handedness as f32;
+    Tangents { u, v }
+}
+
+/// The shading normal tilted by the finish's normals band at the hit:
+/// n − s_u·u − s_v·v for the band's slopes s, from the surface
+/// coordinates interpolated over the triangle's corners.
+#[inline]
+pub fn normals_band(
+    scene: &PreparedScene,
+    f: &TraceFinish,
+    hit: &Hit,
+    n: Vec3A,
+    t: Tangents,
+) -> Vec3A {
+    let s = &f.surface;
+    let Some(band) = &s.normals else {
+        return n;
+    };
+    let Some(corners) = scene.finish_corners.get(hit.triangle as usize) else {
+        return n;
+    };
+    let revolution = matches!(s.layout, FinishLayout::Revolution(_));
+    let w = [1.0 - hit.u - hit.v, hit.u, hit.v].map(f64::from);
+    let v0 = f64::from(corners[0][1]);
+    let mut at = [0.0f64; 3];
+    for (k, c) in corners.iter().enumerate() {
+        let mut v = f64::from(c[1]);
+        if revolution {
+            // The same turn as the first corner (a triangle across φ = ±π).
+            v = v0 + (v - v0 + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+                - std::f64::consts::PI;
+        }
+        at[0] += w[k] * f64::from(c[0]);
+        at[1] += w[k] * v;
+        at[2] += w[k] * f64::from(c[2]);
+    }
+    let point = SurfacePoint {
+        u: at[0],
+        v: at[1],
+        radius: revolution.then_some(at[2]),
+    };
+    match s.layout.slope(band, point) {
+        Some([su, sv]) => (n - t.u * su as f32 - t.v * sv as f32).normalize_or(n),
+        None => n,
+    }
+}
+
+/// A facet of the BRDF band visible from the photon arriving along
+/// `dir` on the side of the facing shading normal `ns`; None where none
+/// was accepted (the photon is lost).
+#[inline]
+pub fn facet(
+    brdf: &FinishBrdf,
+    t: Tangents,
+    ns: Vec3A,
+    dir: Vec3A,
+    rng: &mut PhotonRng,
+) -> Option<Vec3A> {
+    // u and v made exactly across ns (ns may be the normals band's).
+    let v = (t.v - ns * t.v.dot(ns)).normalize_or(basis(ns).1);
+    let u = v.cross(ns) * t.u.dot(v.cross(ns)).signum();
+    let wo = -dir;
+    let local = [wo.dot(u), wo.dot(v), wo.dot(ns)].map(f64::from);
+    if local[2] <= 0.0 {
+        return None;
+    }
+    let m = brdf.sample_facet(local, &mut || f64::from(rng.next_f32()))?;
+    Some((u * m[0] as f32 + v * m[1] as f32 + ns * m[2] as f32).normalize())
+}
