@@ -379,7 +379,11 @@ fn handedness(
         };
         let across = v.cross(n);
         let step = 1e-5;
-        let at = |q: DVec3| layout.coordinates(part_from_luminaire.transform_point3(q)).u;
+        let at = |q: DVec3| {
+            layout
+                .coordinates(part_from_luminaire.transform_point3(q))
+                .u
+        };
         let du = at(p + across * step) - at(p - across * step);
         if du.abs() > best {
             best = du.abs();
@@ -439,7 +443,13 @@ impl Rings<'_> {
     }
 }
 
-fn rings(arc: &ProfileArc, pitch: f64, depth: f64, radius: f64, pattern: DimplePattern) -> Rings<'_> {
+fn rings(
+    arc: &ProfileArc,
+    pitch: f64,
+    depth: f64,
+    radius: f64,
+    pattern: DimplePattern,
+) -> Rings<'_> {
     Rings {
         arc,
         pitch,
@@ -535,13 +545,22 @@ impl FinishLayout {
 /// vertex put back on the layout's exact surface, then every vertex moved
 /// along its normal by the finish's height, and the normals made those
 /// of the finished surface. None for a finish given only by its slopes.
+/// A finished mesh would need more triangles than a luminaire may have.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TooFine {
+    /// About how many it would need.
+    pub triangles: u64,
+}
+
 pub fn finished_mesh(
     mesh: &TriangleMesh,
     layout: &FinishLayout,
     finish: &Finish,
     max_edge: f64,
-) -> Option<TriangleMesh> {
-    finish.height(0.0, 0.0)?;
+) -> Result<Option<TriangleMesh>, TooFine> {
+    if finish.height(0.0, 0.0).is_none() {
+        return Ok(None);
+    }
     let mut m = mesh.clone();
     let limit2 = (max_edge * max_edge) as f32;
     // Split every edge longer than the limit at its midpoint, pass after
@@ -549,8 +568,17 @@ pub fn finished_mesh(
     // stays watertight where it was.
     for _ in 0..64 {
         if m.triangles.len() as u64 > crate::check::MAX_SCENE_TRIANGLES {
-            // Too fine to build: the caller sees the edges left long.
-            break;
+            // Each halving of the longest edge about doubles the count.
+            let longest = m
+                .triangles
+                .iter()
+                .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+                .map(|(a, b)| (m.positions[a as usize] - m.positions[b as usize]).length_squared())
+                .fold(0.0f32, f32::max);
+            let halvings = (f64::from(longest / limit2)).log2().max(0.0);
+            return Err(TooFine {
+                triangles: (m.triangles.len() as f64 * 4f64.powf(halvings.ceil() / 2.0)) as u64,
+            });
         }
         match split_long_edges(&m, layout, limit2) {
             Some(next) => m = next,
@@ -574,7 +602,7 @@ pub fn finished_mesh(
             out.normals[i] = (n - u * su - v * sv).normalize_or(n).as_vec3();
         }
     }
-    Some(out)
+    Ok(Some(out))
 }
 
 /// One pass of splitting each triangle's longest edge, where longer
@@ -794,7 +822,9 @@ mod tests {
                 shape: WaveShape::Sine,
             }],
         };
-        let out = finished_mesh(&mesh, &layout, &finish, 0.25e-3).unwrap();
+        let out = finished_mesh(&mesh, &layout, &finish, 0.25e-3)
+            .unwrap()
+            .unwrap();
         assert!(out.triangle_count() > 16 * 16 * 4);
         out.check().unwrap();
         // Every vertex is displaced by the wave's height along z (the
@@ -810,6 +840,6 @@ mod tests {
             sigma_v: 0.1,
             orientation_deg: 0.0,
         };
-        assert!(finished_mesh(&mesh, &layout, &slopes, 1e-3).is_none());
+        assert_eq!(finished_mesh(&mesh, &layout, &slopes, 1e-3), Ok(None));
     }
 }

@@ -309,27 +309,17 @@ pub fn tessellate_with(
                 };
                 if let Some(geometry) = &bands.geometry
                     && let Some(cut) = finished_mesh(&surface.mesh, &layout, geometry, max_edge)
+                        .map_err(|e| TessellateError::SceneTriangles {
+                            surface: part.name.clone(),
+                            triangles: e.triangles,
+                            max: MAX_SCENE_TRIANGLES,
+                        })?
                 {
                     within_scene_limit(
                         &out,
                         &part.name,
                         (cut.triangle_count() - surface.mesh.triangle_count()) as u64,
                     )?;
-                    let longest = (0..cut.triangle_count())
-                        .map(|t| {
-                            let [a, b, c] = cut.corners(t);
-                            (b - a).length().max((c - b).length()).max((a - c).length())
-                        })
-                        .fold(0.0, f64::max);
-                    if longest > max_edge * 1.001 {
-                        // Each halving of the edge quadruples the triangles.
-                        let levels = (longest / max_edge).log2().ceil();
-                        return Err(TessellateError::SceneTriangles {
-                            surface: part.name.clone(),
-                            triangles: (cut.triangle_count() as f64 * 4f64.powf(levels)) as u64,
-                            max: MAX_SCENE_TRIANGLES,
-                        });
-                    }
                     let cut = cut.transformed(&luminaire_from_part);
                     cut.check()
                         .map_err(|d| mesh_error(&part.name, surface.group.as_deref(), d))?;
@@ -339,13 +329,8 @@ pub fn tessellate_with(
                     let own = materials[m as usize].1.clone();
                     materials.push((format!("{material} (finish of '{}')", part.name), own));
                     m = (materials.len() - 1) as u32;
-                    let f = SurfaceFinish::new(
-                        &part.name,
-                        &bands,
-                        layout,
-                        luminaire_from_part,
-                        &mesh,
-                    );
+                    let f =
+                        SurfaceFinish::new(&part.name, &bands, layout, luminaire_from_part, &mesh);
                     let first = out.mesh.triangle_count();
                     finished.push((m, first..first + mesh.triangle_count(), f.into()));
                 }
