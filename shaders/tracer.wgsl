@@ -483,6 +483,86 @@ fn dielectric(m: Material, dir: vec3<f32>, geometric: vec3<f32>, shading_n: vec3
     return t;
 }
 
+// A finished surface (finish_brdf.rs, finish_trace.rs): a material whose
+// kind carries FINISHED keeps its record's offset in `profiles` in the
+// bits of `ior` (unused by the kinds that take a finish). The record:
+// flat share, slope range, bins, tangent rule (0 around the axis, 1
+// along the direction), axis xyz, origin xyz, handedness, then bins²
+// cumulative cell probabilities (u fastest) ending at 1.
+const FINISHED: u32 = 0x100u;
+
+fn finish_v(o: u32, p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    let axis = vec3<f32>(profiles[o + 4u], profiles[o + 5u], profiles[o + 6u]);
+    var v = axis;
+    if profiles[o + 3u] == 0.0 {
+        let origin = vec3<f32>(profiles[o + 7u], profiles[o + 8u], profiles[o + 9u]);
+        v = cross(axis, p - origin);
+    }
+    v = v - n * dot(v, n);
+    if dot(v, v) > 1e-20 {
+        return normalize(v);
+    }
+    return basis_b(n);
+}
+
+// The normal of a facet visible from the photon (zero where none was
+// accepted): a slope from the table (or the flat land), kept in
+// proportion to its projected area toward the photon.
+fn finish_facet(o: u32, dir: vec3<f32>, ns: vec3<f32>, n_own: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
+    let flat = profiles[o];
+    let range = profiles[o + 1u];
+    let bins = u32(profiles[o + 2u]);
+    let handedness = profiles[o + 10u];
+    let tv = finish_v(o, p, n_own);
+    let tu = normalize(cross(tv, n_own)) * handedness;
+    var v = tv - ns * dot(tv, ns);
+    if dot(v, v) > 1e-20 {
+        v = normalize(v);
+    } else {
+        v = basis_b(ns);
+    }
+    var u = cross(v, ns);
+    if dot(u, tu) < 0.0 {
+        u = -u;
+    }
+    let wo_w = -dir;
+    let wo = vec3<f32>(dot(wo_w, u), dot(wo_w, v), dot(wo_w, ns));
+    if wo.z <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let bound = wo.z + range * (abs(wo.x) + abs(wo.y));
+    let width = 2.0 * range / f32(bins);
+    let cells = bins * bins;
+    let table = o + 12u;
+    for (var tries = 0u; tries < 256u; tries++) {
+        var s = vec2<f32>(0.0);
+        if rng_next_f32() >= flat {
+            let pick = rng_next_f32();
+            var lo = 0u;
+            var hi = cells - 1u;
+            while lo < hi {
+                let mid = (lo + hi) / 2u;
+                if profiles[table + mid] < pick {
+                    lo = mid + 1u;
+                } else {
+                    hi = mid;
+                }
+            }
+            let i = lo % bins;
+            let j = lo / bins;
+            let a = rng_next_f32();
+            let b = rng_next_f32();
+            s = vec2<f32>(-range + (f32(i) + a) * width, -range + (f32(j) + b) * width);
+        }
+        let visible = wo.z - wo.x * s.x - wo.y * s.y;
+        if visible > 0.0 && rng_next_f32() * bound < visible {
+            let m = normalize(vec3<f32>(-s.x, -s.y, 1.0));
+            return normalize(u * m.x + v * m.y + ns * m.z);
+        }
+    }
+    return vec3<f32>(0.0);
+}
+
 @compute @workgroup_size(64)
 fn trace(@builtin(global_invocation_id) gid: vec3<u32>) {
     let local = gid.x + gid.y * params.threads_per_row;
@@ -525,9 +605,18 @@ fn trace(@builtin(global_invocation_id) gid: vec3<u32>) {
             shading_n = geometric;
         }
         let ng = facing(geometric, ray.dir);
-        let ns = facing_consistent(select(shading_n, -shading_n, dot(shading_n, ng) < 0.0), ng);
+        var ns = facing_consistent(select(shading_n, -shading_n, dot(shading_n, ng) < 0.0), ng);
+        let finished = (m.kind & FINISHED) != 0u;
+        if finished {
+            let facet = finish_facet(bitcast<u32>(m.ior), ray.dir, ns, shading_n, position);
+            if dot(facet, facet) == 0.0 {
+                fate = 1u;
+                break;
+            }
+            ns = facet;
+        }
         var next = vec3<f32>(0.0);
-        switch m.kind {
+        switch m.kind & 0xffu {
             case 1u: {
                 if rng_next_f32() < m.reflectance {
                     let a = rng_next_f32();
@@ -538,7 +627,7 @@ fn trace(@builtin(global_invocation_id) gid: vec3<u32>) {
             case 2u: {
                 if rng_next_f32() < m.reflectance {
                     next = mirror(ray.dir, ns);
-                    if dot(next, ng) <= 0.0 {
+                    if dot(next, ng) <= 0.0 && !finished {
                         next = mirror(ray.dir, ng);
                     }
                 }
@@ -564,7 +653,8 @@ fn trace(@builtin(global_invocation_id) gid: vec3<u32>) {
             }
             default: {}
         }
-        if dot(next, next) == 0.0 {
+        // A finished surface loses what its facets send into it.
+        if dot(next, next) == 0.0 || (finished && dot(next, ng) <= 0.0) {
             fate = 1u;
             break;
         }

@@ -137,6 +137,54 @@ fn gpu_emitters(scene: &PreparedScene) -> (Vec<GpuEmitter>, Vec<f32>) {
     (emitters, profiles)
 }
 
+/// Flag in a material's kind for the kernel: a finish's record follows
+/// at the offset in the bits of `ior` (WGSL `FINISHED`).
+const FINISHED: u32 = 0x100;
+
+/// The materials as the kernel reads them: a finished one flagged, its
+/// finish's record appended to `profiles` (see `shaders/tracer.wgsl`).
+/// A finish traced as shading normals needs the CPU tracer.
+fn gpu_materials(
+    scene: &PreparedScene,
+    profiles: &mut Vec<f32>,
+) -> Result<Vec<crate::prepared::TraceMaterial>, GpuError> {
+    use lucerna_scene::finish_layout::TangentRule;
+    let mut out = scene.materials.clone();
+    for (m, f) in out.iter_mut().zip(&scene.material_finish) {
+        let Some(f) = f else { continue };
+        if f.surface.normals.is_some() {
+            return Err(GpuError::Failed(format!(
+                "part '{}': a finish traced as shading normals runs on the CPU tracer only",
+                f.surface.part
+            )));
+        }
+        let Some(brdf) = &f.brdf else { continue };
+        let offset = profiles.len() as u32;
+        let (rule, axis, origin) = match f.surface.tangents {
+            TangentRule::Around { axis, origin } => (0.0, axis, origin),
+            TangentRule::Along { direction } => (1.0, direction, glam::DVec3::ZERO),
+        };
+        profiles.extend([
+            brdf.flat_share() as f32,
+            brdf.range() as f32,
+            brdf.bins() as f32,
+            rule,
+            axis.x as f32,
+            axis.y as f32,
+            axis.z as f32,
+            origin.x as f32,
+            origin.y as f32,
+            origin.z as f32,
+            f.surface.handedness as f32,
+            0.0,
+        ]);
+        profiles.extend(brdf.normalised_cumulative().map(|c| c as f32));
+        m.kind |= FINISHED;
+        m.ior = f32::from_bits(offset);
+    }
+    Ok(out)
+}
+
 impl GpuTracer {
     pub fn new(
         ctx: GpuContext,
@@ -181,8 +229,9 @@ impl GpuTracer {
         );
         let triangles = storage("triangles", bytemuck::cast_slice(&bvh.triangles));
         let shading = storage("shading", bytemuck::cast_slice(&scene.shading));
-        let materials = storage("materials", bytemuck::cast_slice(&scene.materials));
-        let (emitters, profiles) = gpu_emitters(scene);
+        let (emitters, mut profiles) = gpu_emitters(scene);
+        let materials = gpu_materials(scene, &mut profiles)?;
+        let materials = storage("materials", bytemuck::cast_slice(&materials));
         let emitters_buffer = storage("emitters", bytemuck::cast_slice(&emitters));
         let profiles = storage("profiles", bytemuck::cast_slice(&profiles));
         let texels = settings.layout.texel_count() as u64;

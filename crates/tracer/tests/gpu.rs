@@ -229,3 +229,102 @@ fn gpu_counts_are_deterministic_and_split_exactly() {
     let summed: Vec<u32> = a.counts.iter().zip(&b.counts).map(|(x, y)| x + y).collect();
     assert_eq!(summed, whole.counts);
 }
+
+#[test]
+fn gpu_kernel_traces_finishes_as_the_cpu_does() {
+    // Dimples, crossed ripples at an angle and a rough conductor with a
+    // finish: the kernel's facets against the CPU's, on 2° bands of γ
+    // and C quadrants (finer than the examples' test: a finish's
+    // plateau and peak are what must agree).
+    let Some(ctx) = context() else { return };
+    let finishes = [
+        (
+            "mirror",
+            r#"{ type = "dimples", pitch = 0.002, depth = 0.00015, radius = 0.0034 }"#,
+        ),
+        (
+            "mirror",
+            r#"{ type = "ripples", waves = [{ amplitude = 0.00001, wavelength = 0.0008, direction_deg = 30.0 }, { amplitude = 0.00002, wavelength = 0.0011, direction_deg = 100.0, shape = "trochoid" }] }"#,
+        ),
+        (
+            "brushed",
+            r#"{ type = "slopes", sigma_u = 0.08, sigma_v = 0.03, orientation_deg = 15.0 }"#,
+        ),
+    ];
+    let layout = CubeMapLayout::new(64);
+    let settings = TraceSettings {
+        seed: 5,
+        max_bounces: 16,
+        layout,
+    };
+    let n = 200_000u32;
+    for (material, finish) in finishes {
+        let text = format!(
+            r#"
+format_version = 1
+name = "finished"
+[materials.mirror]
+type = "mirror"
+reflectance = 0.9
+[materials.brushed]
+type = "rough_conductor"
+reflectance = 0.8
+roughness_u = 0.05
+roughness_v = 0.02
+[[emitter]]
+name = "LED"
+flux_lm = 1000.0
+shape = {{ type = "disk", radius = 0.001 }}
+transform = {{ rotate_deg = [180.0, 0.0, 0.0] }}
+[[part]]
+name = "reflector"
+material = "{material}"
+shape = {{ type = "paraboloid", focal_length = 0.01, aperture_diameter = 0.04, neck_diameter = 0.006, segments_around = 64, segments_along = 16 }}
+finish = {finish}
+"#
+        );
+        let scene = lucerna_scene::parse_scene(&text, Path::new("f.toml")).unwrap();
+        let tessellated = lucerna_scene::tessellate(&scene, Path::new(".")).unwrap();
+        let prepared = PreparedScene::new(&scene, &tessellated, Path::new(".")).unwrap();
+        assert!(prepared.material_finish.iter().any(Option::is_some));
+        let gpu = GpuTracer::new(ctx.clone(), &prepared, settings).unwrap();
+        let g = gpu.trace_batch(0, 0, n).unwrap();
+        let c = trace_batch(&prepared, &settings, 1, 0, n);
+        assert_eq!(g.escaped() + g.absorbed + g.cut_off, u64::from(n));
+        let fine = |t: &Tally| {
+            let mut bins = vec![0.0; 45 * 4];
+            for (texel, &k) in t.counts.iter().enumerate() {
+                let (cp, gamma) = angles(layout.texel_centre_direction(texel));
+                let band = ((gamma.to_degrees() / 2.0) as usize).min(44);
+                let quadrant = ((cp.to_degrees() / 90.0) as usize).min(3);
+                bins[band * 4 + quadrant] += f64::from(k);
+            }
+            bins
+        };
+        let (bg, bc) = (fine(&g), fine(&c));
+        let (mut chi2, mut dof) = (0.0, 0);
+        for (x, y) in bg.iter().zip(&bc) {
+            if x + y >= 20.0 {
+                chi2 += (x - y).powi(2) / (x + y);
+                dof += 1;
+            }
+        }
+        let dof = f64::from(dof.max(1));
+        eprintln!(
+            "{finish}: χ² {chi2:.1} / {dof}, escaped GPU {} CPU {}",
+            g.escaped(),
+            c.escaped()
+        );
+        assert!(dof > 20.0, "{dof}");
+        assert!(
+            chi2 < dof + 5.0 * (2.0 * dof).sqrt(),
+            "{finish}: χ² {chi2} over {dof} bins"
+        );
+        let (pg, pc) = (
+            g.escaped() as f64 / f64::from(n),
+            c.escaped() as f64 / f64::from(n),
+        );
+        let sigma = (2.0 * pc * (1.0 - pc) / f64::from(n)).sqrt();
+        assert!((pg - pc).abs() < 5.0 * sigma, "escaped {pg} vs {pc}");
+    }
+}
