@@ -21,9 +21,10 @@ use std::str::FromStr;
 
 use glam::DAffine3;
 use lucerna_scene::exact::ExactSurface;
+use lucerna_scene::finish_layout::finish_feature_size;
 use lucerna_scene::{
-    Scene, SurfaceKind, TessellateError, TriangleMesh, emitter_exact, tessellate,
-    write_all_atomically,
+    FinishSplit, Scene, SurfaceKind, TessellateError, TriangleMesh, emitter_exact, tessellate,
+    tessellate_with, write_all_atomically,
 };
 
 pub use brep::BrepError;
@@ -79,12 +80,14 @@ impl FromStr for GeometryFormat {
 }
 
 /// What to export.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct GeometryRequest {
     pub formats: Vec<GeometryFormat>,
     /// Part and emitter names as in the scene; `None` exports every
     /// enabled part and emitter.
     pub parts: Option<Vec<String>>,
+    /// How a part's finish (hammered, rippled) goes into the files.
+    pub finish: FinishExport,
 }
 
 impl Default for GeometryRequest {
@@ -92,9 +95,26 @@ impl Default for GeometryRequest {
         GeometryRequest {
             formats: GeometryFormat::ALL.to_vec(),
             parts: None,
+            finish: FinishExport::Named,
         }
     }
 }
+
+/// How a part's finish goes into geometry files.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum FinishExport {
+    /// The smooth surface, the finish named in the part's product
+    /// description (STEP) for the toolmaker to cut.
+    #[default]
+    Named,
+    /// The finish cut into the part as triangles no longer than this
+    /// edge (m); None: a sixteenth of the finest feature of any finish.
+    Geometry { edge: Option<f64> },
+}
+
+/// Edges per finest feature of a finish exported as geometry: a dimple
+/// of 2 mm pitch gets 0.125 mm triangles.
+pub const FINISH_EDGES_PER_FEATURE: f64 = 16.0;
 
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -142,6 +162,8 @@ pub struct Body {
     /// The exact surfaces in the body's frame (metres) and the frame's
     /// placement; `None` where the triangles are the surface.
     pub exact: Option<(Vec<ExactSurface>, DAffine3)>,
+    /// What the product's description says: a finish not in the surface.
+    pub description: String,
 }
 
 impl Body {
@@ -160,6 +182,7 @@ pub fn bodies(
     scene: &Scene,
     scene_dir: &Path,
     parts: Option<&[String]>,
+    finish: FinishExport,
 ) -> Result<Vec<Body>, ExportGeometryError> {
     if let Some(names) = parts {
         for name in names {
@@ -193,7 +216,30 @@ pub fn bodies(
             }
         }
     }
-    let tessellated = tessellate(scene, scene_dir).map_err(ExportGeometryError::Tessellate)?;
+    let chosen = |name: &str| parts.is_none_or(|names| names.iter().any(|n| n == name));
+    let tessellated = match finish {
+        // The smooth surface the finish is named on.
+        FinishExport::Named => tessellate(&without_finishes(scene), scene_dir),
+        FinishExport::Geometry { edge } => {
+            let edge = edge.or_else(|| {
+                scene
+                    .parts
+                    .iter()
+                    .filter(|p| p.enabled && chosen(&p.name))
+                    .filter_map(|p| p.finish.as_ref())
+                    .map(finish_feature_size)
+                    .filter(|s| *s > 0.0)
+                    .reduce(f64::min)
+                    .map(|s| s / FINISH_EDGES_PER_FEATURE)
+            });
+            let split = FinishSplit {
+                geometry_edge: edge,
+                normals_from: None,
+            };
+            tessellate_with(scene, scene_dir, split)
+        }
+    }
+    .map_err(ExportGeometryError::Tessellate)?;
     let mut out: Vec<Body> = Vec::new();
     for range in &tessellated.surfaces {
         if parts.is_some_and(|names| !names.contains(&range.name)) {
@@ -206,17 +252,39 @@ pub fn bodies(
         {
             Some(body) => body,
             None => {
-                let exact = match range.kind {
+                let (exact, description) = match range.kind {
                     SurfaceKind::Part => {
                         let part = &scene.parts[range.index];
-                        part.shape
-                            .generator()
-                            .exact()
-                            .map(|s| (s, part.transform.matrix()))
+                        let cut = matches!(finish, FinishExport::Geometry { .. })
+                            && part
+                                .finish
+                                .as_ref()
+                                .is_some_and(|f| f.height(0.0, 0.0).is_some());
+                        let exact = if cut {
+                            // The triangles carry the finish; the smooth
+                            // exact surface would lose it.
+                            None
+                        } else {
+                            part.shape
+                                .generator()
+                                .exact()
+                                .map(|s| (s, part.transform.matrix()))
+                        };
+                        let description = match &part.finish {
+                            Some(f) if cut => {
+                                format!("finish cut into the surface: {}", f.describe())
+                            }
+                            Some(f) => format!("finish: {}", f.describe()),
+                            None => String::new(),
+                        };
+                        (exact, description)
                     }
                     SurfaceKind::Emitter => {
                         let emitter = &scene.emitters[range.index];
-                        Some((emitter_exact(&emitter.shape), emitter.transform.matrix()))
+                        (
+                            Some((emitter_exact(&emitter.shape), emitter.transform.matrix())),
+                            String::new(),
+                        )
                     }
                 };
                 out.push(Body {
@@ -224,6 +292,7 @@ pub fn bodies(
                     kind: range.kind,
                     traced: TriangleMesh::default(),
                     exact,
+                    description,
                 });
                 out.last_mut().expect("just pushed")
             }
@@ -235,6 +304,15 @@ pub fn bodies(
         return Err(ExportGeometryError::NothingChosen);
     }
     Ok(out)
+}
+
+/// `scene` with every part's finish taken off.
+fn without_finishes(scene: &Scene) -> Scene {
+    let mut plain = scene.clone();
+    for p in &mut plain.parts {
+        p.finish = None;
+    }
+    plain
 }
 
 /// The triangles in `range` of `mesh` with the vertices they use.
@@ -268,7 +346,7 @@ pub fn geometry_files(
     if request.formats.is_empty() {
         return Err(ExportGeometryError::NoFormat);
     }
-    let bodies = bodies(scene, scene_dir, request.parts.as_deref())?;
+    let bodies = bodies(scene, scene_dir, request.parts.as_deref(), request.finish)?;
     let traced: Vec<(String, &TriangleMesh)> =
         bodies.iter().map(|b| (b.label(), &b.traced)).collect();
     let mut files = Vec::new();
@@ -291,7 +369,7 @@ pub fn geometry_files(
                             })?,
                             None => brep::triangle_shell(&b.traced),
                         };
-                        Ok((b.label(), shell))
+                        Ok((b.label(), b.description.clone(), shell))
                     })
                     .collect::<Result<Vec<_>, ExportGeometryError>>()?;
                 step::step_text(&scene.name, &name, &shells).into_bytes()

@@ -10,8 +10,11 @@ use truck_stepio::out::StepModels;
 /// under its name, holding one shell-based surface model, placed without
 /// a transformation (the shells are already in luminaire coordinates).
 /// Names on products are what CAD tools show in their model trees.
-pub fn step_text(luminaire: &str, file_name: &str, bodies: &[(String, Shell)]) -> String {
-    let compressed: Vec<_> = bodies.iter().map(|(_, shell)| shell.compress()).collect();
+pub fn step_text(luminaire: &str, file_name: &str, bodies: &[(String, String, Shell)]) -> String {
+    let compressed: Vec<_> = bodies
+        .iter()
+        .map(|(_, _, shell)| shell.compress())
+        .collect();
     let models: StepModels<_, _, _> = compressed.iter().collect();
     let data = models.to_string();
     let luminaire = step_string(luminaire);
@@ -71,14 +74,15 @@ pub fn step_text(luminaire: &str, file_name: &str, bodies: &[(String, Shell)]) -
         p
     };
     let root_origin = placement(&mut out, &mut id);
-    for ((name, _), model) in bodies.iter().zip(&model_ids) {
+    for ((name, description, _), model) in bodies.iter().zip(&model_ids) {
         let name = step_string(name);
+        let description = step_string(description);
         let origin = placement(&mut out, &mut id);
         let (product, formation, definition, shape, sdr, rep) =
             (id(), id(), id(), id(), id(), id());
         let (nauo, nauo_shape, cdsr, relation, transform) = (id(), id(), id(), id(), id());
         out.push_str(&format!(
-            "#{product} = PRODUCT({name},{name},'', (#8));\n\
+            "#{product} = PRODUCT({name},{name},{description}, (#8));\n\
 #{formation} = PRODUCT_DEFINITION_FORMATION('','', #{product});\n\
 #{definition} = PRODUCT_DEFINITION('design','', #{formation}, #9);\n\
 #{shape} = PRODUCT_DEFINITION_SHAPE('','', #{definition});\n\

@@ -8,7 +8,8 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 use lucerna_cad::{
-    ExportGeometryError, GeometryFormat, GeometryRequest, bodies, geometry_files, write_geometry,
+    ExportGeometryError, FinishExport, GeometryFormat, GeometryRequest, bodies, geometry_files,
+    write_geometry,
 };
 use lucerna_scene::{Scene, load_scene, parse_scene};
 use truck_modeling::{
@@ -38,6 +39,7 @@ fn only(format: GeometryFormat) -> GeometryRequest {
     GeometryRequest {
         formats: vec![format],
         parts: None,
+        ..Default::default()
     }
 }
 
@@ -195,7 +197,7 @@ fn every_example_scene_exports_and_its_step_reads_back() {
                 format!("{stem}.obj")
             ]
         );
-        let bodies = bodies(&scene, dir, None).unwrap();
+        let bodies = bodies(&scene, dir, None, Default::default()).unwrap();
         let shells = read_step(std::str::from_utf8(&files[0].1).unwrap());
         assert_eq!(
             shells.len(),
@@ -243,7 +245,7 @@ fn step_extent_and_areas_match_the_traced_luminaire() {
     for path in luminaires() {
         let scene = load_scene(&path).unwrap();
         let dir = path.parent().unwrap();
-        let bodies = bodies(&scene, dir, None).unwrap();
+        let bodies = bodies(&scene, dir, None, Default::default()).unwrap();
         let shells = read_step(&step_of(&scene, dir));
         // The extent against the traced triangles' (what `lucerna
         // validate --json` reports as the luminaire's bounds).
@@ -323,6 +325,7 @@ fn only_the_chosen_parts_are_exported_and_emitters_say_so() {
     let request = GeometryRequest {
         formats: vec![GeometryFormat::Obj, GeometryFormat::Step],
         parts: Some(vec!["reflector".to_owned()]),
+        ..Default::default()
     };
     let files = geometry_files(&scene, dir, "x", &request).unwrap();
     let obj = String::from_utf8(files[0].1.clone()).unwrap();
@@ -343,6 +346,7 @@ fn bad_requests_are_refused_and_write_nothing() {
     let unknown = GeometryRequest {
         formats: GeometryFormat::ALL.to_vec(),
         parts: Some(vec!["reflecter".to_owned()]),
+        ..Default::default()
     };
     let e = write_geometry(&scene, dir, &target, "x", &unknown).unwrap_err();
     assert!(matches!(e, ExportGeometryError::UnknownPart { .. }), "{e}");
@@ -353,6 +357,7 @@ fn bad_requests_are_refused_and_write_nothing() {
     let none = GeometryRequest {
         formats: vec![],
         parts: None,
+        ..Default::default()
     };
     assert!(matches!(
         write_geometry(&scene, dir, &target, "x", &none).unwrap_err(),
@@ -371,6 +376,7 @@ fn bad_requests_are_refused_and_write_nothing() {
     let only_reflector = GeometryRequest {
         formats: GeometryFormat::ALL.to_vec(),
         parts: Some(vec!["reflector".to_owned()]),
+        ..Default::default()
     };
     assert!(matches!(
         write_geometry(&disabled, dir, &target, "x", &only_reflector).unwrap_err(),
@@ -442,6 +448,7 @@ fn the_exported_obj_reimported_bakes_the_same_distribution() {
     let request = GeometryRequest {
         formats: vec![GeometryFormat::Obj],
         parts: Some(vec!["reflector".to_owned()]),
+        ..Default::default()
     };
     write_geometry(&scene, dir, out.path(), "spot", &request).unwrap();
     // The reflector replaced by the OBJ, read in millimetres.
@@ -466,4 +473,86 @@ fn the_exported_obj_reimported_bakes_the_same_distribution() {
     let per_dof = chi2 / dof as f64;
     eprintln!("OBJ re-import: chi²/dof = {per_dof:.3} over {dof} texels");
     assert!(per_dof < 1.5, "chi²/dof {per_dof} over {dof} texels");
+}
+
+#[test]
+fn a_finish_is_named_on_the_smooth_surface_or_cut_into_it_when_asked() {
+    let text = r#"
+format_version = 1
+name = "hammered"
+[materials.alu]
+type = "mirror"
+reflectance = 0.9
+[[emitter]]
+name = "LED"
+flux_lm = 1000.0
+shape = { type = "disk", radius = 0.001 }
+[[part]]
+name = "reflector"
+material = "alu"
+shape = { type = "paraboloid", focal_length = 0.01, aperture_diameter = 0.03, neck_diameter = 0.006, segments_around = 48, segments_along = 12 }
+finish = { type = "dimples", pitch = 0.002, depth = 0.00015, radius = 0.0034 }
+"#;
+    let scene = parse_scene(text, Path::new("h.toml")).unwrap();
+    let dir = Path::new(".");
+    let reflector = Some(vec!["reflector".to_owned()]);
+    let named = bodies(&scene, dir, reflector.as_deref(), FinishExport::Named).unwrap();
+    let cut = bodies(
+        &scene,
+        dir,
+        reflector.as_deref(),
+        FinishExport::Geometry { edge: None },
+    )
+    .unwrap();
+    // Named: the smooth paraboloid, exact, its description the finish.
+    assert!(named[0].exact.is_some());
+    assert!(
+        named[0].description.starts_with("finish: hammered"),
+        "{}",
+        named[0].description
+    );
+    // Cut: triangles of at most pitch/16 carrying dimples 0.15 mm deep.
+    assert!(cut[0].exact.is_none());
+    assert!(
+        cut[0]
+            .description
+            .starts_with("finish cut into the surface")
+    );
+    assert!(cut[0].traced.triangle_count() > 100 * named[0].traced.triangle_count());
+    let f: f64 = 0.01;
+    let (mut deepest, mut land) = (0.0f64, 0usize);
+    for p in &cut[0].traced.positions {
+        let p = p.as_dvec3();
+        let r = p.x.hypot(p.y);
+        // Distance from the paraboloid along its normal (a dimple is
+        // a hollow into the mirror side, towards the focus... either sign).
+        let z = f - r * r / (4.0 * f);
+        let slope = r / (2.0 * f);
+        let depth = (p.z - z).abs() / (1.0 + slope * slope).sqrt();
+        deepest = deepest.max(depth);
+        if depth < 1e-7 {
+            land += 1;
+        }
+    }
+    assert!((deepest - 0.15e-3).abs() < 0.01e-3, "{deepest}");
+    assert!(land > 0, "some land stays on the surface");
+    // The STEP names it; a bad edge is refused by the tessellation.
+    let request = GeometryRequest {
+        formats: vec![GeometryFormat::Step],
+        parts: reflector.clone(),
+        finish: FinishExport::Named,
+    };
+    let files = geometry_files(&scene, dir, "h", &request).unwrap();
+    let step = String::from_utf8(files[0].1.clone()).unwrap();
+    assert!(step.contains("finish: hammered: spherical dimples 0.150 mm deep"));
+    let too_fine = bodies(
+        &scene,
+        dir,
+        reflector.as_deref(),
+        FinishExport::Geometry { edge: Some(1e-6) },
+    );
+    assert!(
+        matches!(too_fine, Err(ExportGeometryError::Tessellate(_))),
+        "{too_fine:?}"
+    );
 }

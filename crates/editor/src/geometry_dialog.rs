@@ -80,7 +80,11 @@ impl GeometryDialog {
                     .collect(),
             )
         };
-        GeometryRequest { formats, parts }
+        GeometryRequest {
+            formats,
+            parts,
+            finish: Default::default(),
+        }
     }
 
     /// Opens the dialog on its defaults.

@@ -477,6 +477,7 @@ fn export_geometry_writes_the_command_lines_bytes_for_the_ticked_parts() {
             lucerna_cad::GeometryFormat::Obj,
         ],
         parts: Some(vec!["reflector".to_owned()]),
+        finish: Default::default(),
     };
     for (name, bytes) in lucerna_cad::geometry_files(&scene, dir.path(), "spot", &request).unwrap()
     {

@@ -342,6 +342,56 @@ impl Finish {
 }
 
 impl Finish {
+    /// The finish in a toolmaker's words and millimetres, for a drawing
+    /// or a CAD product's description.
+    pub fn describe(&self) -> String {
+        let mm = |m: f64| format!("{:.3} mm", m * 1e3);
+        match self {
+            Finish::Dimples {
+                pitch,
+                depth,
+                radius,
+                pattern,
+            } => format!(
+                "hammered: spherical dimples {} deep, punch radius {}, on a {} pattern of {} pitch",
+                mm(*depth),
+                mm(*radius),
+                match pattern {
+                    DimplePattern::Hexagonal => "hexagonal",
+                    DimplePattern::Square => "square",
+                },
+                mm(*pitch)
+            ),
+            Finish::Ripples { waves } => {
+                let each: Vec<String> = waves
+                    .iter()
+                    .map(|w| {
+                        format!(
+                            "{} amplitude {} wavelength {} at {}° to the profile",
+                            match w.shape {
+                                WaveShape::Sine => "sine",
+                                WaveShape::Trochoid => "trochoid",
+                            },
+                            mm(w.amplitude),
+                            mm(w.wavelength),
+                            w.direction_deg
+                        )
+                    })
+                    .collect();
+                format!("rippled: {}", each.join("; "))
+            }
+            Finish::Slopes {
+                sigma_u,
+                sigma_v,
+                orientation_deg,
+            } => format!(
+                "measured slopes: rms {sigma_u:.4} along, {sigma_v:.4} across, turned {orientation_deg}°"
+            ),
+        }
+    }
+}
+
+impl Finish {
     /// The finish's height (m) at (u, v) on the surface (u along the
     /// profile, v across it), about its mean plane: what the geometry of
     /// the finish is, for tessellating it and for checking its

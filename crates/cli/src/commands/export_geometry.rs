@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use lucerna_cad::{GeometryFormat, GeometryRequest, write_geometry};
+use lucerna_cad::{FinishExport, GeometryFormat, GeometryRequest, write_geometry};
 use lucerna_scene::load_scene;
 
 #[derive(Debug, clap::Args)]
@@ -21,6 +21,15 @@ pub struct ExportGeometryArgs {
     /// comma-separated; by default every enabled part and emitter.
     #[arg(long, value_delimiter = ',')]
     parts: Option<Vec<String>>,
+    /// A part's finish (hammered, rippled): `named` in the STEP product's
+    /// description on the smooth surface, or `geometry` cut into the
+    /// surface as triangles, so the toolmaker gets the real surface.
+    #[arg(long, default_value = "named", value_parser = ["named", "geometry"])]
+    finish: String,
+    /// With `--finish geometry`: the longest triangle edge (mm); by
+    /// default a sixteenth of the finest feature (pitch, wavelength).
+    #[arg(long)]
+    finish_edge_mm: Option<f64>,
 }
 
 pub fn export_geometry(args: &ExportGeometryArgs) -> Result<()> {
@@ -32,9 +41,26 @@ pub fn export_geometry(args: &ExportGeometryArgs) -> Result<()> {
         .file_stem()
         .and_then(|s| s.to_str())
         .unwrap_or("luminaire");
+    if let Some(e) = args.finish_edge_mm
+        && !(e.is_finite() && e > 0.0)
+    {
+        anyhow::bail!("--finish-edge-mm must be a positive length in millimetres, got {e}");
+    }
+    let finish = match args.finish.as_str() {
+        "geometry" => FinishExport::Geometry {
+            edge: args.finish_edge_mm.map(|e| e * 1e-3),
+        },
+        _ => {
+            if args.finish_edge_mm.is_some() {
+                anyhow::bail!("--finish-edge-mm goes with --finish geometry");
+            }
+            FinishExport::Named
+        }
+    };
     let request = GeometryRequest {
         formats: args.formats.clone(),
         parts: args.parts.clone(),
+        finish,
     };
     let written = write_geometry(&scene, scene_dir, &args.out, stem, &request)
         .with_context(|| format!("cannot export the geometry of {}", args.scene.display()))?;
