@@ -100,6 +100,25 @@ fn edit_in_place(
                 }
                 shape.insert(field, Item::Value(value));
             }
+            Place::Finish { field, .. } => {
+                let finish = table_like(table.get_mut("finish")?)?;
+                let value = Value::from(crate::variables::value_at(designed, &v.place)?);
+                match field.split_once('.') {
+                    Some((array, rest)) => {
+                        let (name, index) = array.strip_suffix(']')?.split_once('[')?;
+                        let index: usize = index.parse().ok()?;
+                        let wave = finish
+                            .get_mut(name)?
+                            .as_array_mut()?
+                            .get_mut(index)?
+                            .as_inline_table_mut()?;
+                        wave.insert(rest, value);
+                    }
+                    None => {
+                        finish.insert(field, Item::Value(value));
+                    }
+                }
+            }
             Place::ProfilePoint { part, .. } => {
                 let shape = table_like(table.get_mut("shape")?)?;
                 let points = crate::variables::profile(&designed.parts.get(*part)?.shape)?;

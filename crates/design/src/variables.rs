@@ -1,6 +1,7 @@
 //! What a design may change: a part's continuous shape parameter
-//! (`PART.FIELD`: a focal length, an aperture, a cone angle) or the
-//! control points of a revolved or extruded part's profile
+//! (`PART.FIELD`: a focal length, an aperture, a cone angle), a number of
+//! its finish (`PART.finish.depth`, `PART.finish.waves[0].amplitude`) or
+//! the control points of a revolved or extruded part's profile
 //! (`PART.profile`), each between bounds inside the valid scene space.
 
 use lucerna_scene::{Scene, Shape, validate};
@@ -19,6 +20,9 @@ pub enum Place {
         rotate: bool,
         axis: usize,
     },
+    /// A number of the part's `finish` table: `depth`, `pitch`, or a
+    /// wave's `waves[K].amplitude`.
+    Finish { part: usize, field: String },
     /// Coordinate `coord` (0: r or x, 1: z) of profile point `point`.
     ProfilePoint {
         part: usize,
@@ -38,7 +42,9 @@ impl Place {
     /// The part whose shape or placement this changes (None: an emitter).
     pub fn part(&self) -> Option<usize> {
         match self {
-            Place::Field { part, .. } | Place::ProfilePoint { part, .. } => Some(*part),
+            Place::Field { part, .. }
+            | Place::Finish { part, .. }
+            | Place::ProfilePoint { part, .. } => Some(*part),
             Place::Transform {
                 owner: Owner::Part(part),
                 ..
@@ -109,6 +115,10 @@ pub fn parse(
             what: spec.clone(),
             why,
         };
+        if let Some((part_name, field)) = spec.split_once(".finish.") {
+            out.push(finish_variable(scene, spec, part_name, field).map_err(bad)?);
+            continue;
+        }
         let Some((part_name, field)) = spec.rsplit_once('.') else {
             return Err(bad("write it as PART.FIELD or PART.profile".to_owned()));
         };
@@ -304,6 +314,89 @@ fn profile_box(points: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
     (lo, hi)
 }
 
+/// A finish's number (`PART.finish.FIELD`) as a variable.
+fn finish_variable(
+    scene: &Scene,
+    spec: &str,
+    part_name: &str,
+    field: &str,
+) -> Result<Variable, String> {
+    let part = scene
+        .parts
+        .iter()
+        .position(|p| p.name == part_name)
+        .ok_or_else(|| format!("the scene has no part '{part_name}'"))?;
+    let finish = scene.parts[part]
+        .finish
+        .as_ref()
+        .ok_or_else(|| format!("part '{part_name}' has no finish"))?;
+    let start = finish_value(finish, field)?;
+    let place = Place::Finish {
+        part,
+        field: field.to_owned(),
+    };
+    let (lower, upper) = valid_range(scene, &place, start);
+    Ok(Variable {
+        name: spec.to_owned(),
+        place,
+        start,
+        lower,
+        upper,
+    })
+}
+
+/// The TOML value at `field` of a finish's table (`depth`,
+/// `waves[1].amplitude`), for reading or writing.
+fn finish_slot<'a>(table: &'a mut toml::Table, field: &str) -> Option<&'a mut toml::Value> {
+    match field.split_once('.') {
+        Some((array, rest)) => {
+            let (name, index) = array.strip_suffix(']')?.split_once('[')?;
+            let index: usize = index.parse().ok()?;
+            let item = table.get_mut(name)?.as_array_mut()?.get_mut(index)?;
+            item.as_table_mut()?.get_mut(rest)
+        }
+        None => table.get_mut(field),
+    }
+}
+
+fn finish_value(finish: &lucerna_scene::finish::Finish, field: &str) -> Result<f64, String> {
+    let mut table = toml::Table::try_from(finish).map_err(|e| e.to_string())?;
+    let numbers = || table_numbers(&toml::Table::try_from(finish).unwrap_or_default()).join(", ");
+    match finish_slot(&mut table, field) {
+        Some(toml::Value::Float(v)) => Ok(*v),
+        Some(_) => Err(format!(
+            "'{field}' of the finish is not a continuous number"
+        )),
+        None => Err(format!(
+            "the finish has no number '{field}' (it has: {})",
+            numbers()
+        )),
+    }
+}
+
+/// A finish table's continuous numbers as they are named in `--vary`.
+fn table_numbers(table: &toml::Table) -> Vec<String> {
+    let mut out = Vec::new();
+    for (k, v) in table {
+        match v {
+            toml::Value::Float(_) => out.push(k.clone()),
+            toml::Value::Array(items) => {
+                for (i, item) in items.iter().enumerate() {
+                    if let Some(t) = item.as_table() {
+                        for (f, x) in t {
+                            if x.is_float() {
+                                out.push(format!("{k}[{i}].{f}"));
+                            }
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
 /// A shape's parameters as a TOML table (how the scene file spells them).
 fn shape_table(shape: &Shape) -> Option<toml::Table> {
     toml::Table::try_from(shape).ok()
@@ -364,6 +457,9 @@ fn field_value(shape: &Shape, field: &str) -> Result<f64, String> {
 pub fn value_at(scene: &Scene, place: &Place) -> Option<f64> {
     match place {
         Place::Field { part, field } => field_value(&scene.parts.get(*part)?.shape, field).ok(),
+        Place::Finish { part, field } => {
+            finish_value(scene.parts.get(*part)?.finish.as_ref()?, field).ok()
+        }
         Place::ProfilePoint { part, point, coord } => {
             Some(profile(&scene.parts.get(*part)?.shape)?.get(*point)?[*coord])
         }
@@ -393,6 +489,12 @@ pub fn set(scene: &mut Scene, place: &Place, value: f64) -> Option<()> {
             let mut table = shape_table(shape)?;
             table.insert(field.clone(), toml::Value::Float(value));
             *shape = table.try_into().ok()?;
+        }
+        Place::Finish { part, field } => {
+            let finish = scene.parts.get_mut(*part)?.finish.as_mut()?;
+            let mut table = toml::Table::try_from(&*finish).ok()?;
+            *finish_slot(&mut table, field)? = toml::Value::Float(value);
+            *finish = table.try_into().ok()?;
         }
         Place::ProfilePoint { part, point, coord } => {
             let points = profile_mut(&mut scene.parts.get_mut(*part)?.shape)?;
@@ -441,7 +543,7 @@ fn valid_at(scene: &Scene, place: &Place, value: f64) -> bool {
 /// space, and bounds found from the shape's own checks cannot drift from
 /// them.
 fn valid_range(scene: &Scene, place: &Place, start: f64) -> (f64, f64) {
-    let angle = matches!(place, Place::Field { field, .. } if field.ends_with("_deg"));
+    let angle = matches!(place, Place::Field { field, .. } | Place::Finish { field, .. } if field.ends_with("_deg"));
     let steps = 64;
     let candidate = |k: i32| -> f64 {
         let t = f64::from(k) / f64::from(steps);

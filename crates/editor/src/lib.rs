@@ -22,6 +22,7 @@ mod export_dialog;
 mod export_job;
 mod file_state;
 mod files;
+mod finish_fields;
 mod geometry_dialog;
 mod help_windows;
 mod imports;

@@ -223,12 +223,18 @@ fn part_ui(
     };
     shape_ui(ui, &mut part.shape, &mut fields);
     transform_ui(ui, &mut part.transform);
+    ui.separator();
+    crate::finish_fields::finish_ui(ui, &mut part.finish, &mut |ui, field, label| {
+        fields.tick(ui, &format!("finish.{field}"), label, Unit::Finish);
+    });
 }
 
 #[derive(Clone, Copy)]
 enum Unit {
     Millimetres,
     Degrees,
+    /// A finish's number: micrometres for lengths, plain for slopes.
+    Finish,
 }
 
 /// What a part's shape fields are drawn with: the part's name and the
@@ -270,6 +276,10 @@ impl ShapeFields<'_> {
                     format!("{:.1} … {:.1} mm", v.lower * 1000.0, v.upper * 1000.0)
                 }
                 Unit::Degrees => format!("{:.1} … {:.1}°", v.lower, v.upper),
+                Unit::Finish if field.contains("sigma") => {
+                    format!("{:.3} … {:.3}", v.lower, v.upper)
+                }
+                Unit::Finish => format!("{:.3} … {:.3} mm", v.lower * 1000.0, v.upper * 1000.0),
             };
             ui.weak(text).on_hover_text(
                 "The design keeps it between these bounds, where the scene stays valid",
