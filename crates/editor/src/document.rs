@@ -35,6 +35,13 @@ impl Default for Document {
     }
 }
 
+impl Document {
+    /// Whether a pointer drag or text entry is changing the scene now.
+    pub fn in_gesture(&self) -> bool {
+        self.gesture
+    }
+}
+
 fn fresh_undoer() -> Undoer<Scene> {
     Undoer::with_settings(UndoSettings {
         max_undos: MAX_UNDOS,

@@ -301,8 +301,7 @@ impl Finish {
             }
         }
         if out.is_empty() {
-            let c = self.statistics().covariance;
-            let rms = (c[0] + c[2]).sqrt();
+            let rms = self.mean_square_slope().sqrt();
             if rms > MAX_RMS_SLOPE {
                 out.push((
                     match self {
@@ -318,6 +317,45 @@ impl Finish {
             }
         }
         out
+    }
+
+    /// The mean of |slope|² in closed form (what [`Finish::statistics`]
+    /// integrates, at no cost: validation checks it on every edit): a
+    /// cap's ∫|∇h|² over its cell, each wave's own (a sine's (ka)²/2, a
+    /// trochoid's 1 − √(1 − (ka)²), the paper's appendix), Gaussian σ².
+    pub fn mean_square_slope(&self) -> f64 {
+        match self {
+            Finish::Dimples {
+                pitch,
+                depth,
+                radius,
+                pattern,
+            } => {
+                let r = dimple_footprint(*radius, *depth).min(0.5 * pitch);
+                let big = radius * radius;
+                // 2π ∫₀^r ρ³/(R² − ρ²) dρ over the cell's area.
+                let integral = std::f64::consts::TAU
+                    * (-0.5 * r * r - 0.5 * big * (1.0 - r * r / big).max(1e-300).ln());
+                let cell = match pattern {
+                    DimplePattern::Square => pitch * pitch,
+                    DimplePattern::Hexagonal => 0.5 * 3f64.sqrt() * pitch * pitch,
+                };
+                integral / cell
+            }
+            Finish::Ripples { waves } => waves
+                .iter()
+                .map(|w| {
+                    let kh = std::f64::consts::TAU * w.amplitude / w.wavelength;
+                    match w.shape {
+                        WaveShape::Sine => 0.5 * kh * kh,
+                        WaveShape::Trochoid => 1.0 - (1.0 - kh * kh).max(0.0).sqrt(),
+                    }
+                })
+                .sum(),
+            Finish::Slopes {
+                sigma_u, sigma_v, ..
+            } => sigma_u * sigma_u + sigma_v * sigma_v,
+        }
     }
 
     /// The finish's slope distribution, from its geometry: dimples
@@ -687,6 +725,54 @@ mod tests {
             s.covariance[2]
         );
         assert!(s.covariance[0].abs() < 1e-9 * want);
+    }
+
+    #[test]
+    fn the_closed_form_mean_square_slope_is_the_statistics() {
+        let finishes = [
+            Finish::Dimples {
+                pitch: 2e-3,
+                depth: 0.15e-3,
+                radius: 3.4e-3,
+                pattern: DimplePattern::Hexagonal,
+            },
+            Finish::Dimples {
+                pitch: 3e-3,
+                depth: 0.4e-3,
+                radius: 1.5e-3,
+                pattern: DimplePattern::Square,
+            },
+            Finish::Ripples {
+                waves: vec![
+                    Ripple {
+                        amplitude: 0.02e-3,
+                        wavelength: 1e-3,
+                        direction_deg: 20.0,
+                        shape: WaveShape::Sine,
+                    },
+                    Ripple {
+                        amplitude: 0.05e-3,
+                        wavelength: 1.3e-3,
+                        direction_deg: 100.0,
+                        shape: WaveShape::Trochoid,
+                    },
+                ],
+            },
+            Finish::Slopes {
+                sigma_u: 0.1,
+                sigma_v: 0.05,
+                orientation_deg: 30.0,
+            },
+        ];
+        for f in finishes {
+            let c = f.statistics().covariance;
+            let numeric = c[0] + c[2];
+            let closed = f.mean_square_slope();
+            assert!(
+                (closed / numeric - 1.0).abs() < 0.01,
+                "{f:?}: {closed} vs {numeric}"
+            );
+        }
     }
 
     #[test]

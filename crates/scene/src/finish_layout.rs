@@ -43,6 +43,9 @@ pub struct ProfileArc {
 /// a reflector of 100 mm.
 const SAMPLES_PER_CURVE: usize = 512;
 
+/// Samples between the first pass's points of [`ProfileArc::nearest`].
+const COARSE_STRIDE: usize = 16;
+
 impl ProfileArc {
     fn of(curves: &[ProfileCurve]) -> Option<ProfileArc> {
         let mut points: Vec<DVec2> = Vec::new();
@@ -72,10 +75,25 @@ impl ProfileArc {
         *self.arc.last().unwrap_or(&0.0)
     }
 
-    /// The arc length of the profile point nearest `q`.
+    /// The arc length of the profile point nearest `q`: the nearest of
+    /// every [`COARSE_STRIDE`]th sample first, then the segments around
+    /// it (a profile never comes back within a few of its samples).
     pub fn nearest(&self, q: DVec2) -> f64 {
+        let n = self.points.len();
+        let coarse = (0..n)
+            .step_by(COARSE_STRIDE)
+            .chain(std::iter::once(n - 1))
+            .min_by(|&a, &b| {
+                (self.points[a] - q)
+                    .length_squared()
+                    .total_cmp(&(self.points[b] - q).length_squared())
+            })
+            .unwrap_or(0);
+        let lo = coarse.saturating_sub(2 * COARSE_STRIDE);
+        let hi = (coarse + 2 * COARSE_STRIDE).min(n - 1);
         let mut best = (f64::INFINITY, 0.0);
-        for (i, w) in self.points.windows(2).enumerate() {
+        for (k, w) in self.points[lo..=hi].windows(2).enumerate() {
+            let i = lo + k;
             let d = w[1] - w[0];
             let len2 = d.length_squared();
             let t = if len2 > 0.0 {
@@ -405,9 +423,28 @@ struct Rings<'a> {
     footprint: f64,
     row_pitch: f64,
     hexagonal: bool,
+    /// Each ring's (radius, angular step) from ring 0 on, where worked
+    /// out ahead (a whole part's statistics); else found per call.
+    rows: Vec<(f64, f64)>,
 }
 
 impl Rings<'_> {
+    /// Ring `j`'s radius and angular step: a whole number of dimples
+    /// as near the pitch as its circumference allows.
+    fn ring(&self, j: i64) -> (f64, f64) {
+        let s_j = (j as f64 + 0.5) * self.row_pitch;
+        let r_j = self.arc.point_at(s_j).x.abs().max(1e-9);
+        let n = (std::f64::consts::TAU * r_j / self.pitch).round().max(1.0);
+        (r_j, std::f64::consts::TAU / n)
+    }
+
+    /// The rings worked out ahead over the whole profile.
+    fn with_rows(mut self) -> Self {
+        let count = (self.arc.length() / self.row_pitch).ceil() as i64 + 2;
+        self.rows = (0..count).map(|j| self.ring(j)).collect();
+        self
+    }
+
     /// The offset (along u, around as arc length at the point's radius
     /// `r`) of the nearest dimple centre within a footprint, if any.
     fn nearest(&self, u: f64, phi: f64, r: f64) -> Option<[f64; 2]> {
@@ -419,9 +456,10 @@ impl Rings<'_> {
             if du.abs() >= self.footprint {
                 continue;
             }
-            let r_j = self.arc.point_at(s_j).x.abs().max(1e-9);
-            let n = (std::f64::consts::TAU * r_j / self.pitch).round().max(1.0);
-            let step = std::f64::consts::TAU / n;
+            let step = match usize::try_from(j).ok().and_then(|j| self.rows.get(j)) {
+                Some(&(_, step)) => step,
+                None => self.ring(j).1,
+            };
             let offset = if self.hexagonal && j.rem_euclid(2) == 1 {
                 0.5
             } else {
@@ -459,6 +497,7 @@ fn rings(
             DimplePattern::Square => pitch,
         },
         hexagonal: pattern == DimplePattern::Hexagonal,
+        rows: Vec::new(),
     }
 }
 
@@ -486,7 +525,7 @@ fn ring_dimple_height(
 const LAYOUT_SAMPLES_PER_PITCH: f64 = 48.0;
 /// At most this many samples in all (a large part is sampled more
 /// coarsely: its rings repeat).
-const LAYOUT_MAX_SAMPLES: f64 = 4.0e6;
+const LAYOUT_MAX_SAMPLES: f64 = 1.0e6;
 
 impl FinishLayout {
     /// The slope statistics of `finish` as laid out on this part: a
@@ -506,7 +545,7 @@ impl FinishLayout {
         else {
             return finish.statistics();
         };
-        let rings = rings(arc, *pitch, *depth, *radius, *pattern);
+        let rings = rings(arc, *pitch, *depth, *radius, *pattern).with_rows();
         let length = arc.length();
         let r_max = arc.points.iter().map(|p| p.x.abs()).fold(0.0, f64::max);
         let area_in_pitches = length * std::f64::consts::TAU * r_max / (pitch * pitch);
@@ -558,6 +597,27 @@ pub fn finished_mesh(
     finish: &Finish,
     max_edge: f64,
 ) -> Result<Option<TriangleMesh>, TooFine> {
+    cut_mesh(mesh, layout, finish, max_edge, true)
+}
+
+/// [`finished_mesh`] with the vertices left on the smooth surface: the
+/// finish shown by its normals alone, as a normal-mapped preview does.
+pub fn finish_shading_mesh(
+    mesh: &TriangleMesh,
+    layout: &FinishLayout,
+    finish: &Finish,
+    max_edge: f64,
+) -> Result<Option<TriangleMesh>, TooFine> {
+    cut_mesh(mesh, layout, finish, max_edge, false)
+}
+
+fn cut_mesh(
+    mesh: &TriangleMesh,
+    layout: &FinishLayout,
+    finish: &Finish,
+    max_edge: f64,
+    displace: bool,
+) -> Result<Option<TriangleMesh>, TooFine> {
     if finish.height(0.0, 0.0).is_none() {
         return Ok(None);
     }
@@ -594,7 +654,9 @@ pub fn finished_mesh(
         let at = layout.coordinates(p);
         let h = layout.height(finish, at).unwrap_or(0.0);
         let n = m.normals[i].as_dvec3().normalize_or_zero();
-        out.positions[i] = (p + n * h).as_vec3();
+        if displace {
+            out.positions[i] = (p + n * h).as_vec3();
+        }
         // The finished surface's normal, n − s_u·u − s_v·v, from the
         // finish's slope where the vertex lies.
         if let (Some(v), Some([su, sv])) = (rule.v_direction(p, n), layout.slope(finish, at)) {

@@ -203,17 +203,17 @@ impl Photon {
         // the material then scatters. What leaves into the surface is
         // lost (shadowed).
         let finish = scene.material_finish.get(material).and_then(Option::as_ref);
-        let mut tangents = None;
-        if let Some(f) = finish {
+        if let Some(f) = finish
+            && f.surface.normals.is_some()
+        {
             let t = crate::finish_trace::tangents(f, position, shading_normal);
             shading_normal = crate::finish_trace::normals_band(scene, f, &hit, shading_normal, t);
-            tangents = Some(t);
         }
         let (ng, mut ns) = facing_normals(geometric, shading_normal, dir);
-        if let (Some(f), Some(t)) = (finish, tangents)
+        if let Some(f) = finish
             && let Some(brdf) = &f.brdf
         {
-            match crate::finish_trace::facet(brdf, t, ns, dir, rng) {
+            match crate::finish_trace::facet(f, brdf, position, shading_normal, ns, dir, rng) {
                 Some(facet) => ns = facet,
                 None => return Some(Fate::Absorbed),
             }

@@ -3,7 +3,7 @@
 //! BRDF band ([`crate::finish_brdf`]). The CPU tracer's; the WGSL kernel
 //! has the BRDF band's twin.
 
-use glam::{DVec3, Vec3A};
+use glam::Vec3A;
 use lucerna_scene::finish_layout::{FinishLayout, SurfacePoint};
 
 use crate::bvh::Hit;
@@ -24,16 +24,19 @@ pub struct Tangents {
 /// facing) shading normal is `n`.
 #[inline]
 pub fn tangents(f: &TraceFinish, position: Vec3A, n: Vec3A) -> Tangents {
-    let s = &f.surface;
-    let v = s
-        .tangents
-        .v_direction(
-            DVec3::from(position.to_array().map(f64::from)),
-            DVec3::from(n.to_array().map(f64::from)),
-        )
-        .map(|v| Vec3A::new(v.x as f32, v.y as f32, v.z as f32))
-        .unwrap_or_else(|| basis(n).1);
-    let u = v.cross(n).normalize_or_zero() * s.handedness as f32;
+    // The f32 twin of `TangentRule::v_direction`.
+    let v = if f.around {
+        f.axis.cross(position - f.origin)
+    } else {
+        f.axis
+    };
+    let v = v - n * v.dot(n);
+    let v = if v.length_squared() > 1e-20 {
+        v.normalize()
+    } else {
+        basis(n).1
+    };
+    let u = v.cross(n).normalize_or_zero() * f.handedness;
     Tangents { u, v }
 }
 
@@ -82,24 +85,39 @@ pub fn normals_band(
 }
 
 /// A facet of the BRDF band visible from the photon arriving along
-/// `dir` on the side of the facing shading normal `ns`; None where none
-/// was accepted (the photon is lost).
-#[inline]
+/// `dir` on the side of the facing shading normal `ns` (the part's own
+/// normal there, or the normals band's tilt of it, `n_own` before it
+/// faced the photon); None where none was accepted (the photon is lost).
+#[inline(always)]
 pub fn facet(
+    f: &TraceFinish,
     brdf: &FinishBrdf,
-    t: Tangents,
+    position: Vec3A,
+    n_own: Vec3A,
     ns: Vec3A,
     dir: Vec3A,
     rng: &mut PhotonRng,
 ) -> Option<Vec3A> {
-    // u and v made exactly across ns (ns may be the normals band's).
-    let v = (t.v - ns * t.v.dot(ns)).normalize_or(basis(ns).1);
-    let u = v.cross(ns) * t.u.dot(v.cross(ns)).signum();
+    // v by the part's rule, made exactly across ns; u = handedness ·
+    // v × n_own, which is ± v × ns as ns faces the photon.
+    let v = if f.around {
+        f.axis.cross(position - f.origin)
+    } else {
+        f.axis
+    };
+    let v = v - ns * v.dot(ns);
+    let v = if v.length_squared() > 1e-20 {
+        v.normalize()
+    } else {
+        basis(ns).1
+    };
+    let sense = if ns.dot(n_own) >= 0.0 { 1.0 } else { -1.0 };
+    let u = v.cross(ns) * (f.handedness * sense);
     let wo = -dir;
-    let local = [wo.dot(u), wo.dot(v), wo.dot(ns)].map(f64::from);
-    if local[2] <= 0.0 {
+    let local = Vec3A::new(wo.dot(u), wo.dot(v), wo.dot(ns));
+    if local.z <= 0.0 {
         return None;
     }
-    let m = brdf.sample_facet(local, &mut || f64::from(rng.next_f32()))?;
-    Some((u * m[0] as f32 + v * m[1] as f32 + ns * m[2] as f32).normalize())
+    let m = brdf.facet(local, || rng.next_f32())?;
+    Some((u * m.x + v * m.y + ns * m.z).normalize())
 }

@@ -172,6 +172,12 @@ pub struct TraceEmitter {
 pub struct TraceFinish {
     pub surface: Arc<lucerna_scene::finish_layout::SurfaceFinish>,
     pub brdf: Option<Arc<crate::finish_brdf::FinishBrdf>>,
+    /// The surface's tangent rule in single precision: v around `axis`
+    /// through `origin` (or along `axis`), u = handedness · v × n.
+    pub around: bool,
+    pub axis: Vec3A,
+    pub origin: Vec3A,
+    pub handedness: f32,
 }
 
 #[derive(Debug, Clone)]
@@ -371,12 +377,24 @@ impl PreparedScene {
             .material_finish
             .iter()
             .map(|f| {
-                f.as_ref().map(|surface| TraceFinish {
-                    brdf: surface
-                        .brdf_statistics
-                        .as_ref()
-                        .map(|s| Arc::new(crate::finish_brdf::FinishBrdf::new(s))),
-                    surface: surface.clone(),
+                f.as_ref().map(|surface| {
+                    use lucerna_scene::finish_layout::TangentRule;
+                    let v = |d: glam::DVec3| Vec3A::new(d.x as f32, d.y as f32, d.z as f32);
+                    let (around, axis, origin) = match surface.tangents {
+                        TangentRule::Around { axis, origin } => (true, v(axis), v(origin)),
+                        TangentRule::Along { direction } => (false, v(direction), Vec3A::ZERO),
+                    };
+                    TraceFinish {
+                        brdf: surface
+                            .brdf_statistics
+                            .as_ref()
+                            .map(|s| Arc::new(crate::finish_brdf::FinishBrdf::new(s))),
+                        surface: surface.clone(),
+                        around,
+                        axis,
+                        origin,
+                        handedness: surface.handedness as f32,
+                    }
                 })
             })
             .chain(std::iter::repeat(None))

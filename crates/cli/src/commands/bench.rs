@@ -26,6 +26,12 @@ pub struct BenchArgs {
     /// Skip the GPU adapter even if there is one.
     #[arg(long)]
     pub cpu_only: bool,
+    /// Also measure each finished luminaire with its finishes cut into
+    /// the mesh as triangles of at most this edge (mm), and print the
+    /// time and memory of building each scene: the finish as BRDF against
+    /// the finish as geometry.
+    #[arg(long)]
+    pub finish_geometry_mm: Option<f64>,
 }
 
 /// `scenes`, or every example luminaire when none is given.
@@ -105,8 +111,54 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
         "M rays/s",
         "bounces"
     );
+    // Each scene, and with --finish-geometry-mm each finished one again
+    // with its finishes as triangles.
+    let mut cases: Vec<(PathBuf, Option<f64>)> = Vec::new();
     for path in &scenes {
-        let mut prepared = lucerna_simulation::Luminaire::load(path)?.prepared;
+        cases.push((path.clone(), None));
+        if let Some(mm) = args.finish_geometry_mm {
+            if !(mm.is_finite() && mm > 0.0) {
+                anyhow::bail!("--finish-geometry-mm must be a positive length, got {mm}");
+            }
+            let scene = lucerna_scene::load_scene(path)?;
+            if scene.parts.iter().any(|p| p.finish.is_some()) {
+                cases.push((path.clone(), Some(mm * 1e-3)));
+            }
+        }
+    }
+    let mut builds = Vec::new();
+    for (path, geometry_edge) in &cases {
+        let start = Instant::now();
+        let mut prepared = match geometry_edge {
+            None => lucerna_simulation::Luminaire::load(path)?.prepared,
+            Some(edge) => {
+                let scene = lucerna_scene::load_scene(path)?;
+                let dir = path.parent().unwrap_or(Path::new("."));
+                let split = lucerna_scene::FinishSplit {
+                    geometry_edge: Some(*edge),
+                    normals_from: None,
+                };
+                let t = lucerna_scene::tessellate_with(&scene, dir, split)?;
+                PreparedScene::new(&scene, &t, dir)?
+            }
+        };
+        let label = |p: &PathBuf| {
+            let stem = p
+                .file_stem()
+                .map_or(String::new(), |s| s.to_string_lossy().into_owned());
+            match geometry_edge {
+                None => stem,
+                Some(_) => format!("{stem} (finish as triangles)"),
+            }
+        };
+        builds.push((
+            label(path),
+            start.elapsed().as_secs_f64(),
+            prepared.triangle_count(),
+            // Triangles, their BVH and shading records (bytes).
+            std::mem::size_of_val(prepared.shading.as_slice())
+                + std::mem::size_of_val(prepared.bvh.triangles.as_slice()),
+        ));
         let best_traversal = prepared.bvh.traversal;
         let mut backends = vec![Backend::Cpu];
         if let Some(ctx) = &gpu {
@@ -132,8 +184,7 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
             };
             println!(
                 "{:<26} {:>9} {:>10.1} {:>10.1}  {:<34} {:>12.3} {:>12.3} {:>9.3}",
-                path.file_stem()
-                    .map_or(String::new(), |s| s.to_string_lossy().into_owned()),
+                label(path).chars().take(26).collect::<String>(),
                 prepared.triangle_count(),
                 prepared.bvh.cwbvh_build_time.as_secs_f64() * 1e3,
                 prepared.bvh.bvh2().build_time.as_secs_f64() * 1e3,
@@ -141,6 +192,19 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
                 tally.emitted as f64 / seconds / 1e6,
                 tally.rays as f64 / seconds / 1e6,
                 tally.bounces as f64 / tally.emitted as f64,
+            );
+        }
+    }
+    if args.finish_geometry_mm.is_some() {
+        println!();
+        println!(
+            "{:<44} {:>10} {:>12} {:>16}",
+            "scene built", "seconds", "triangles", "MB triangles"
+        );
+        for (name, seconds, triangles, bytes) in &builds {
+            println!(
+                "{name:<44} {seconds:>10.2} {triangles:>12} {:>16.1}",
+                *bytes as f64 / 1e6
             );
         }
     }

@@ -2,7 +2,8 @@
 //! measured in the real window. After the first preview and 1.5 s of
 //! settling, a scripted drag changes one generator parameter of the
 //! luminaire's main part every frame for SECONDS (a ramp to 92 % of its
-//! value, as a hand drags a focal length down; a trough 5 mm deeper; a
+//! value, as a hand drags a focal length down; a finished part's dimple
+//! depth, wave amplitude or slope spread; a trough 5 mm deeper; a
 //! mesh part 5 mm lower), exactly as a held
 //! DragValue does (the editor sees a pointer gesture: coarse preview, one
 //! undo step); then it is released and the benchmark waits for the first
@@ -44,6 +45,9 @@ pub enum DragTarget {
     },
     /// The part's height (a mesh has no generator parameter).
     Height { part: usize, start: f64 },
+    /// The main number of the part's finish (dimple depth, first wave's
+    /// amplitude, slope σ along).
+    Finish { part: usize, start: f64, end: f64 },
 }
 
 impl DragTarget {
@@ -62,6 +66,19 @@ impl DragTarget {
             .iter()
             .enumerate()
             .min_by_key(|(_, p)| rank(&p.shape))?;
+        if let Some(f) = &p.finish {
+            use lucerna_scene::finish::Finish;
+            let start = match f {
+                Finish::Dimples { depth, .. } => *depth,
+                Finish::Ripples { waves } => waves.first()?.amplitude,
+                Finish::Slopes { sigma_u, .. } => *sigma_u,
+            };
+            return Some(DragTarget::Finish {
+                part,
+                start,
+                end: start * RAMP_TO,
+            });
+        }
         let parameter = |name, start: f64| DragTarget::Parameter {
             part,
             name,
@@ -126,6 +143,20 @@ impl DragTarget {
                     p.transform.translate[2] = start - 0.005 * fraction;
                 }
             }
+            DragTarget::Finish { part, start, end } => {
+                use lucerna_scene::finish::Finish;
+                let value = start + (end - start) * fraction;
+                match scene.parts.get_mut(part).and_then(|p| p.finish.as_mut()) {
+                    Some(Finish::Dimples { depth, .. }) => *depth = value,
+                    Some(Finish::Ripples { waves }) => {
+                        if let Some(w) = waves.first_mut() {
+                            w.amplitude = value;
+                        }
+                    }
+                    Some(Finish::Slopes { sigma_u, .. }) => *sigma_u = value,
+                    None => {}
+                }
+            }
         }
     }
 
@@ -133,6 +164,7 @@ impl DragTarget {
         let (part, name) = match *self {
             DragTarget::Parameter { part, name, .. } => (part, name),
             DragTarget::Height { part, .. } => (part, "height (translate z)"),
+            DragTarget::Finish { part, .. } => (part, "finish (dimple depth, wave amplitude, σ)"),
         };
         let part = scene.parts.get(part).map_or("?", |p| p.name.as_str());
         format!("{part}: {name}")

@@ -73,11 +73,79 @@ pub fn material_look(m: &Material) -> ([f32; 4], u32) {
 /// The warm yellow of an emitter's surface.
 const EMITTER_COLOUR: [f32; 4] = [1.0, 0.78, 0.2, 1.0];
 
-/// Three vertices per triangle (smooth normals, flat material and surface).
-pub fn luminaire_vertices(t: &TessellatedScene) -> Vec<MeshVertex> {
+/// A finished part's preview holds at most this many triangles: a finish
+/// too fine to show within them is left to the traced light.
+const MAX_FINISH_PREVIEW_TRIANGLES: f64 = 150_000.0;
+
+/// A finished surface's triangles split to a quarter of the finish's
+/// finest feature, their normals tilted by its slopes (luminaire
+/// coordinates): the finish shown by its shading where the traced mesh
+/// does not carry it; None where it is too fine to show or has no
+/// geometry.
+fn finish_preview(
+    t: &TessellatedScene,
+    surface: &lucerna_scene::tessellate::SurfaceRange,
+) -> Option<lucerna_scene::TriangleMesh> {
+    use lucerna_scene::finish_layout::{finish_feature_size, finish_shading_mesh};
+    let first = surface.triangles.start;
+    let material = *t.triangle_material.get(first)?;
+    let f = t.material_finish.get(material as usize)?.as_ref()?;
+    let finish = f.normals.as_ref().or(f.brdf.as_ref())?;
+    let feature = finish_feature_size(finish);
+    // The surface's triangles with their shared vertices (so a split
+    // edge is split on both sides).
+    let mut part = lucerna_scene::TriangleMesh::default();
+    let mut index = std::collections::HashMap::new();
+    for tri in surface.triangles.clone() {
+        let corners = t.mesh.triangles[tri].map(|i| {
+            *index.entry(i).or_insert_with(|| {
+                part.positions.push(t.mesh.positions[i as usize]);
+                part.normals
+                    .push(t.mesh.normals.get(i as usize).copied().unwrap_or(Vec3::Z));
+                (part.positions.len() - 1) as u32
+            })
+        });
+        part.triangles.push(corners);
+    }
+    let area = part.area();
+    let edge = (0.25 * feature).max((area / (0.43 * MAX_FINISH_PREVIEW_TRIANGLES)).sqrt());
+    if !(feature > 0.0 && edge <= 0.5 * feature) {
+        return None;
+    }
+    let part_from_luminaire = f.luminaire_from_part.inverse();
+    let local = part.transformed(&part_from_luminaire);
+    let shaded = finish_shading_mesh(&local, &f.layout, finish, edge).ok()??;
+    Some(shaded.transformed(&f.luminaire_from_part))
+}
+
+/// Three vertices per triangle (smooth normals, flat material and
+/// surface); a finished part's finish shown by its normals.
+pub fn luminaire_vertices(t: &TessellatedScene, finishes: bool) -> Vec<MeshVertex> {
     let mesh = &t.mesh;
     let mut vertices = Vec::with_capacity(3 * mesh.triangles.len());
     for (s, surface) in t.surfaces.iter().enumerate() {
+        if finishes
+            && surface.kind == SurfaceKind::Part
+            && let Some(preview) = finish_preview(t, surface)
+        {
+            let (colour, look) = t
+                .triangle_material
+                .get(surface.triangles.start)
+                .and_then(|&m| t.materials.get(m as usize))
+                .map_or(([0.5; 4], LOOK_DIFFUSE), |(_, m)| material_look(m));
+            for tri in &preview.triangles {
+                for &i in tri {
+                    vertices.push(MeshVertex {
+                        position: preview.positions[i as usize].to_array(),
+                        normal: preview.normals[i as usize].to_array(),
+                        colour,
+                        look,
+                        surface: s as u32,
+                    });
+                }
+            }
+            continue;
+        }
         for tri in surface.triangles.clone() {
             let Some(corners) = mesh.triangles.get(tri) else {
                 continue;

@@ -85,7 +85,7 @@ pub struct Viewport {
     /// Width over height of the view as last drawn.
     aspect: f32,
     framed: Option<Arc<Luminaire>>,
-    mesh: Option<(Arc<Luminaire>, Arc<Vec<MeshVertex>>, Bounds)>,
+    mesh: Option<(Arc<Luminaire>, bool, Arc<Vec<MeshVertex>>, Bounds)>,
     cube_texels: Option<(Arc<Snapshot>, CubeShown, CubeTexels, f64)>,
     solid: Option<BuiltSolid>,
     /// Keyed by the luminaire and the seed and bounce limit they were
@@ -122,12 +122,21 @@ impl Viewport {
         }
     }
 
-    /// The luminaire's vertices and bounds, rebuilt when it changes.
-    fn mesh_of(&mut self, luminaire: &Arc<Luminaire>) -> (Arc<Vec<MeshVertex>>, Bounds) {
+    /// The luminaire's vertices and bounds, rebuilt when it changes; a
+    /// finish is shown by its normals except while a drag changes the
+    /// scene (its preview takes a few tenths of a second: the frame after
+    /// the release has it).
+    fn mesh_of(
+        &mut self,
+        luminaire: &Arc<Luminaire>,
+        finishes: bool,
+    ) -> (Arc<Vec<MeshVertex>>, Bounds) {
         match &self.mesh {
-            Some((l, mesh, bounds)) if Arc::ptr_eq(l, luminaire) => (mesh.clone(), *bounds),
+            Some((l, shown, mesh, bounds)) if Arc::ptr_eq(l, luminaire) && *shown == finishes => {
+                (mesh.clone(), *bounds)
+            }
             _ => {
-                let mut vertices = geometry::luminaire_vertices(&luminaire.tessellated);
+                let mut vertices = geometry::luminaire_vertices(&luminaire.tessellated, finishes);
                 let mut bounds = Bounds::of_points(&luminaire.tessellated.mesh.positions);
                 // A ray-file emitter has no surface: its rays' starts show
                 // where it is, marks 0.4 % of the view across.
@@ -141,7 +150,7 @@ impl Viewport {
                     vertices.extend(marks);
                 }
                 let mesh = Arc::new(vertices);
-                self.mesh = Some((luminaire.clone(), mesh.clone(), bounds));
+                self.mesh = Some((luminaire.clone(), finishes, mesh.clone(), bounds));
                 (mesh, bounds)
             }
         }
@@ -353,7 +362,8 @@ fn linear_rgb(c: Color32) -> [f32; 3] {
 pub fn viewport_ui(ui: &mut Ui, state: &mut EditorState, vp: &mut Viewport) {
     let snapshot = state.run.snapshot.clone();
     let luminaire = snapshot.as_ref().map(|s| s.luminaire.clone());
-    let mesh = luminaire.as_ref().map(|l| vp.mesh_of(l));
+    let finishes = !(state.is_coarse_preview() || state.doc.in_gesture());
+    let mesh = luminaire.as_ref().map(|l| vp.mesh_of(l, finishes));
     toolbar_ui(ui, vp, mesh.as_ref().map(|m| m.1));
     let size = ui.available_size().max(Vec2::splat(32.0));
     let (rect, response) = ui.allocate_exact_size(size, Sense::click_and_drag());
