@@ -491,10 +491,18 @@ pub fn set(scene: &mut Scene, place: &Place, value: f64) -> Option<()> {
             *shape = table.try_into().ok()?;
         }
         Place::Finish { part, field } => {
+            use lucerna_scene::finish::Finish;
             let finish = scene.parts.get_mut(*part)?.finish.as_mut()?;
             let mut table = toml::Table::try_from(&*finish).ok()?;
             *finish_slot(&mut table, field)? = toml::Value::Float(value);
-            *finish = table.try_into().ok()?;
+            let mut changed: Finish = table.try_into().ok()?;
+            // A height map's pixels are read, not written: kept.
+            if let (Finish::HeightMap { heights: read, .. }, Finish::HeightMap { heights, .. }) =
+                (&*finish, &mut changed)
+            {
+                heights.clone_from(read);
+            }
+            *finish = changed;
         }
         Place::ProfilePoint { part, point, coord } => {
             let points = profile_mut(&mut scene.parts.get_mut(*part)?.shape)?;

@@ -43,6 +43,7 @@ pub fn finish_ui(
         Some(Finish::Dimples { .. }) => "dimples",
         Some(Finish::Ripples { .. }) => "ripples",
         Some(Finish::Slopes { .. }) => "slopes",
+        Some(Finish::HeightMap { .. }) => "height map",
     };
     let mut chosen = kind;
     labelled(ui, "Finish", |ui| {
@@ -147,6 +148,35 @@ pub fn finish_ui(
                 tick(ui, "sigma_v", "Slope σ across");
             });
             degrees(ui, "Orientation", orientation_deg);
+        }
+        Finish::HeightMap {
+            path,
+            pixel_size,
+            height_step,
+            ..
+        } => {
+            // The map is read with the scene file; its scales are edited.
+            labelled(ui, "Height map", |ui| ui.label(path.as_str()));
+            ui.horizontal(|ui| {
+                fine_mm(ui, "Pixel size", pixel_size);
+                tick(ui, "pixel_size", "Pixel size");
+            });
+            ui.horizontal(|ui| {
+                let mut um = *height_step * 1e6;
+                let r = labelled(ui, "Height per grey level", |ui| {
+                    ui.add(
+                        DragValue::new(&mut um)
+                            .speed(0.001)
+                            .range(0.0..=1000.0)
+                            .suffix(" µm")
+                            .max_decimals(5),
+                    )
+                });
+                if r.changed() {
+                    *height_step = um * 1e-6;
+                }
+                tick(ui, "height_step", "Height per grey level");
+            });
         }
     }
     summary_ui(ui, f);

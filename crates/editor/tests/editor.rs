@@ -800,3 +800,49 @@ fn a_tolerance_analysis_in_the_pane_gives_the_command_lines_samples() {
     command(&mut h, lucerna_editor::Command::Undo);
     assert_eq!(h.state().state.scene(), Some(&before));
 }
+
+#[test]
+fn a_finish_is_set_in_a_toolmakers_numbers_and_the_light_follows() {
+    use egui::accesskit::Role;
+    use lucerna_scene::finish::Finish;
+    let mut h = editor_at(Some(example()), 64);
+    let smooth = wait_for(&mut h, "the first run", finished(0));
+    select_reflector(&mut h);
+    h.get_by_role_and_label(Role::ComboBox, "Finish").click();
+    h.step();
+    h.step();
+    h.get_by_label("dimples").click();
+    h.step();
+    h.step();
+    let depth = |h: &Harness<'_, EditorApp>| match &h.state().state.scene().unwrap().parts[0].finish
+    {
+        Some(Finish::Dimples { depth, .. }) => *depth,
+        other => panic!("expected dimples, got {other:?}"),
+    };
+    // A toolmaker's default: 0.15 mm deep on 2 mm.
+    assert!((depth(&h) - 0.15e-3).abs() < 1e-12, "{}", depth(&h));
+    let hammered = wait_for(&mut h, "the hammered run", finished(1));
+    // The dimples spread nine tenths of the light out of the beam: the
+    // peak falls, the flux stays (a mirror's 0.9 either way).
+    assert!(
+        hammered.figures.peak_cd < 0.5 * smooth.figures.peak_cd,
+        "{} vs {}",
+        hammered.figures.peak_cd,
+        smooth.figures.peak_cd
+    );
+    // Shallower dimples leave more land: the peak comes back part way.
+    h.get_by_label("Dimple depth").set_value_accesskit(0.07);
+    h.step();
+    h.step();
+    assert!((depth(&h) - 0.07e-3).abs() < 1e-9, "{}", depth(&h));
+    let shallow = wait_for(&mut h, "the shallower run", finished(2));
+    assert!(shallow.figures.peak_cd > 1.5 * hammered.figures.peak_cd);
+    // A depth the punch cannot make on this pitch is refused, naming
+    // the field, and the last valid run goes on.
+    h.get_by_label("Dimple depth").set_value_accesskit(0.5);
+    h.step();
+    h.step();
+    let problems = h.state().state.problems().join("\n");
+    assert!(problems.contains("finish.pitch"), "{problems}");
+    assert_eq!(h.state().state.simulation().unwrap().generation(), 2);
+}

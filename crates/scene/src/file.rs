@@ -189,10 +189,14 @@ pub fn parse_scene(text: &str, path: &Path) -> Result<Scene, LoadSceneError> {
         }
     })?;
     let unread = ray_files_own_flux(&mut scene, path);
+    let maps = read_height_maps(&mut scene, path);
     let mut found = validation(&scene);
     for p in &mut found.problems {
         if let Some((_, why)) = unread.iter().find(|(at, _)| *at == p.field) {
             p.message = format!("not given, and the ray file cannot give its own: {why}");
+        }
+        if let Some((_, why)) = maps.iter().find(|(at, _)| *at == p.field) {
+            p.message = format!("the height map cannot be read: {why}");
         }
     }
     if !found.problems.is_empty() {
@@ -212,6 +216,34 @@ pub fn parse_scene(text: &str, path: &Path) -> Result<Scene, LoadSceneError> {
         });
     }
     Ok(scene)
+}
+
+/// Each height-map finish read from beside `path` into the finish;
+/// those that cannot be, by field (`part[i].finish.path`), with why.
+fn read_height_maps(scene: &mut Scene, path: &Path) -> Vec<(FieldPath, String)> {
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let mut unread = Vec::new();
+    for (i, p) in scene.parts.iter_mut().enumerate() {
+        if let Some(crate::finish::Finish::HeightMap {
+            path: file,
+            heights,
+            ..
+        }) = &mut p.finish
+        {
+            match crate::finish::HeightGrid::read(&dir.join(&*file)) {
+                Ok(grid) => *heights = Some(std::sync::Arc::new(grid)),
+                Err(why) => unread.push((
+                    FieldPath::default()
+                        .key("part")
+                        .index(i)
+                        .key("finish")
+                        .key("path"),
+                    why,
+                )),
+            }
+        }
+    }
+    unread
 }
 
 /// Each ray-file emitter that states no `flux_lm` gets its file's own

@@ -40,6 +40,70 @@ pub enum Finish {
         #[serde(default)]
         orientation_deg: f64,
     },
+    /// A measured surface: a greyscale PNG height map (8 or 16 bits, path
+    /// relative to the scene file) of square pixels `pixel_size` (m)
+    /// across, each grey level `height_step` (m) of height, u along its
+    /// rows. It repeats over the part; its slopes by central differences.
+    HeightMap {
+        path: String,
+        pixel_size: f64,
+        height_step: f64,
+        /// The map as read beside the scene file ([`HeightGrid::read`]).
+        #[serde(skip)]
+        heights: Option<std::sync::Arc<HeightGrid>>,
+    },
+}
+
+/// A height map's grey levels, row by row (u fastest).
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeightGrid {
+    pub width: usize,
+    pub height: usize,
+    pub levels: Vec<f32>,
+}
+
+/// The largest height map read (pixels): a 4096² profilometer scan.
+pub const MAX_HEIGHT_MAP_PIXELS: usize = 4096 * 4096;
+
+impl HeightGrid {
+    /// Reads a greyscale PNG (8 or 16 bits; a colour image's luma), at
+    /// least 3 × 3 pixels.
+    pub fn read(path: &std::path::Path) -> Result<HeightGrid, String> {
+        let bytes = crate::file::read_limited(path, 256 << 20).map_err(|e| e.to_string())?;
+        let image = image::load_from_memory_with_format(&bytes, image::ImageFormat::Png)
+            .map_err(|e| format!("{} is not a PNG height map: {e}", path.display()))?;
+        let (width, height) = (image.width() as usize, image.height() as usize);
+        if width < 3 || height < 3 {
+            return Err(format!(
+                "{} is {width} × {height} pixels: a height map needs at least 3 × 3",
+                path.display()
+            ));
+        }
+        if width.saturating_mul(height) > MAX_HEIGHT_MAP_PIXELS {
+            return Err(format!(
+                "{} is {width} × {height} pixels, more than {MAX_HEIGHT_MAP_PIXELS}",
+                path.display()
+            ));
+        }
+        let levels = image
+            .into_luma16()
+            .into_raw()
+            .into_iter()
+            .map(f32::from)
+            .collect();
+        Ok(HeightGrid {
+            width,
+            height,
+            levels,
+        })
+    }
+
+    /// The level at pixel (i, j), the map repeating.
+    fn at(&self, i: isize, j: isize) -> f64 {
+        let i = i.rem_euclid(self.width as isize) as usize;
+        let j = j.rem_euclid(self.height as isize) as usize;
+        f64::from(self.levels[j * self.width + i])
+    }
 }
 
 /// Where the dimples' centres lie.
@@ -299,6 +363,20 @@ impl Finish {
                     ));
                 }
             }
+            Finish::HeightMap { .. } => {}
+        }
+        if let Finish::HeightMap {
+            pixel_size,
+            height_step,
+            heights,
+            ..
+        } = self
+        {
+            positive(&mut out, "pixel_size", *pixel_size);
+            positive(&mut out, "height_step", *height_step);
+            if heights.is_none() {
+                out.push(("path".to_owned(), "the height map is not read".to_owned()));
+            }
         }
         if out.is_empty() {
             let rms = self.mean_square_slope().sqrt();
@@ -308,6 +386,7 @@ impl Finish {
                         Finish::Dimples { .. } => "depth",
                         Finish::Ripples { .. } => "waves",
                         Finish::Slopes { .. } => "sigma_u",
+                        Finish::HeightMap { .. } => "height_step",
                     }
                     .to_owned(),
                     format!(
@@ -355,6 +434,37 @@ impl Finish {
             Finish::Slopes {
                 sigma_u, sigma_v, ..
             } => sigma_u * sigma_u + sigma_v * sigma_v,
+            Finish::HeightMap { .. } => {
+                let (mut sum, mut n) = (0.0, 0usize);
+                self.for_each_map_slope(|s| {
+                    sum += s[0] * s[0] + s[1] * s[1];
+                    n += 1;
+                });
+                if n > 0 { sum / n as f64 } else { 0.0 }
+            }
+        }
+    }
+
+    /// Each pixel's slope of a height map (central differences, the map
+    /// repeating); nothing for any other finish or an unread map.
+    fn for_each_map_slope(&self, mut each: impl FnMut([f64; 2])) {
+        let Finish::HeightMap {
+            pixel_size,
+            height_step,
+            heights: Some(grid),
+            ..
+        } = self
+        else {
+            return;
+        };
+        let k = height_step / (2.0 * pixel_size);
+        for j in 0..grid.height as isize {
+            for i in 0..grid.width as isize {
+                each([
+                    k * (grid.at(i + 1, j) - grid.at(i - 1, j)),
+                    k * (grid.at(i, j + 1) - grid.at(i, j - 1)),
+                ]);
+            }
         }
     }
 
@@ -375,6 +485,13 @@ impl Finish {
                 sigma_v,
                 orientation_deg,
             } => gaussian_statistics(*sigma_u, *sigma_v, orientation_deg.to_radians()),
+            Finish::HeightMap { .. } => {
+                let mut steepest: f64 = 0.0;
+                self.for_each_map_slope(|s| steepest = steepest.max(s[0].abs()).max(s[1].abs()));
+                let mut slopes = Vec::new();
+                self.for_each_map_slope(|s| slopes.push((s, 1.0)));
+                statistics_of_samples(steepest.max(1e-9) * 1.0001, slopes)
+            }
         }
     }
 }
@@ -424,6 +541,16 @@ impl Finish {
                 orientation_deg,
             } => format!(
                 "measured slopes: rms {sigma_u:.4} along, {sigma_v:.4} across, turned {orientation_deg}°"
+            ),
+            Finish::HeightMap {
+                path,
+                pixel_size,
+                height_step,
+                ..
+            } => format!(
+                "measured height map {path}: pixels {}, {} per grey level",
+                mm(*pixel_size),
+                format_args!("{:.6} mm", height_step * 1e3)
             ),
         }
     }
@@ -477,6 +604,24 @@ impl Finish {
                     .sum(),
             ),
             Finish::Slopes { .. } => None,
+            Finish::HeightMap {
+                pixel_size,
+                height_step,
+                heights,
+                ..
+            } => {
+                // Bilinear between pixel centres, the map repeating.
+                let grid = heights.as_ref()?;
+                let (x, y) = (u / pixel_size, v / pixel_size);
+                let (i, j) = (x.floor(), y.floor());
+                let (fx, fy) = (x - i, y - j);
+                let (i, j) = (i as isize, j as isize);
+                let level = grid.at(i, j) * (1.0 - fx) * (1.0 - fy)
+                    + grid.at(i + 1, j) * fx * (1.0 - fy)
+                    + grid.at(i, j + 1) * (1.0 - fx) * fy
+                    + grid.at(i + 1, j + 1) * fx * fy;
+                Some(level * height_step)
+            }
         }
     }
 }
@@ -931,5 +1076,53 @@ mod tests {
                 flat as f64 / n
             );
         }
+    }
+
+    #[test]
+    fn a_height_maps_slopes_are_those_of_the_surface_it_samples() {
+        // A 16-bit map of a sine along its rows, 64 pixels a wavelength:
+        // its slopes are the sine's (the central difference's
+        // sin(kΔ)/(kΔ) is 0.998 here), and it is the height it says.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("sine.png");
+        let (n, wavelength_px) = (128u32, 64.0);
+        let map = image::ImageBuffer::from_fn(n, n / 2, |x, _| {
+            let phase = std::f64::consts::TAU * f64::from(x) / wavelength_px;
+            image::Luma([(30_000.0 + 20_000.0 * phase.sin()).round() as u16])
+        });
+        map.save(&path).unwrap();
+        let grid = HeightGrid::read(&path).unwrap();
+        assert_eq!((grid.width, grid.height), (128, 64));
+        let (pixel, step) = (10e-6, 1e-9);
+        let f = Finish::HeightMap {
+            path: "sine.png".into(),
+            pixel_size: pixel,
+            height_step: step,
+            heights: Some(std::sync::Arc::new(grid)),
+        };
+        assert!(f.problems().is_empty(), "{:?}", f.problems());
+        let amplitude = 20_000.0 * step;
+        let k = std::f64::consts::TAU / (wavelength_px * pixel);
+        let discrete = ((k * pixel).sin() / (k * pixel)).powi(2);
+        let want = 0.5 * (k * amplitude).powi(2) * discrete;
+        let s = f.statistics();
+        assert!(
+            (s.covariance[0] / want - 1.0).abs() < 0.01,
+            "{:?} vs {want}",
+            s.covariance
+        );
+        assert!(s.covariance[2] < 1e-6 * want);
+        assert!((f.mean_square_slope() / want - 1.0).abs() < 0.01);
+        // Heights in metres at pixel centres; between them, bilinear.
+        let h = f.height(16.0 * pixel, 0.0).unwrap();
+        assert!((h - 50_000.0 * step).abs() < 0.5 * step, "{h}");
+        // An unreadable file says why.
+        std::fs::write(dir.path().join("bad.png"), b"not a png").unwrap();
+        let e = HeightGrid::read(&dir.path().join("bad.png")).unwrap_err();
+        assert!(e.contains("not a PNG height map"), "{e}");
+        let tiny = image::ImageBuffer::from_fn(2, 2, |_, _| image::Luma([0u16]));
+        tiny.save(dir.path().join("tiny.png")).unwrap();
+        let e = HeightGrid::read(&dir.path().join("tiny.png")).unwrap_err();
+        assert!(e.contains("at least 3 × 3"), "{e}");
     }
 }

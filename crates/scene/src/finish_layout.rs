@@ -196,7 +196,7 @@ impl FinishLayout {
                 // of it (the pattern's seam at φ = ±π).
                 finish.height(at.u, r * at.v)
             }
-            Finish::Slopes { .. } => None,
+            Finish::Slopes { .. } | Finish::HeightMap { .. } => finish.height(at.u, r * at.v),
         }
     }
 
@@ -235,6 +235,9 @@ pub fn finish_feature_size(finish: &Finish) -> f64 {
             .map(|w| w.wavelength)
             .fold(f64::INFINITY, f64::min),
         Finish::Slopes { .. } => 0.0,
+        // A measured map's finest feature is its pixel: exported as
+        // geometry at a pixel per edge.
+        Finish::HeightMap { pixel_size, .. } => 16.0 * pixel_size,
     }
 }
 
@@ -294,7 +297,9 @@ pub fn split_by_scale(finish: &Finish, edge: f64, normals_from: Option<f64>) -> 
                 }
             }
         }
-        Finish::Slopes { .. } => put(Band::Brdf, finish.clone()),
+        // Measured finishes hold every scale: their whole spectrum in the
+        // BRDF (cut into the mesh only when asked, `geometry_edge`).
+        Finish::Slopes { .. } | Finish::HeightMap { .. } => put(Band::Brdf, finish.clone()),
     }
     out
 }

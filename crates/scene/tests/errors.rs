@@ -235,3 +235,92 @@ fn obj_with_bad_index_is_reported_not_panicking() {
     let r = scene_with_obj(dir.path(), "v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nf 1 2 9\n");
     assert!(r.is_err(), "{r:?}");
 }
+
+#[test]
+fn an_impossible_finish_names_its_field_and_the_limit() {
+    let with = |finish: &str| {
+        GOOD.replace(
+            "aperture_diameter = 0.08 }",
+            &format!("aperture_diameter = 0.08 }}\nfinish = {finish}"),
+        )
+    };
+    let cases = [
+        (
+            r#"{ type = "dimples", pitch = 0.001, depth = 0.00015, radius = 0.0034 }"#,
+            "part[0].finish.pitch",
+            "the pitch must be at least",
+        ),
+        (
+            r#"{ type = "dimples", pitch = 0.002, depth = 0.004, radius = 0.0034 }"#,
+            "part[0].finish.depth",
+            "at most as deep as its sphere's radius",
+        ),
+        (
+            r#"{ type = "ripples", waves = [{ amplitude = -0.00001, wavelength = 0.001 }] }"#,
+            "part[0].finish.waves[0].amplitude",
+            "positive length",
+        ),
+        (
+            r#"{ type = "ripples", waves = [{ amplitude = 0.00001, wavelength = nan }] }"#,
+            "part[0].finish.waves[0].wavelength",
+            "NaN",
+        ),
+        (
+            r#"{ type = "slopes", sigma_u = 1.2, sigma_v = 0.5 }"#,
+            "part[0].finish.sigma_u",
+            "above 1: its facets would face away",
+        ),
+    ];
+    for (finish, field, why) in cases {
+        let problems = invalid(&with(finish));
+        assert!(
+            problems
+                .iter()
+                .any(|p| p.field == field && p.message.contains(why) && p.line == Some(17)),
+            "{finish}: {problems:?}"
+        );
+    }
+    // A finish on a lens is refused; a sound one loads.
+    let lens = with(r#"{ type = "slopes", sigma_u = 0.1, sigma_v = 0.1 }"#).replace(
+        "type = \"mirror\"\nreflectance = 0.9",
+        "type = \"dielectric\"\nior = 1.5",
+    );
+    let problems = invalid(&lens);
+    assert!(
+        problems
+            .iter()
+            .any(|p| p.field == "part[0].finish" && p.message.contains("dielectric")),
+        "{problems:?}"
+    );
+    parse(&with(
+        r#"{ type = "dimples", pitch = 0.002, depth = 0.00015, radius = 0.0034 }"#,
+    ))
+    .expect("a hammered reflector");
+}
+
+#[test]
+fn a_height_map_that_cannot_be_read_or_has_no_pixel_size_is_refused() {
+    let with = |finish: &str| {
+        GOOD.replace(
+            "aperture_diameter = 0.08 }",
+            &format!("aperture_diameter = 0.08 }}\nfinish = {finish}"),
+        )
+    };
+    let problems = invalid(&with(
+        r#"{ type = "height_map", path = "no_such_scan.png", pixel_size = 1e-5, height_step = 1e-9 }"#,
+    ));
+    assert!(
+        problems.iter().any(|p| p.field == "part[0].finish.path"
+            && p.message.contains("the height map cannot be read")),
+        "{problems:?}"
+    );
+    match parse(&with(
+        r#"{ type = "height_map", path = "scan.png", height_step = 1e-9 }"#,
+    )) {
+        Err(LoadSceneError::Syntax { message, line, .. }) => {
+            assert!(message.contains("pixel_size"), "{message}");
+            assert_eq!(line, 17);
+        }
+        other => panic!("{other:?}"),
+    }
+}

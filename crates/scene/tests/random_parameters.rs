@@ -136,8 +136,8 @@ proptest! {
         let scene_like = lucerna_scene::Scene {
             format_version: 1, name: "p".into(), description: String::new(), manufacturer: String::new(),
             materials: [("m".to_owned(), lucerna_scene::Material::Absorber)].into(),
-            emitters: vec![lucerna_scene::Emitter { name: "e".into(), shape: lucerna_scene::EmitterShape::Disk { radius: 0.001 }, flux_lm: 1.0, emission: lucerna_scene::Emission::Lambertian, material: None, enabled: true, transform: Default::default(), finish: None }],
-            parts: vec![lucerna_scene::Part { name: "p".into(), shape: shape.clone(), material: "m".into(), enabled: true, transform: Default::default() }],
+            emitters: vec![lucerna_scene::Emitter { name: "e".into(), shape: lucerna_scene::EmitterShape::Disk { radius: 0.001 }, flux_lm: 1.0, emission: lucerna_scene::Emission::Lambertian, material: None, enabled: true, transform: Default::default() }],
+            parts: vec![lucerna_scene::Part { name: "p".into(), shape: shape.clone(), material: "m".into(), enabled: true, transform: Default::default(), finish: None }],
             opening: None,
             export: Default::default(),
         };

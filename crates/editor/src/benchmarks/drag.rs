@@ -46,7 +46,7 @@ pub enum DragTarget {
     /// The part's height (a mesh has no generator parameter).
     Height { part: usize, start: f64 },
     /// The main number of the part's finish (dimple depth, first wave's
-    /// amplitude, slope σ along).
+    /// amplitude, slope σ along, a height map's height per level).
     Finish { part: usize, start: f64, end: f64 },
 }
 
@@ -72,6 +72,7 @@ impl DragTarget {
                 Finish::Dimples { depth, .. } => *depth,
                 Finish::Ripples { waves } => waves.first()?.amplitude,
                 Finish::Slopes { sigma_u, .. } => *sigma_u,
+                Finish::HeightMap { height_step, .. } => *height_step,
             };
             return Some(DragTarget::Finish {
                 part,
@@ -154,6 +155,7 @@ impl DragTarget {
                         }
                     }
                     Some(Finish::Slopes { sigma_u, .. }) => *sigma_u = value,
+                    Some(Finish::HeightMap { height_step, .. }) => *height_step = value,
                     None => {}
                 }
             }

@@ -85,7 +85,7 @@ pub struct Viewport {
     /// Width over height of the view as last drawn.
     aspect: f32,
     framed: Option<Arc<Luminaire>>,
-    mesh: Option<(Arc<Luminaire>, bool, Arc<Vec<MeshVertex>>, Bounds)>,
+    mesh: Option<ShownMesh>,
     cube_texels: Option<(Arc<Snapshot>, CubeShown, CubeTexels, f64)>,
     solid: Option<BuiltSolid>,
     /// Keyed by the luminaire and the seed and bounce limit they were
@@ -112,6 +112,10 @@ struct LinesKey {
     centre: Vec3,
     reach: f32,
 }
+
+/// The luminaire a mesh was built of, whether it shows finishes, the
+/// vertices and their bounds.
+type ShownMesh = (Arc<Luminaire>, bool, Arc<Vec<MeshVertex>>, Bounds);
 
 impl Viewport {
     pub fn new(target: Option<GpuTarget>) -> Self {
