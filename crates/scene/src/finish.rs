@@ -245,7 +245,7 @@ impl Accumulator {
 
     fn add(&mut self, s: [f64; 2], w: f64) {
         self.weight += w;
-        if s[0].hypot(s[1]) <= FLAT {
+        if s[0] * s[0] + s[1] * s[1] <= FLAT * FLAT {
             self.flat += w;
             return;
         }

@@ -470,15 +470,18 @@ impl Rings<'_> {
             } else {
                 0.0
             };
+            // The nearest centre of the ring by angle (wrapped once),
+            // and its two neighbours.
             let k = (phi / step - offset).round();
-            for kk in [k - 1.0, k, k + 1.0] {
-                let centre = (kk + offset) * step;
-                let dphi = (phi - centre + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
-                    - std::f64::consts::PI;
+            let near = (phi - (k + offset) * step + std::f64::consts::PI)
+                .rem_euclid(std::f64::consts::TAU)
+                - std::f64::consts::PI;
+            let reach2 = self.footprint * self.footprint;
+            for dphi in [near - step, near, near + step] {
                 let d = [du, r * dphi];
-                let rho = d[0].hypot(d[1]);
-                if rho < self.footprint && best.is_none_or(|b| rho < b.0) {
-                    best = Some((rho, d));
+                let rho2 = d[0] * d[0] + d[1] * d[1];
+                if rho2 < reach2 && best.is_none_or(|b| rho2 < b.0) {
+                    best = Some((rho2, d));
                 }
             }
         }
@@ -530,7 +533,7 @@ fn ring_dimple_height(
 const LAYOUT_SAMPLES_PER_PITCH: f64 = 48.0;
 /// At most this many samples in all (a large part is sampled more
 /// coarsely: its rings repeat).
-const LAYOUT_MAX_SAMPLES: f64 = 1.0e6;
+const LAYOUT_MAX_SAMPLES: f64 = 6.0e5;
 
 impl FinishLayout {
     /// The slope statistics of `finish` as laid out on this part: a
