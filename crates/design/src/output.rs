@@ -312,3 +312,39 @@ pub fn write(files: &[(PathBuf, Vec<u8>)]) -> Result<(), DesignError> {
         source,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)] // reason: tests may panic
+    use super::*;
+    use crate::variables::{parse, set, value_at};
+
+    #[test]
+    fn a_finishs_numbers_are_variables_within_what_can_be_made_and_written_in_place() {
+        let text = std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../assets/luminaires/hammered_spot.toml"
+        ))
+        .unwrap();
+        let start = parse_scene(&text, Path::new("hammered_spot.toml")).unwrap();
+        let vars = parse(&start, &["reflector.finish.depth".to_owned()], false).unwrap();
+        let depth = &vars[0];
+        assert!((depth.start - 0.15e-3).abs() < 1e-12);
+        // Shallower down to a quarter; no deeper than where the 3.4 mm
+        // punch's dimples touch on the 2 mm pitch (0.1501 mm).
+        assert!((depth.lower - 0.0375e-3).abs() < 1e-9, "{}", depth.lower);
+        assert!(depth.upper >= 0.15e-3 && depth.upper < 0.1502e-3, "{}", depth.upper);
+        let mut designed = start.clone();
+        set(&mut designed, &depth.place, 0.1e-3).unwrap();
+        assert_eq!(value_at(&designed, &depth.place), Some(0.1e-3));
+        // Written into the start's own text, its comments kept.
+        let edited = edit_in_place(&text, &start, &designed, &vars).unwrap();
+        assert!(edited.contains("depth = 0.0001,"), "{edited}");
+        assert!(edited.contains("# The parabolic spot (f = 25 mm, 100 mm aperture) hammered"));
+        assert_eq!(parse_scene(&edited, Path::new("x.toml")).unwrap(), designed);
+        // What a finish does not have is named with what it has.
+        let e = parse(&start, &["reflector.finish.amplitude".to_owned()], false).unwrap_err();
+        let why = format!("{e}");
+        assert!(why.contains("no number 'amplitude'") && why.contains("depth"), "{why}");
+    }
+}
