@@ -333,7 +333,11 @@ mod tests {
         // Shallower down to a quarter; no deeper than where the 3.4 mm
         // punch's dimples touch on the 2 mm pitch (0.1501 mm).
         assert!((depth.lower - 0.0375e-3).abs() < 1e-9, "{}", depth.lower);
-        assert!(depth.upper >= 0.15e-3 && depth.upper < 0.1502e-3, "{}", depth.upper);
+        assert!(
+            depth.upper >= 0.15e-3 && depth.upper < 0.1502e-3,
+            "{}",
+            depth.upper
+        );
         let mut designed = start.clone();
         set(&mut designed, &depth.place, 0.1e-3).unwrap();
         assert_eq!(value_at(&designed, &depth.place), Some(0.1e-3));
@@ -345,6 +349,9 @@ mod tests {
         // What a finish does not have is named with what it has.
         let e = parse(&start, &["reflector.finish.amplitude".to_owned()], false).unwrap_err();
         let why = format!("{e}");
-        assert!(why.contains("no number 'amplitude'") && why.contains("depth"), "{why}");
+        assert!(
+            why.contains("no number 'amplitude'") && why.contains("depth"),
+            "{why}"
+        );
     }
 }

@@ -50,25 +50,12 @@ impl FinishBrdf {
         }
         // Vose's construction over the table's cells and, last, the flat
         // land (one draw picks either).
-        let weights: Vec<f64> = t
-            .probability
-            .iter()
-            .map(|p| p / sum.max(1e-300) * (1.0 - stats.flat_share))
-            .chain(std::iter::once(stats.flat_share))
-            .collect();
-        let n = weights.len();
-        let mut scaled: Vec<f64> = weights.iter().map(|p| p * n as f64).collect();
-        let mut alias: Vec<(f32, u32)> = (0..n as u32).map(|i| (1.0, i)).collect();
-        let (mut small, mut large): (Vec<u32>, Vec<u32>) =
-            (0..n as u32).partition(|&i| scaled[i as usize] < 1.0);
-        while let (Some(s), Some(&l)) = (small.pop(), large.last()) {
-            alias[s as usize] = (scaled[s as usize] as f32, l);
-            scaled[l as usize] -= 1.0 - scaled[s as usize];
-            if scaled[l as usize] < 1.0 {
-                large.pop();
-                small.push(l);
-            }
-        }
+        let alias = crate::sampling::alias_table(
+            t.probability
+                .iter()
+                .map(|p| p / sum.max(1e-300) * (1.0 - stats.flat_share))
+                .chain(std::iter::once(stats.flat_share)),
+        );
         let w = 2.0 * t.range / t.bins as f64;
         let steepest = t
             .probability

@@ -223,6 +223,28 @@ pub struct RaySampler {
     kernel: std::sync::OnceLock<Option<crate::ray_kernel::RayKernel>>,
 }
 
+/// Walker's alias table of `probabilities` (summing to 1) by Vose's
+/// construction: per entry, the probability of keeping it and the entry
+/// taken otherwise, so one uniform entry and one uniform keep test draw
+/// an entry in proportion in constant time.
+pub fn alias_table(probabilities: impl IntoIterator<Item = f64>) -> Vec<(f32, u32)> {
+    let mut scaled: Vec<f64> = probabilities.into_iter().collect();
+    let n = scaled.len();
+    scaled.iter_mut().for_each(|p| *p *= n as f64);
+    let mut alias: Vec<(f32, u32)> = (0..n as u32).map(|i| (1.0, i)).collect();
+    let (mut small, mut large): (Vec<u32>, Vec<u32>) =
+        (0..n as u32).partition(|&i| scaled[i as usize] < 1.0);
+    while let (Some(s), Some(&l)) = (small.pop(), large.last()) {
+        alias[s as usize] = (scaled[s as usize] as f32, l);
+        scaled[l as usize] -= 1.0 - scaled[s as usize];
+        if scaled[l as usize] < 1.0 {
+            large.pop();
+            small.push(l);
+        }
+    }
+    alias
+}
+
 impl RaySampler {
     /// `None` when the rays carry no flux.
     pub fn new(rays: lucerna_photometry::tm25::RaySet) -> Option<RaySampler> {
@@ -231,23 +253,7 @@ impl RaySampler {
         if n == 0 || !(total > 0.0) {
             return None;
         }
-        // Vose's construction: scaled weights split into small and large.
-        let mut scaled: Vec<f64> = rays
-            .luminous_flux_lm
-            .iter()
-            .map(|&f| f64::from(f) * n as f64 / total)
-            .collect();
-        let mut alias: Vec<(f32, u32)> = (0..n as u32).map(|i| (1.0, i)).collect();
-        let (mut small, mut large): (Vec<u32>, Vec<u32>) =
-            (0..n as u32).partition(|&i| scaled[i as usize] < 1.0);
-        while let (Some(s), Some(&l)) = (small.pop(), large.last()) {
-            alias[s as usize] = (scaled[s as usize] as f32, l);
-            scaled[l as usize] -= 1.0 - scaled[s as usize];
-            if scaled[l as usize] < 1.0 {
-                large.pop();
-                small.push(l);
-            }
-        }
+        let alias = alias_table(rays.luminous_flux_lm.iter().map(|&f| f64::from(f) / total));
         Some(RaySampler {
             rays,
             alias,
