@@ -218,6 +218,9 @@ pub fn parse_scene(text: &str, path: &Path) -> Result<Scene, LoadSceneError> {
     Ok(scene)
 }
 
+/// The largest height-map file read (a 16-bit 4096² scan is 32 MiB raw).
+const MAX_HEIGHT_MAP_FILE_BYTES: u64 = 256 << 20;
+
 /// Each height-map finish read from beside `path` into the finish;
 /// those that cannot be, by field (`part[i].finish.path`), with why.
 fn read_height_maps(scene: &mut Scene, path: &Path) -> Vec<(FieldPath, String)> {
@@ -230,7 +233,13 @@ fn read_height_maps(scene: &mut Scene, path: &Path) -> Vec<(FieldPath, String)> 
             ..
         }) = &mut p.finish
         {
-            match crate::finish::HeightGrid::read(&dir.join(&*file)) {
+            let at = dir.join(&*file);
+            let grid = read_limited(&at, MAX_HEIGHT_MAP_FILE_BYTES)
+                .map_err(|e| e.to_string())
+                .and_then(|bytes| {
+                    crate::finish::HeightGrid::from_png(&bytes, &at.display().to_string())
+                });
+            match grid {
                 Ok(grid) => *heights = Some(std::sync::Arc::new(grid)),
                 Err(why) => unread.push((
                     FieldPath::default()

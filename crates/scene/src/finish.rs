@@ -48,7 +48,7 @@ pub enum Finish {
         path: String,
         pixel_size: f64,
         height_step: f64,
-        /// The map as read beside the scene file ([`HeightGrid::read`]).
+        /// The map as read beside the scene file (`file::parse_scene`).
         #[serde(skip)]
         heights: Option<std::sync::Arc<HeightGrid>>,
     },
@@ -66,23 +66,20 @@ pub struct HeightGrid {
 pub const MAX_HEIGHT_MAP_PIXELS: usize = 4096 * 4096;
 
 impl HeightGrid {
-    /// Reads a greyscale PNG (8 or 16 bits; a colour image's luma), at
-    /// least 3 × 3 pixels.
-    pub fn read(path: &std::path::Path) -> Result<HeightGrid, String> {
-        let bytes = crate::file::read_limited(path, 256 << 20).map_err(|e| e.to_string())?;
-        let image = image::load_from_memory_with_format(&bytes, image::ImageFormat::Png)
-            .map_err(|e| format!("{} is not a PNG height map: {e}", path.display()))?;
+    /// Decodes a greyscale PNG (8 or 16 bits; a colour image's luma), at
+    /// least 3 × 3 pixels; `name` names it in errors.
+    pub fn from_png(bytes: &[u8], name: &str) -> Result<HeightGrid, String> {
+        let image = image::load_from_memory_with_format(bytes, image::ImageFormat::Png)
+            .map_err(|e| format!("{name} is not a PNG height map: {e}"))?;
         let (width, height) = (image.width() as usize, image.height() as usize);
         if width < 3 || height < 3 {
             return Err(format!(
-                "{} is {width} × {height} pixels: a height map needs at least 3 × 3",
-                path.display()
+                "{name} is {width} × {height} pixels: a height map needs at least 3 × 3"
             ));
         }
         if width.saturating_mul(height) > MAX_HEIGHT_MAP_PIXELS {
             return Err(format!(
-                "{} is {width} × {height} pixels, more than {MAX_HEIGHT_MAP_PIXELS}",
-                path.display()
+                "{name} is {width} × {height} pixels, more than {MAX_HEIGHT_MAP_PIXELS}"
             ));
         }
         let levels = image
@@ -1091,7 +1088,10 @@ mod tests {
             image::Luma([(30_000.0 + 20_000.0 * phase.sin()).round() as u16])
         });
         map.save(&path).unwrap();
-        let grid = HeightGrid::read(&path).unwrap();
+        let read = |p: &std::path::Path| {
+            HeightGrid::from_png(&std::fs::read(p).unwrap(), &p.display().to_string())
+        };
+        let grid = read(&path).unwrap();
         assert_eq!((grid.width, grid.height), (128, 64));
         let (pixel, step) = (10e-6, 1e-9);
         let f = Finish::HeightMap {
@@ -1118,11 +1118,11 @@ mod tests {
         assert!((h - 50_000.0 * step).abs() < 0.5 * step, "{h}");
         // An unreadable file says why.
         std::fs::write(dir.path().join("bad.png"), b"not a png").unwrap();
-        let e = HeightGrid::read(&dir.path().join("bad.png")).unwrap_err();
+        let e = read(&dir.path().join("bad.png")).unwrap_err();
         assert!(e.contains("not a PNG height map"), "{e}");
         let tiny = image::ImageBuffer::from_fn(2, 2, |_, _| image::Luma([0u16]));
         tiny.save(dir.path().join("tiny.png")).unwrap();
-        let e = HeightGrid::read(&dir.path().join("tiny.png")).unwrap_err();
+        let e = read(&dir.path().join("tiny.png")).unwrap_err();
         assert!(e.contains("at least 3 × 3"), "{e}");
     }
 }
