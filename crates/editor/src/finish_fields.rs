@@ -9,7 +9,7 @@ use lucerna_scene::finish::{DimplePattern, Finish, Ripple, WaveShape};
 use crate::widgets::{degrees, labelled, number};
 
 /// Finish kinds as the combo box lists them.
-const KINDS: [&str; 4] = ["none", "dimples", "ripples", "slopes"];
+const KINDS: [&str; 5] = ["none", "dimples", "ripples", "facets", "slopes"];
 
 /// A length in mm fine enough for a finish (micrometres), with a tick
 /// beside it where a design may vary it.
@@ -44,6 +44,7 @@ pub fn finish_ui(
         Some(Finish::Ripples { .. }) => "ripples",
         Some(Finish::Slopes { .. }) => "slopes",
         Some(Finish::HeightMap { .. }) => "height map",
+        Some(Finish::Facets { .. }) => "facets",
     };
     let mut chosen = kind;
     labelled(ui, "Finish", |ui| {
@@ -149,6 +150,20 @@ pub fn finish_ui(
             });
             degrees(ui, "Orientation", orientation_deg);
         }
+        Finish::Facets {
+            size_along,
+            size_around,
+        } => {
+            ui.horizontal(|ui| {
+                fine_mm(ui, "Facet length along", size_along);
+                tick(ui, "size_along", "Facet length along");
+            });
+            ui.horizontal(|ui| {
+                fine_mm(ui, "Facet width around", size_around);
+                tick(ui, "size_around", "Facet width around");
+            });
+            ui.weak("Flat facets touching the surface: their spread comes from its curvature");
+        }
         Finish::HeightMap {
             path,
             pixel_size,
@@ -226,6 +241,10 @@ fn default_of_kind(kind: &str) -> Option<Finish> {
         }),
         "ripples" => Some(Finish::Ripples {
             waves: vec![default_wave()],
+        }),
+        "facets" => Some(Finish::Facets {
+            size_along: 3e-3,
+            size_around: 3e-3,
         }),
         "slopes" => Some(Finish::Slopes {
             sigma_u: 0.05,

@@ -40,6 +40,12 @@ pub enum Finish {
         #[serde(default)]
         orientation_deg: f64,
     },
+    /// Flat facets `size_along` × `size_around` (m) in rows along a
+    /// revolved or extruded part's profile and around its axis (along
+    /// the extrusion): each the plane touching the smooth surface at its
+    /// centre, so its slope against the smooth normal grows across it
+    /// with the surface's curvature. On a plane they are the plane.
+    Facets { size_along: f64, size_around: f64 },
     /// A measured surface: a greyscale PNG height map (8 or 16 bits, path
     /// relative to the scene file) of square pixels `pixel_size` (m)
     /// across, each grey level `height_step` (m) of height, u along its
@@ -360,6 +366,13 @@ impl Finish {
                     ));
                 }
             }
+            Finish::Facets {
+                size_along,
+                size_around,
+            } => {
+                positive(&mut out, "size_along", *size_along);
+                positive(&mut out, "size_around", *size_around);
+            }
             Finish::HeightMap { .. } => {}
         }
         if let Finish::HeightMap {
@@ -384,6 +397,7 @@ impl Finish {
                         Finish::Ripples { .. } => "waves",
                         Finish::Slopes { .. } => "sigma_u",
                         Finish::HeightMap { .. } => "height_step",
+                        Finish::Facets { .. } => "size_along",
                     }
                     .to_owned(),
                     format!(
@@ -431,6 +445,8 @@ impl Finish {
             Finish::Slopes {
                 sigma_u, sigma_v, ..
             } => sigma_u * sigma_u + sigma_v * sigma_v,
+            // On a plane; a curved part's own is its layout's.
+            Finish::Facets { .. } => 0.0,
             Finish::HeightMap { .. } => {
                 let (mut sum, mut n) = (0.0, 0usize);
                 self.for_each_map_slope(|s| {
@@ -482,6 +498,9 @@ impl Finish {
                 sigma_v,
                 orientation_deg,
             } => gaussian_statistics(*sigma_u, *sigma_v, orientation_deg.to_radians()),
+            // Flat facets on a plane are the plane (a curved part's are
+            // its layout's, `FinishLayout::statistics`).
+            Finish::Facets { .. } => statistics_of_samples(1e-9, [([0.0, 0.0], 1.0)]),
             Finish::HeightMap { .. } => {
                 let mut steepest: f64 = 0.0;
                 self.for_each_map_slope(|s| steepest = steepest.max(s[0].abs()).max(s[1].abs()));
@@ -538,6 +557,14 @@ impl Finish {
                 orientation_deg,
             } => format!(
                 "measured slopes: rms {sigma_u:.4} along, {sigma_v:.4} across, turned {orientation_deg}°"
+            ),
+            Finish::Facets {
+                size_along,
+                size_around,
+            } => format!(
+                "faceted: flat facets {} along the profile by {} around",
+                mm(*size_along),
+                mm(*size_around)
             ),
             Finish::HeightMap {
                 path,
@@ -601,6 +628,7 @@ impl Finish {
                     .sum(),
             ),
             Finish::Slopes { .. } => None,
+            Finish::Facets { .. } => Some(0.0),
             Finish::HeightMap {
                 pixel_size,
                 height_step,

@@ -179,6 +179,19 @@ impl FinishLayout {
     /// The finish's height (m, along the surface's normal) at `at`;
     /// None for a finish given only by its slopes.
     pub fn height(&self, finish: &Finish, at: SurfacePoint) -> Option<f64> {
+        if let Finish::Facets {
+            size_along,
+            size_around,
+        } = finish
+        {
+            return Some(
+                self.facet_at(*size_along, *size_around, at)
+                    .map_or(0.0, |f| {
+                        -0.5 * (f.curvature[0] * f.offset[0].powi(2)
+                            + f.curvature[1] * f.offset[1].powi(2))
+                    }),
+            );
+        }
         let (FinishLayout::Revolution(arc), Some(r)) = (self, at.radius) else {
             return finish.height(at.u, at.v);
         };
@@ -196,13 +209,62 @@ impl FinishLayout {
                 // of it (the pattern's seam at φ = ±π).
                 finish.height(at.u, r * at.v)
             }
-            Finish::Slopes { .. } | Finish::HeightMap { .. } => finish.height(at.u, r * at.v),
+            Finish::Slopes { .. } | Finish::HeightMap { .. } | Finish::Facets { .. } => {
+                finish.height(at.u, r * at.v)
+            }
+        }
+    }
+
+    /// The facet holding `at`: its centre's offset (along u, across as
+    /// arc length) and the smooth surface's principal curvatures there
+    /// (1/m, magnitudes: a facet's slopes are symmetric either way); None
+    /// on a plane, where facets are flat.
+    fn facet_at(&self, along: f64, around: f64, at: SurfacePoint) -> Option<Facet> {
+        match (self, at.radius) {
+            (FinishLayout::Revolution(arc), Some(r)) => {
+                let rings = Rings {
+                    arc,
+                    pitch: around,
+                    footprint: f64::INFINITY,
+                    row_pitch: along,
+                    hexagonal: false,
+                    rows: Vec::new(),
+                };
+                let offset = rings.nearest(at.u, at.v, r)?;
+                Some(Facet {
+                    offset,
+                    curvature: arc.curvatures(at.u),
+                })
+            }
+            (FinishLayout::Extrusion(arc), _) => {
+                let centre = |x: f64, size: f64| ((x / size).floor() + 0.5) * size;
+                Some(Facet {
+                    offset: [at.u - centre(at.u, along), at.v - centre(at.v, around)],
+                    curvature: [arc.curvatures(at.u)[0], 0.0],
+                })
+            }
+            _ => None,
         }
     }
 
     /// The finish's slope (∂h/∂u, ∂h/∂v per metre of surface) at `at`,
     /// by central differences over a thousandth of its finest feature.
     pub fn slope(&self, finish: &Finish, at: SurfacePoint) -> Option<[f64; 2]> {
+        if let Finish::Facets {
+            size_along,
+            size_around,
+        } = finish
+        {
+            // Within its facet, in closed form: where facets of rings of
+            // different counts meet, their tangent planes do not, and a
+            // difference across the seam would be a cliff.
+            return Some(
+                self.facet_at(*size_along, *size_around, at)
+                    .map_or([0.0, 0.0], |f| {
+                        [-f.curvature[0] * f.offset[0], -f.curvature[1] * f.offset[1]]
+                    }),
+            );
+        }
         let step = 1e-3 * finish_feature_size(finish);
         let dv = match at.radius {
             Some(r) => step / r.max(1e-9),
@@ -225,6 +287,35 @@ impl FinishLayout {
     }
 }
 
+/// Where a point lies in its facet, and how the smooth surface curves.
+struct Facet {
+    offset: [f64; 2],
+    curvature: [f64; 2],
+}
+
+impl ProfileArc {
+    /// The principal curvatures (1/m, magnitudes) at arc length `s` of
+    /// the surface this profile revolves into: along the profile its
+    /// turning per length; around the axis the normal's radial part over
+    /// the radius (for an extrusion only the first counts).
+    fn curvatures(&self, s: f64) -> [f64; 2] {
+        let h = (1e-3 * self.length()).max(1e-9);
+        // The stencil kept on the profile (its ends have no outside).
+        let s = s.clamp(1.5 * h, (self.length() - 1.5 * h).max(1.5 * h));
+        let tangent = |s: f64| {
+            let d = self.point_at(s + 0.5 * h) - self.point_at(s - 0.5 * h);
+            d.normalize_or(DVec2::X)
+        };
+        let (t0, t1) = (tangent(s - h), tangent(s + h));
+        let along = (t0.perp_dot(t1)).abs() / (2.0 * h);
+        let t = tangent(s);
+        let r = self.point_at(s).x.abs();
+        // The unit normal's radial part is the tangent's z part.
+        let around = if r > 1e-12 { t.y.abs() / r } else { along };
+        [along, around]
+    }
+}
+
 /// The finest structure of a finish (m): the dimples' pitch, the
 /// shortest wavelength; a slope-only finish has none (0).
 pub fn finish_feature_size(finish: &Finish) -> f64 {
@@ -235,9 +326,81 @@ pub fn finish_feature_size(finish: &Finish) -> f64 {
             .map(|w| w.wavelength)
             .fold(f64::INFINITY, f64::min),
         Finish::Slopes { .. } => 0.0,
+        Finish::Facets {
+            size_along,
+            size_around,
+        } => size_along.min(*size_around),
         // A measured map's finest feature is its pixel: exported as
         // geometry at a pixel per edge.
         Finish::HeightMap { pixel_size, .. } => 16.0 * pixel_size,
+    }
+}
+
+impl FinishLayout {
+    /// Facets' slopes over the part (area weighted): at each point the
+    /// smooth surface's normal turned against the facet's by curvature ×
+    /// offset; a plane's facets are flat.
+    fn facet_statistics(&self, along: f64, around: f64) -> crate::finish::SlopeStatistics {
+        let arc = match self {
+            FinishLayout::Revolution(arc) | FinishLayout::Extrusion(arc) => arc,
+            FinishLayout::Plane => {
+                return Finish::Facets {
+                    size_along: along,
+                    size_around: around,
+                }
+                .statistics();
+            }
+        };
+        let revolution = matches!(self, FinishLayout::Revolution(_));
+        let length = arc.length();
+        let size = along.min(around);
+        let r_max = arc.points.iter().map(|p| p.x.abs()).fold(0.0, f64::max);
+        // An extrusion's facets repeat along it: one row of them.
+        let span = if revolution {
+            std::f64::consts::TAU * r_max
+        } else {
+            around
+        };
+        let per_size = LAYOUT_SAMPLES_PER_PITCH
+            .min((LAYOUT_MAX_SAMPLES * size * size / (length * span).max(1e-18)).sqrt())
+            .max(4.0);
+        let step = size / per_size;
+        let n_u = ((length / step).ceil() as usize).max(1);
+        let mut samples = Vec::new();
+        let mut steepest: f64 = 0.0;
+        for i in 0..n_u {
+            let u = (i as f64 + 0.5) / n_u as f64 * length;
+            let r = arc.point_at(u).x.abs();
+            let width = if revolution {
+                std::f64::consts::TAU * r
+            } else {
+                around
+            };
+            let n_v = ((width / step).ceil() as usize).max(1);
+            for k in 0..n_v {
+                let t = (k as f64 + 0.5) / n_v as f64;
+                let at = if revolution {
+                    SurfacePoint {
+                        u,
+                        v: t * std::f64::consts::TAU,
+                        radius: Some(r),
+                    }
+                } else {
+                    SurfacePoint {
+                        u,
+                        v: t * around,
+                        radius: None,
+                    }
+                };
+                let slope = self.facet_at(along, around, at).map_or([0.0, 0.0], |f| {
+                    [-f.curvature[0] * f.offset[0], -f.curvature[1] * f.offset[1]]
+                });
+                steepest = steepest.max(slope[0].abs()).max(slope[1].abs());
+                // Each sample stands for its share of the ring's area.
+                samples.push((slope, width / n_v as f64));
+            }
+        }
+        crate::finish::statistics_of_samples(steepest.max(1e-9) * 1.0001, samples)
     }
 }
 
@@ -285,6 +448,7 @@ pub fn split_by_scale(finish: &Finish, edge: f64, normals_from: Option<f64>) -> 
     };
     match finish {
         Finish::Dimples { pitch, .. } => put(band(*pitch), finish.clone()),
+        Finish::Facets { .. } => put(band(finish_feature_size(finish)), finish.clone()),
         Finish::Ripples { waves } => {
             for b in [Band::Geometry, Band::Normals, Band::Brdf] {
                 let mine: Vec<_> = waves
@@ -541,6 +705,13 @@ impl FinishLayout {
     /// weighted, slopes in closed form); any other finish or layout has
     /// its plane pattern's ([`Finish::statistics`]).
     pub fn statistics(&self, finish: &Finish) -> crate::finish::SlopeStatistics {
+        if let Finish::Facets {
+            size_along,
+            size_around,
+        } = finish
+        {
+            return self.facet_statistics(*size_along, *size_around);
+        }
         let (
             FinishLayout::Revolution(arc),
             Finish::Dimples {
@@ -871,6 +1042,79 @@ mod tests {
         // the plane lattice's, which a test of the part must not assume.
         let lattice = finish.statistics().flat_share;
         assert!(want > lattice, "{want} vs {lattice}");
+    }
+
+    #[test]
+    fn facets_on_a_sphere_turn_the_normal_by_curvature_times_offset() {
+        // On a sphere of radius R every facet a × b touching it has
+        // slopes uniform over ±a/2R × ±b/2R: mean square (a² + b²)/12R²;
+        // a plane's facets are flat.
+        let (big_r, a, b) = (50e-3, 3e-3, 2e-3);
+        let dome = Shape::Dome(crate::shapes::Dome {
+            radius: big_r,
+            height: 20e-3,
+            segments_around: 96,
+            segments_along: 24,
+        });
+        let layout = FinishLayout::of_shape(&dome);
+        let f = Finish::Facets {
+            size_along: a,
+            size_around: b,
+        };
+        let s = layout.statistics(&f);
+        let want = (a * a + b * b) / (12.0 * big_r * big_r);
+        let got = s.covariance[0] + s.covariance[2];
+        assert!((got / want - 1.0).abs() < 0.03, "{got} vs {want}");
+        // Along and around apart (the rings' counts round the width).
+        let along = a * a / (12.0 * big_r * big_r);
+        assert!(
+            (s.covariance[0] / along - 1.0).abs() < 0.03,
+            "{:?}",
+            s.covariance
+        );
+        assert!(s.flat_share < 0.01);
+        assert_eq!(f.statistics().flat_share, 1.0);
+        assert_eq!(
+            FinishLayout::Plane.height(
+                &f,
+                SurfacePoint {
+                    u: 0.1,
+                    v: 0.2,
+                    radius: None
+                }
+            ),
+            Some(0.0)
+        );
+        // The facet's height: a tangent plane below the sphere by
+        // offset²/2R at its edge, zero at its centre.
+        let FinishLayout::Revolution(arc) = &layout else {
+            panic!()
+        };
+        let u = 10.5 * a;
+        let r = arc.point_at(u).x;
+        let h = layout
+            .height(
+                &f,
+                SurfacePoint {
+                    u,
+                    v: 0.0,
+                    radius: Some(r),
+                },
+            )
+            .unwrap();
+        assert!(h.abs() < 1e-9, "{h}");
+        let h = layout
+            .height(
+                &f,
+                SurfacePoint {
+                    u: u + 0.49 * a,
+                    v: 0.0,
+                    radius: Some(r),
+                },
+            )
+            .unwrap();
+        let want = -0.5 * (0.49 * a).powi(2) / big_r;
+        assert!((h / want - 1.0).abs() < 0.02, "{h} vs {want}");
     }
 
     #[test]

@@ -270,6 +270,11 @@ fn an_impossible_finish_names_its_field_and_the_limit() {
             "part[0].finish.sigma_u",
             "above 1: its facets would face away",
         ),
+        (
+            r#"{ type = "facets", size_along = 0.0, size_around = 0.003 }"#,
+            "part[0].finish.size_along",
+            "positive length",
+        ),
     ];
     for (finish, field, why) in cases {
         let problems = invalid(&with(finish));

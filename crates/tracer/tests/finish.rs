@@ -265,6 +265,33 @@ fn hammered_dimples_as_brdf_match_the_dimples_as_triangles() {
     );
 }
 
+#[test]
+fn flat_facets_as_brdf_match_the_facets_as_triangles() {
+    // 3 mm facets on the small spot: each turns the reflection by up to
+    // ±curvature × 1.5 mm; as triangles at 0.1 and 0.05 mm extrapolated
+    // to edge 0 (the facets' edges are kinks, as the dimples' rims).
+    let facets = r#"{ type = "facets", size_along = 0.003, size_around = 0.003 }"#;
+    let brdf = prepare(&spot(facets), FinishSplit::default());
+    let smooth = prepare(&spot(""), FinishSplit::default());
+    let w = gamma_weights();
+    let b = intensity_by_gamma(&brdf, PHOTONS, 2);
+    let floor = relative_l2(&intensity_by_gamma(&brdf, PHOTONS, 3), &b, &w);
+    let gc = intensity_by_gamma(&prepare(&spot(facets), as_geometry(0.1e-3)), PHOTONS, 5);
+    let gf = intensity_by_gamma(&prepare(&spot(facets), as_geometry(0.05e-3)), PHOTONS, 1);
+    let g: Vec<f64> = gf.iter().zip(&gc).map(|(f, c)| 2.0 * f - c).collect();
+    let floor_g = floor * 5f64.sqrt();
+    let l2 = relative_l2(&b, &g, &w);
+    let s = intensity_by_gamma(&smooth, PHOTONS, 1);
+    let (beam_g, beam_b, beam_s) = (beam_angle(&g), beam_angle(&b), beam_angle(&s));
+    eprintln!(
+        "facets: L2 {l2:.4} (floor {floor_g:.4}; 0.05 mm alone {:.4}), beam {beam_g:.2}° vs {beam_b:.2}° (smooth {beam_s:.2}°)",
+        relative_l2(&b, &gf, &w)
+    );
+    assert!(agrees(l2, floor_g), "L2 {l2} floor {floor_g}");
+    assert!((beam_g - beam_b).abs() <= 0.2, "{beam_g} vs {beam_b}");
+    assert!(beam_b > beam_s + 1.0, "the facets widen the beam");
+}
+
 /// Ripples along the profile (2π·a/λ = 0.084: ±9.6° of slope). A wave
 /// of 1.5 mm on this 24 mm reflector is coarse enough that where it lies
 /// shows: as normals (or triangles) its beam is 0.15° narrower than as

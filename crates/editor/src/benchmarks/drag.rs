@@ -73,6 +73,7 @@ impl DragTarget {
                 Finish::Ripples { waves } => waves.first()?.amplitude,
                 Finish::Slopes { sigma_u, .. } => *sigma_u,
                 Finish::HeightMap { height_step, .. } => *height_step,
+                Finish::Facets { size_along, .. } => *size_along,
             };
             return Some(DragTarget::Finish {
                 part,
@@ -156,6 +157,7 @@ impl DragTarget {
                     }
                     Some(Finish::Slopes { sigma_u, .. }) => *sigma_u = value,
                     Some(Finish::HeightMap { height_step, .. }) => *height_step = value,
+                    Some(Finish::Facets { size_along, .. }) => *size_along = value,
                     None => {}
                 }
             }
