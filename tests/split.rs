@@ -176,8 +176,10 @@ fn started_part(out: &Path, photons: u64) -> std::process::Child {
 #[test]
 fn a_part_killed_or_stopped_resumes_to_the_counts_of_an_uninterrupted_one() {
     let dir = tempfile::tempdir().unwrap();
-    // Large enough that it is still tracing at its first checkpoint.
-    let photons = 24_000_000;
+    // Large enough that it is still tracing at its first checkpoint and
+    // a while after (24 M once finished before the SIGTERM below, in a
+    // full test run on this machine).
+    let photons = 36_000_000;
     let reference = dir.path().join("reference");
     ok(&part(&spot(), "1/2", photons, &reference, &[]));
 
@@ -206,7 +208,7 @@ fn a_part_killed_or_stopped_resumes_to_the_counts_of_an_uninterrupted_one() {
     let first = manifest(&stopped, "1/2").unwrap()["photons_traced"]
         .as_u64()
         .unwrap();
-    std::thread::sleep(Duration::from_millis(500));
+    std::thread::sleep(Duration::from_millis(300));
     let status = Command::new("kill")
         .args(["-TERM", &child.id().to_string()])
         .status()
