@@ -212,8 +212,10 @@ fn summary_ui(ui: &mut Ui, f: &Finish) {
         })
     });
     let (flat, rms) = summary;
+    // The pattern's own figures (a revolved part's rings of whole counts
+    // overlap a little: the traced part has a few per cent more land).
     ui.weak(format!(
-        "Flat land {:.1} % (a mirror's peak); rms slope {:.3} (spreads the rest by about ±{:.1}°)",
+        "Pattern: flat land {:.1} % (a mirror's peak); rms slope {:.3}, turning the rest of the light by {:.1}° rms",
         flat * 100.0,
         rms,
         2.0 * rms.atan().to_degrees()

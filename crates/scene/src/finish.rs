@@ -134,6 +134,13 @@ pub struct Ripple {
     pub shape: WaveShape,
 }
 
+impl Ripple {
+    /// k·a: a sine's steepest slope, a trochoid's sharpness.
+    pub fn slope_amplitude(&self) -> f64 {
+        std::f64::consts::TAU * self.amplitude / self.wavelength
+    }
+}
+
 /// A wave's profile.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -338,7 +345,7 @@ impl Finish {
                     if !w.direction_deg.is_finite() {
                         out.push((at("direction_deg"), "must be a finite angle".to_owned()));
                     }
-                    let kh = 2.0 * std::f64::consts::PI * w.amplitude / w.wavelength;
+                    let kh = w.slope_amplitude();
                     if w.shape == WaveShape::Trochoid && kh >= 1.0 {
                         out.push((
                             at("amplitude"),
@@ -426,16 +433,13 @@ impl Finish {
                 // 2π ∫₀^r ρ³/(R² − ρ²) dρ over the cell's area.
                 let integral = std::f64::consts::TAU
                     * (-0.5 * r * r - 0.5 * big * (1.0 - r * r / big).max(1e-300).ln());
-                let cell = match pattern {
-                    DimplePattern::Square => pitch * pitch,
-                    DimplePattern::Hexagonal => 0.5 * 3f64.sqrt() * pitch * pitch,
-                };
-                integral / cell
+                let cell = PatternCell::of(*pitch, *pattern);
+                integral * cell.centres.len() as f64 / (cell.width * cell.height)
             }
             Finish::Ripples { waves } => waves
                 .iter()
                 .map(|w| {
-                    let kh = std::f64::consts::TAU * w.amplitude / w.wavelength;
+                    let kh = w.slope_amplitude();
                     match w.shape {
                         WaveShape::Sine => 0.5 * kh * kh,
                         WaveShape::Trochoid => 1.0 - (1.0 - kh * kh).max(0.0).sqrt(),
@@ -747,8 +751,7 @@ const RIPPLE_SAMPLES: usize = 1 << 18;
 fn ripple_statistics(waves: &[Ripple]) -> SlopeStatistics {
     let slope_of = |w: &Ripple, phase: f64| -> (f64, f64) {
         // (slope along the wave, weight of this phase in surface length)
-        let k = 2.0 * std::f64::consts::PI / w.wavelength;
-        let kh = k * w.amplitude;
+        let kh = w.slope_amplitude();
         match w.shape {
             WaveShape::Sine => (kh * phase.cos(), 1.0),
             WaveShape::Trochoid => {
@@ -762,7 +765,7 @@ fn ripple_statistics(waves: &[Ripple]) -> SlopeStatistics {
     let steepest: f64 = waves
         .iter()
         .map(|w| {
-            let kh = 2.0 * std::f64::consts::PI * w.amplitude / w.wavelength;
+            let kh = w.slope_amplitude();
             match w.shape {
                 WaveShape::Sine => kh,
                 WaveShape::Trochoid => kh / (1.0 - kh * kh).max(1e-12).sqrt(),

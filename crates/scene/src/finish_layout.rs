@@ -1118,6 +1118,57 @@ mod tests {
     }
 
     #[test]
+    fn each_feature_goes_to_the_band_its_size_and_the_mesh_allow() {
+        let dimples = Finish::Dimples {
+            pitch: 2e-3,
+            depth: 0.15e-3,
+            radius: 3.4e-3,
+            pattern: DimplePattern::Hexagonal,
+        };
+        // Edges of 1 mm: a 2 mm pitch is 2 edges, not the 8 of geometry.
+        let b = split_by_scale(&dimples, 1e-3, None);
+        assert_eq!((b.geometry.is_some(), b.normals.is_some()), (false, false));
+        assert_eq!(b.brdf.as_ref(), Some(&dimples));
+        assert_eq!(
+            split_by_scale(&dimples, 1e-3, Some(1.5e-3))
+                .normals
+                .as_ref(),
+            Some(&dimples)
+        );
+        assert_eq!(
+            split_by_scale(&dimples, 0.25e-3, Some(1.5e-3))
+                .geometry
+                .as_ref(),
+            Some(&dimples)
+        );
+        // Waves one by one: 4 mm geometry, 1 mm normals, 0.2 mm BRDF.
+        let wave = |wavelength: f64| crate::finish::Ripple {
+            amplitude: 1e-6,
+            wavelength,
+            direction_deg: 0.0,
+            shape: WaveShape::Sine,
+        };
+        let ripples = Finish::Ripples {
+            waves: vec![wave(4e-3), wave(1e-3), wave(0.2e-3)],
+        };
+        let b = split_by_scale(&ripples, 0.5e-3, Some(0.5e-3));
+        let lengths = |f: &Option<Finish>| match f {
+            Some(Finish::Ripples { waves }) => waves.iter().map(|w| w.wavelength).collect(),
+            _ => Vec::new(),
+        };
+        assert_eq!(lengths(&b.geometry), vec![4e-3]);
+        assert_eq!(lengths(&b.normals), vec![1e-3]);
+        assert_eq!(lengths(&b.brdf), vec![0.2e-3]);
+        // Measured slopes have no geometry: always the BRDF.
+        let slopes = Finish::Slopes {
+            sigma_u: 0.1,
+            sigma_v: 0.1,
+            orientation_deg: 0.0,
+        };
+        assert!(split_by_scale(&slopes, 1e-9, Some(0.0)).brdf.is_some());
+    }
+
+    #[test]
     fn a_finished_mesh_carries_the_finish_and_stays_on_the_surface() {
         let shape = Shape::Extruded(Extruded {
             profile: vec![[-20e-3, 0.0], [20e-3, 0.0]],

@@ -24,20 +24,27 @@ pub struct Tangents {
 /// facing) shading normal is `n`.
 #[inline]
 pub fn tangents(f: &TraceFinish, position: Vec3A, n: Vec3A) -> Tangents {
-    // The f32 twin of `TangentRule::v_direction`.
+    let v = v_direction(f, position, n);
+    let u = v.cross(n).normalize_or_zero() * f.handedness;
+    Tangents { u, v }
+}
+
+/// The unit v direction at `position` across the normal `n`: the f32
+/// twin of `TangentRule::v_direction`, any direction across `n` where
+/// the rule has none (on the axis).
+#[inline(always)]
+fn v_direction(f: &TraceFinish, position: Vec3A, n: Vec3A) -> Vec3A {
     let v = if f.around {
         f.axis.cross(position - f.origin)
     } else {
         f.axis
     };
     let v = v - n * v.dot(n);
-    let v = if v.length_squared() > 1e-20 {
+    if v.length_squared() > 1e-20 {
         v.normalize()
     } else {
         basis(n).1
-    };
-    let u = v.cross(n).normalize_or_zero() * f.handedness;
-    Tangents { u, v }
+    }
 }
 
 /// The shading normal tilted by the finish's normals band at the hit:
@@ -100,17 +107,7 @@ pub fn facet(
 ) -> Option<Vec3A> {
     // v by the part's rule, made exactly across ns; u = handedness ·
     // v × n_own, which is ± v × ns as ns faces the photon.
-    let v = if f.around {
-        f.axis.cross(position - f.origin)
-    } else {
-        f.axis
-    };
-    let v = v - ns * v.dot(ns);
-    let v = if v.length_squared() > 1e-20 {
-        v.normalize()
-    } else {
-        basis(ns).1
-    };
+    let v = v_direction(f, position, ns);
     let sense = if ns.dot(n_own) >= 0.0 { 1.0 } else { -1.0 };
     let u = v.cross(ns) * (f.handedness * sense);
     let wo = -dir;
