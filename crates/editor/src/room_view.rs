@@ -232,11 +232,15 @@ fn status_ui(ui: &mut Ui, room: &RoomLive, no_snapshot: bool, now: Instant) {
     if let Some(e) = room.start_error() {
         ui.colored_label(ui.visuals().error_fg_color, e);
     }
-    if no_snapshot {
-        ui.label("No light distribution yet.");
+    // Always one line here, so that the controls below stay where the
+    // hand is when a render starts or ends.
+    ui.label(if no_snapshot {
+        "No light distribution yet."
     } else if room.is_rendering() {
-        ui.label("rendering…");
-    }
+        "rendering…"
+    } else {
+        "Picture up to date."
+    });
     match room.picture() {
         Some(p) => {
             ui.label(format!(
