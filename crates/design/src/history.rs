@@ -28,6 +28,9 @@ pub enum Phase {
     /// The meridian model's global search, for what the mapping cannot
     /// represent.
     Fallback,
+    /// One or two variables traced evenly across their bounds before
+    /// the refinement ([`crate::phases::survey`]).
+    Survey,
 }
 
 impl Phase {
@@ -39,6 +42,7 @@ impl Phase {
             Phase::Correction => "correction",
             Phase::Refinement => "refinement",
             Phase::Fallback => "fallback",
+            Phase::Survey => "survey",
         }
     }
 }

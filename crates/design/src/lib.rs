@@ -41,6 +41,7 @@ pub use model::reach::Reachability;
 pub use phases::correction::Iteration;
 pub use phases::direct::{MAX_POINTS, MIN_POINTS};
 pub use phases::fallback::{FallbackSettings, ModelSearch};
+pub use phases::survey::{Survey, SurveyAxis, TermRange};
 pub use phases::{LAST_PHOTONS, PHASE_PHOTONS};
 pub use target::{Maximise, Spec, Target};
 pub use variables::Variable;
@@ -77,7 +78,8 @@ pub struct DesignRequest {
     /// Texels per cube-face edge of the candidates' maps.
     pub resolution: u32,
     /// Run the direct design of a revolved profile (and the fallback
-    /// search); without it the design starts from the scene as it is.
+    /// search), or the survey of one or two numbers; without it the
+    /// refinement starts from the scene as it is.
     pub direct: bool,
     /// Fit a distribution by damped least squares instead of Nelder–Mead
     /// (designs other than a profile's).
@@ -160,6 +162,9 @@ pub struct Design {
     pub start_merit: f64,
     /// What the geometry can reach, where a direct design applied.
     pub reach: Option<Reachability>,
+    /// How far each term went across one or two variables' bounds, where
+    /// they were surveyed.
+    pub survey: Option<Survey>,
     /// The profile's control points, where a profile was designed.
     pub points: Option<usize>,
     /// The best direct design's values and merit, and each correction
@@ -307,6 +312,7 @@ pub fn design_scene(
         variables,
         start_merit: outcome.start_merit,
         reach: outcome.reach,
+        survey: outcome.survey,
         points: outcome.points,
         direct: outcome.direct,
         corrections: outcome.corrections,
@@ -326,6 +332,7 @@ pub fn design_scene(
 struct Outcome {
     start_merit: f64,
     reach: Option<Reachability>,
+    survey: Option<Survey>,
     points: Option<usize>,
     direct: Option<(Vec<f64>, f64)>,
     corrections: Vec<Iteration>,
@@ -360,6 +367,7 @@ fn run(ctx: &mut Context, plan: Option<&ProfilePlan>) -> Result<Outcome, DesignE
     let mut out = Outcome {
         start_merit,
         reach: prepared.as_ref().map(|p| p.reach.clone()),
+        survey: None,
         points,
         direct: None,
         corrections: Vec::new(),
@@ -389,6 +397,17 @@ fn run(ctx: &mut Context, plan: Option<&ProfilePlan>) -> Result<Outcome, DesignE
         }
     }
     let Some(plan) = plan else {
+        // One or two numbers: their whole range traced first, the
+        // refinement from the best of it.
+        if ctx.request.direct
+            && ctx.spent().is_none()
+            && let Some(survey) = phases::survey::survey(ctx)
+        {
+            if survey.best_merit < best.1 {
+                best = (survey.best_values.clone(), survey.best_merit);
+            }
+            out.survey = Some(survey);
+        }
         out.found = match ctx.spent() {
             Some(why) => stopped_at(best, why, out.found),
             None => phases::refinement::refine_generic(ctx, &best.0),

@@ -82,6 +82,10 @@ pub struct TermStatus {
     pub wanted: String,
     /// By how much it is missed (0 when met), in the term's units.
     pub missed_by: f64,
+    /// Missed because the value is below what is wanted (a beam too
+    /// narrow, a LOR too low); false when met or too high.
+    #[serde(skip)]
+    pub too_low: bool,
 }
 
 impl Aim {
@@ -384,6 +388,7 @@ fn spec_terms(
                 value,
                 wanted: format!("{beam}° ± {tol}°"),
                 missed_by: (off - tol).max(0.0),
+                too_low: off > tol && value < beam,
             },
             tol,
         ));
@@ -393,6 +398,7 @@ fn spec_terms(
                 value,
                 wanted: format!("{beam}°"),
                 missed_by: 0.5 * off,
+                too_low: value < beam,
             },
             tol * 4.0,
         ));
@@ -405,6 +411,7 @@ fn spec_terms(
                 value: field,
                 wanted: format!("at most {max}°"),
                 missed_by: (field - max).max(0.0),
+                too_low: false,
             },
             1.0,
         ));
@@ -430,6 +437,7 @@ fn spec_terms(
                 value: 100.0 * ratio,
                 wanted: format!("at most {} % of the peak", 100.0 * fraction),
                 missed_by: 100.0 * (ratio - fraction).max(0.0),
+                too_low: false,
             },
             100.0 * fraction,
         ));
@@ -441,6 +449,7 @@ fn spec_terms(
                 value: 100.0 * lor,
                 wanted: format!("at least {min} %"),
                 missed_by: (min - 100.0 * lor).max(0.0),
+                too_low: 100.0 * lor < min,
             },
             1.0,
         ));
@@ -460,6 +469,7 @@ fn spec_terms(
                 value,
                 wanted: format!("at most {max}"),
                 missed_by: (value - max).clamp(0.0, 100.0),
+                too_low: false,
             },
             0.5,
         ));

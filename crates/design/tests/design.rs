@@ -1,7 +1,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)] // reason: tests may panic
 //! `lucerna design` against truth: a focal length recovered from the
 //! bake of its own scene, a start that already matches staying put, a
-//! spec met on a bake with another seed, common random numbers measured
+//! spec met on a bake with another seed, a survey of a variable's range
+//! checked by independent bakes, common random numbers measured
 //! against independent streams, the same seed giving the same scene, and
 //! every bad input refused with a clear error.
 
@@ -225,6 +226,16 @@ fn a_spec_design_meets_its_spec_on_a_bake_with_another_seed() {
         let beam = beam.unwrap();
         assert!((beam - 6.0).abs() <= 0.5, "beam {beam}");
     }
+    // Its survey traced a candidate meeting the beam, and says nothing is
+    // out of reach.
+    let survey = design.survey.as_ref().expect("one variable is surveyed");
+    let beam = survey
+        .terms
+        .iter()
+        .find(|t| t.term == "beam angle")
+        .unwrap();
+    assert!(beam.lowest < 6.0 && 6.0 < beam.highest, "{beam:?}");
+    assert!(survey.findings().is_empty(), "{:?}", survey.findings());
     let t = &snapshot.table;
     let n = t.gammas_deg.len();
     let above = (0..t.candela.len())
@@ -236,6 +247,71 @@ fn a_spec_design_meets_its_spec_on_a_bake_with_another_seed() {
         "{above} cd above 20°, peak {}",
         f.peak_cd
     );
+}
+
+/// A 40° beam from a parabolic spot's focal length: the survey traces
+/// the range (¼ to 4 × 25 mm), its beam range holds what an independent
+/// bake of its ends gives, and it says the beam is out of this
+/// variable's reach, and that the best lies on a bound.
+#[test]
+fn a_survey_says_what_one_variable_cannot_reach() {
+    let spec = Spec::parse("beam_angle_deg = 40.0\nbeam_tolerance_deg = 1.0\n").unwrap();
+    let mut r = request(spot_path(), Target::Spec(spec), "reflector.focal_length");
+    r.budget.max_photons = Some(400_000);
+    r.budget.evaluations = Some(15);
+    let design = lucerna_design::design(&r, &AtomicBool::new(false), &mut |_| {}).unwrap();
+    let survey = design.survey.as_ref().expect("one variable is surveyed");
+    assert_eq!(survey.axes[0].points, 5, "a third of 15 candidates");
+    assert_eq!(survey.traced, 5);
+    let beam = survey
+        .terms
+        .iter()
+        .find(|t| t.term == "beam angle")
+        .unwrap();
+    assert_eq!(beam.met_by, 0);
+    // Independent bakes (another seed) of the range's ends.
+    let axis = &survey.axes[0];
+    let baked_beam = |f: f64| -> f64 {
+        let scene = apply(&design.start, &design.variables, &[f]).unwrap();
+        let luminaire = Arc::new(Luminaire::new(scene, spot_path().parent().unwrap()).unwrap());
+        let s = lucerna_simulation::bake(
+            luminaire,
+            SimulationSettings {
+                resolution: RESOLUTION,
+                seed: 777,
+                backend: BackendRequest::Cpu,
+                stop: StoppingRule {
+                    photons: Some(2_000_000),
+                    ..StoppingRule::default()
+                },
+                ..SimulationSettings::default()
+            },
+        )
+        .unwrap();
+        let b = figures(&s.table, Some(800.0)).beam_angle_deg;
+        b[0].unwrap().max(b[1].unwrap())
+    };
+    let ends = [baked_beam(axis.lower), baked_beam(axis.upper)];
+    eprintln!("survey {beam:?}; baked ends {ends:?}");
+    for e in ends {
+        assert!(
+            beam.lowest - 0.5 <= e && e <= beam.highest + 0.5,
+            "{e} outside {beam:?}"
+        );
+    }
+    assert!(beam.highest < 39.0);
+    let findings = survey.findings();
+    assert!(
+        findings[0].contains("meets the beam angle (40° ± 1°)")
+            && findings[0].contains("this variable most likely cannot reach it"),
+        "{findings:?}"
+    );
+    // The widest beam is at the shortest focal length: the range stops it.
+    assert!(
+        findings.iter().any(|f| f.contains("at its lower bound")),
+        "{findings:?}"
+    );
+    assert!((design.found.values[0] - axis.lower).abs() < 0.1 * axis.lower);
 }
 
 #[test]

@@ -260,6 +260,7 @@ impl EditorState {
                     variables: design.changes(),
                     history: run.history,
                     reach: design.reach.clone(),
+                    survey: design.survey.clone(),
                     points: design.points,
                     scene: design.scene.clone(),
                     scene_text: scene_text.unwrap_or_default(),

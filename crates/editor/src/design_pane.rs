@@ -351,6 +351,9 @@ fn progress_ui(ui: &mut Ui, state: &mut EditorState, commands: &mut Vec<Command>
                         "fallback: the meridian model's global search".to_owned()
                     }
                     (Phase::Fallback, _) => "fallback: its best traced".to_owned(),
+                    (Phase::Survey, _) => {
+                        "surveying the variables' range (evenly across their bounds)".to_owned()
+                    }
                 };
                 ui.label(format!(
                     "{doing}, {elapsed:.1} s of {:.0} s toward {}: {what}; {} candidates; best {:.4}{}",
@@ -440,6 +443,40 @@ fn progress_ui(ui: &mut Ui, state: &mut EditorState, commands: &mut Vec<Command>
     if let Some(r) = &outcome.reach {
         reach_ui(ui, r, Some(outcome.merit));
     }
+    if let Some(s) = &outcome.survey {
+        survey_ui(ui, s);
+    }
+}
+
+/// How far each term went across the surveyed range, and what no traced
+/// candidate met.
+fn survey_ui(ui: &mut Ui, s: &lucerna_design::Survey) {
+    ui.add_space(4.0);
+    ui.strong("Across the range");
+    ui.label(format!(
+        "{} candidates traced across {}: merit {:.4} … {:.4}.",
+        s.traced,
+        s.across(),
+        s.merit_range[0],
+        s.merit_range[1]
+    ));
+    for t in &s.terms {
+        ui.label(format!(
+            "{}: {:.3} … {:.3}, wanted {}, met by {} of {}",
+            t.term, t.lowest, t.highest, t.wanted, t.met_by, s.traced
+        ));
+    }
+    for f in s.findings() {
+        ui.colored_label(ui.visuals().warn_fg_color, capitalised(&f));
+    }
+}
+
+/// A sentence's first letter in capitals.
+fn capitalised(s: &str) -> String {
+    let mut c = s.chars();
+    c.next()
+        .map(|f| f.to_uppercase().chain(c).collect())
+        .unwrap_or_default()
 }
 
 /// Values listed while a design runs, at most (a profile of 33 points

@@ -291,6 +291,8 @@ pub struct DesignOutcome {
     pub variables: Vec<(String, f64, f64)>,
     pub history: Vec<MeritPoint>,
     pub reach: Option<Reachability>,
+    /// How far each term went across one or two surveyed variables.
+    pub survey: Option<lucerna_design::Survey>,
     /// The designed profile's control points, where one was designed.
     pub points: Option<usize>,
     /// The designed scene, and its file's text as `lucerna design` writes

@@ -45,7 +45,8 @@ pub struct DesignArgs {
     #[arg(long)]
     pub free_ends: bool,
     /// Skip the point-source direct design of a revolved profile, its
-    /// correction and the fallback search, and refine the scene as it is.
+    /// correction and the fallback search (or the survey of one or two
+    /// numbers across their bounds), and refine the scene as it is.
     #[arg(long)]
     pub no_direct: bool,
     /// The designed profile's control points (3 to 33; by default as many
@@ -84,6 +85,7 @@ struct Report<'a> {
     variables: Vec<(String, f64, f64)>,
     start_merit: f64,
     reachability: Option<&'a lucerna_design::Reachability>,
+    survey: Option<&'a lucerna_design::Survey>,
     advice: Vec<String>,
     points: Option<usize>,
     direct_design_merit: Option<f64>,
@@ -207,6 +209,7 @@ pub fn design(args: &DesignArgs) -> Result<()> {
             variables: design.changes(),
             start_merit: design.start_merit,
             reachability: design.reach.as_ref(),
+            survey: design.survey.as_ref(),
             advice: advice(&design, outcome),
             points: design.points,
             direct_design_merit: design.direct.as_ref().map(|d| d.1),
@@ -223,6 +226,9 @@ pub fn design(args: &DesignArgs) -> Result<()> {
     }
     if let Some(r) = &design.reach {
         print_reach(r);
+    }
+    if let Some(s) = &design.survey {
+        print_survey(s);
     }
     if let Some((_, m)) = &design.direct {
         println!(
@@ -311,6 +317,26 @@ fn print_reach(r: &lucerna_design::Reachability) {
         "reachability: no mirror between these ends that stays out of that cone can come closer than {:.4} (relative L2); one reaching into it shades the LED's direct light, and could come down to {:.4}",
         r.bound, r.with_cap
     );
+}
+
+/// How far each term went across the surveyed range.
+fn print_survey(s: &lucerna_design::Survey) {
+    println!(
+        "survey: {} candidates across {}: merit {:.4} … {:.4}",
+        s.traced,
+        s.across(),
+        s.merit_range[0],
+        s.merit_range[1]
+    );
+    for t in &s.terms {
+        println!(
+            "survey: {:<28} {:>9.3} … {:<9.3} wanted {:<20} met by {} of {}",
+            t.term, t.lowest, t.highest, t.wanted, t.met_by, s.traced
+        );
+    }
+    for f in s.findings() {
+        println!("survey: {f}");
+    }
 }
 
 /// What would help the design reach further: where the result is well

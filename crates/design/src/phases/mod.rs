@@ -9,17 +9,20 @@
 //!    feedback through the tracer;
 //! 4. [`refinement`]: a local refinement with the tracer in the loop;
 //! 5. [`fallback`]: the meridian model's global search, where the
-//!    mapping cannot represent the target.
+//!    mapping cannot represent the target;
+//! 6. [`survey`]: one or two variables traced across their bounds before
+//!    the refinement, and how far each term goes there.
 //!
 //! Phases 2, 3 and 5 apply to a revolved mirror toward a rotationally
-//! symmetric distribution; every other design is a start and a
-//! refinement.
+//! symmetric distribution; every other design is a start, a survey
+//! where it varies one or two numbers, and a refinement.
 
 pub mod correction;
 pub mod direct;
 pub mod fallback;
 pub mod refinement;
 pub mod start;
+pub mod survey;
 
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
