@@ -231,13 +231,12 @@ fn variables_ui(ui: &mut Ui, state: &mut EditorState, commands: &mut Vec<Command
                 } else {
                     String::new()
                 };
-                let (k, unit) = if v.name.ends_with("_deg") {
-                    (1.0, "°")
-                } else {
-                    (1000.0, " mm")
-                };
+                let (k, unit) = shown_unit(&v.name);
+                // A finish's depth (0.037 … 0.150 mm) needs more places
+                // than a focal length.
+                let places = if (v.upper * k).abs() < 10.0 { 3 } else { 1 };
                 format!(
-                    "{shown}{} ({:.1} … {:.1}{unit})",
+                    "{shown}{} ({:.places$} … {:.places$}{unit})",
                     value_text(&v.name, v.start),
                     v.lower * k,
                     v.upper * k
@@ -515,10 +514,19 @@ fn significant(v: f64) -> String {
 
 /// A length in mm, an angle in degrees.
 fn value_text(name: &str, value: f64) -> String {
+    let (k, unit) = shown_unit(name);
+    format!("{:.3}{unit}", value * k)
+}
+
+/// How a variable is shown: degrees, a finish's slopes as they are
+/// (rms slope, no unit), lengths in mm.
+fn shown_unit(name: &str) -> (f64, &'static str) {
     if name.ends_with("_deg") {
-        format!("{value:.3}°")
+        (1.0, "°")
+    } else if name.ends_with(".sigma_u") || name.ends_with(".sigma_v") {
+        (1.0, "")
     } else {
-        format!("{:.3} mm", value * 1000.0)
+        (1000.0, " mm")
     }
 }
 
