@@ -23,6 +23,9 @@ pub fn design_pane_ui(ui: &mut Ui, state: &mut EditorState, views: &mut ViewsSta
     egui::ScrollArea::vertical()
         .auto_shrink([false, false])
         .show(ui, |ui| {
+            // The spec's rows may be wider than a narrow pane; what follows
+            // them still wraps at the pane's own width.
+            let width = ui.available_width();
             ui.label(
                 "Shape the luminaire toward the light you want: the photon tracer judges each candidate.",
             );
@@ -31,13 +34,18 @@ pub fn design_pane_ui(ui: &mut Ui, state: &mut EditorState, views: &mut ViewsSta
                 ui.add_space(4.0);
                 ui.strong("Target");
                 target_ui(ui, state, &mut commands);
-                ui.add_space(4.0);
-                ui.strong("Variables");
-                variables_ui(ui, state, &mut commands);
-                ui.add_space(4.0);
-                ui.strong("Run");
-                budget_ui(ui, &mut state.design);
+                ui.scope(|ui| {
+                    ui.set_max_width(width);
+                    ui.add_space(4.0);
+                    ui.strong("Variables");
+                    variables_ui(ui, state, &mut commands);
+                    ui.add_space(4.0);
+                    ui.strong("Run");
+                    budget_ui(ui, &mut state.design);
+                });
             });
+            ui.scope(|ui| {
+            ui.set_max_width(width);
             ui.horizontal(|ui| {
                 if ui
                     .add_enabled(!running, egui::Button::new("Start design"))
@@ -70,6 +78,7 @@ pub fn design_pane_ui(ui: &mut Ui, state: &mut EditorState, views: &mut ViewsSta
             }
             ui.add_space(4.0);
             progress_ui(ui, state, &mut commands);
+            });
         });
     for c in commands {
         state.push(c);

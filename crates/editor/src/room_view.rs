@@ -77,6 +77,9 @@ fn room_contents_ui(
     commands: &mut Vec<RoomCommand>,
 ) {
     let now = Instant::now();
+    // A row wider than the pane (the renderer's combo) must not widen the
+    // lines below it: they wrap at the pane's own width.
+    let width = ui.available_width();
     room_choice_ui(ui, room, commands);
     if let Some(e) = room.error() {
         ui.colored_label(ui.visuals().error_fg_color, e);
@@ -89,8 +92,11 @@ fn room_contents_ui(
         ui.colored_label(ui.visuals().error_fg_color, p);
     }
     ui.separator();
-    status_ui(ui, room, no_snapshot, now);
-    figures_ui(ui, room, commands);
+    ui.scope(|ui| {
+        ui.set_max_width(width);
+        status_ui(ui, room, no_snapshot, now);
+        figures_ui(ui, room, commands);
+    });
     ui.horizontal(|ui| {
         for (shown, label) in [
             (RoomShown::Picture, "Picture"),
@@ -192,39 +198,36 @@ fn room_fields_ui(ui: &mut Ui, room: &RoomLive, commands: &mut Vec<RoomCommand>)
         if edited != size {
             commands.push(RoomCommand::Resize(edited));
         }
-        ui.horizontal_wrapped(|ui| {
-            for (value, label, surface) in [
-                (r.floor.reflectance, "Floor reflectance", RoomSurface::Floor),
-                (r.walls.reflectance, "Wall reflectance", RoomSurface::Walls),
-                (
-                    r.ceiling.reflectance,
-                    "Ceiling reflectance",
-                    RoomSurface::Ceiling,
-                ),
-            ] {
-                reflectance_ui(ui, label, value, surface, commands);
-            }
-        });
+        // A line each: a label with its value cannot wrap as one.
+        for (value, label, surface) in [
+            (r.floor.reflectance, "Floor reflectance", RoomSurface::Floor),
+            (r.walls.reflectance, "Wall reflectance", RoomSurface::Walls),
+            (
+                r.ceiling.reflectance,
+                "Ceiling reflectance",
+                RoomSurface::Ceiling,
+            ),
+        ] {
+            reflectance_ui(ui, label, value, surface, commands);
+        }
     } else {
         ui.label("Size and surfaces from the room's OBJ.");
-        ui.horizontal_wrapped(|ui| {
+        reflectance_ui(
+            ui,
+            "Wall reflectance",
+            r.walls.reflectance,
+            RoomSurface::Walls,
+            commands,
+        );
+        for (name, surface) in &r.materials {
             reflectance_ui(
                 ui,
-                "Wall reflectance",
-                r.walls.reflectance,
-                RoomSurface::Walls,
+                &format!("{name} reflectance"),
+                surface.reflectance,
+                RoomSurface::Material(name.clone()),
                 commands,
             );
-            for (name, surface) in &r.materials {
-                reflectance_ui(
-                    ui,
-                    &format!("{name} reflectance"),
-                    surface.reflectance,
-                    RoomSurface::Material(name.clone()),
-                    commands,
-                );
-            }
-        });
+        }
     }
 }
 
@@ -276,9 +279,11 @@ fn figures_ui(ui: &mut Ui, room: &RoomLive, commands: &mut Vec<RoomCommand>) {
     let current = room.target_index();
     let mut target = current;
     labelled(ui, "Task area (EN 12464-1)", |ui| {
+        // As wide as the pane leaves, the task's name cut short there.
         egui::ComboBox::from_id_salt("task area")
             .selected_text(TASK_TARGETS[target].name)
-            .width(260.0)
+            .width(ui.available_width().clamp(80.0, 260.0))
+            .truncate()
             .show_ui(ui, |ui| {
                 for (i, t) in TASK_TARGETS.iter().enumerate() {
                     ui.selectable_value(
