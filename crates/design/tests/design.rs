@@ -40,9 +40,18 @@ fn spot_with_focal_length(dir: &Path, f: f64) -> PathBuf {
 
 /// A scene's bake as a distribution target (the table a file of it holds).
 fn baked_target(scene: &Path, photons: u64, seed: u32) -> Target {
-    let luminaire = Arc::new(Luminaire::load(scene).unwrap());
-    let snapshot = lucerna_simulation::bake(
-        luminaire,
+    let snapshot = bake(Luminaire::load(scene).unwrap(), photons, seed);
+    Target::Distribution {
+        table: snapshot.table.as_ref().clone(),
+        absolute: false,
+        name: "target".to_owned(),
+    }
+}
+
+/// `luminaire` baked on the CPU with `photons` of `seed`'s stream.
+fn bake(luminaire: Luminaire, photons: u64, seed: u32) -> lucerna_simulation::Snapshot {
+    lucerna_simulation::bake(
+        Arc::new(luminaire),
         SimulationSettings {
             resolution: RESOLUTION,
             seed,
@@ -54,12 +63,7 @@ fn baked_target(scene: &Path, photons: u64, seed: u32) -> Target {
             ..SimulationSettings::default()
         },
     )
-    .unwrap();
-    Target::Distribution {
-        table: snapshot.table.as_ref().clone(),
-        absolute: false,
-        name: "target".to_owned(),
-    }
+    .unwrap()
 }
 
 fn request(scene: PathBuf, target: Target, vary: &str) -> DesignRequest {
@@ -200,22 +204,8 @@ fn a_spec_design_meets_its_spec_on_a_bake_with_another_seed() {
     r.budget.max_photons = Some(400_000);
     let design = lucerna_design::design(&r, &AtomicBool::new(false), &mut |_| {}).unwrap();
     // Baked again, with other photons.
-    let luminaire =
-        Arc::new(Luminaire::new(design.scene.clone(), spot_path().parent().unwrap()).unwrap());
-    let snapshot = lucerna_simulation::bake(
-        luminaire,
-        SimulationSettings {
-            resolution: RESOLUTION,
-            seed: 4242,
-            backend: BackendRequest::Cpu,
-            stop: StoppingRule {
-                photons: Some(2_000_000),
-                ..StoppingRule::default()
-            },
-            ..SimulationSettings::default()
-        },
-    )
-    .unwrap();
+    let luminaire = Luminaire::new(design.scene.clone(), spot_path().parent().unwrap()).unwrap();
+    let snapshot = bake(luminaire, 2_000_000, 4242);
     let f = figures(&snapshot.table, Some(800.0));
     eprintln!(
         "f = {:.3} mm: beam {:?}",
@@ -273,21 +263,8 @@ fn a_survey_says_what_one_variable_cannot_reach() {
     let axis = &survey.axes[0];
     let baked_beam = |f: f64| -> f64 {
         let scene = apply(&design.start, &design.variables, &[f]).unwrap();
-        let luminaire = Arc::new(Luminaire::new(scene, spot_path().parent().unwrap()).unwrap());
-        let s = lucerna_simulation::bake(
-            luminaire,
-            SimulationSettings {
-                resolution: RESOLUTION,
-                seed: 777,
-                backend: BackendRequest::Cpu,
-                stop: StoppingRule {
-                    photons: Some(2_000_000),
-                    ..StoppingRule::default()
-                },
-                ..SimulationSettings::default()
-            },
-        )
-        .unwrap();
+        let luminaire = Luminaire::new(scene, spot_path().parent().unwrap()).unwrap();
+        let s = bake(luminaire, 2_000_000, 777);
         let b = figures(&s.table, Some(800.0)).beam_angle_deg;
         b[0].unwrap().max(b[1].unwrap())
     };

@@ -461,23 +461,11 @@ fn progress_ui(ui: &mut Ui, state: &mut EditorState, commands: &mut Vec<Command>
 fn survey_ui(ui: &mut Ui, s: &lucerna_design::Survey) {
     ui.add_space(4.0);
     ui.strong("Across the range");
-    // The pane's units (mm, °), not the file's metres.
-    let across: Vec<String> = s
-        .axes
-        .iter()
-        .map(|a| {
-            format!(
-                "{} {} … {}",
-                a.name,
-                value_text(&a.name, a.lower),
-                value_text(&a.name, a.upper)
-            )
-        })
-        .collect();
     ui.label(format!(
         "{} candidates traced across {}: merit {:.4} … {:.4}.",
         s.traced,
-        across.join(" × "),
+        // The pane's units (mm, °), not the file's metres.
+        s.across_with(value_text),
         s.merit_range[0],
         s.merit_range[1]
     ));

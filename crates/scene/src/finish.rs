@@ -428,7 +428,7 @@ impl Finish {
                 radius,
                 pattern,
             } => {
-                let r = dimple_footprint(*radius, *depth).min(0.5 * pitch);
+                let r = dimple_rim(*radius, *depth, *pitch);
                 let big = radius * radius;
                 // 2π ∫₀^r ρ³/(R² − ρ²) dρ over the cell's area.
                 let integral = std::f64::consts::TAU
@@ -598,7 +598,7 @@ impl Finish {
                 radius,
                 pattern,
             } => {
-                let r = dimple_footprint(*radius, *depth).min(0.5 * pitch);
+                let r = dimple_rim(*radius, *depth, *pitch);
                 let d = PatternCell::of(*pitch, *pattern).offset(u, v);
                 let rho = d[0].hypot(d[1]);
                 Some(if rho < r {
@@ -661,6 +661,13 @@ pub fn dimple_footprint(radius: f64, depth: f64) -> f64 {
     (2.0 * radius * depth - depth * depth).max(0.0).sqrt()
 }
 
+/// A dimple's rim as a pattern of `pitch` holds it: its footprint, at
+/// most half the pitch (validation refuses more; a finish built in code
+/// may not be validated).
+pub fn dimple_rim(radius: f64, depth: f64, pitch: f64) -> f64 {
+    dimple_footprint(radius, depth).min(0.5 * pitch)
+}
+
 /// One rectangular period of a dimple pattern: p × p holding one dimple
 /// (square), p × √3·p holding two (hexagonal).
 struct PatternCell {
@@ -718,7 +725,7 @@ fn dimple_statistics(
     radius: f64,
     pattern: DimplePattern,
 ) -> SlopeStatistics {
-    let r = dimple_footprint(radius, depth).min(0.5 * pitch);
+    let r = dimple_rim(radius, depth, pitch);
     let steepest = r / (radius * radius - r * r).max(1e-300).sqrt();
     let mut acc = Accumulator::new(steepest.max(1e-9) * 1.0001);
     let cell = PatternCell::of(pitch, pattern);

@@ -15,7 +15,7 @@
 use glam::{DVec2, DVec3};
 
 use crate::exact::{ExactSurface, ProfileCurve};
-use crate::finish::{DimplePattern, Finish, dimple_footprint};
+use crate::finish::{DimplePattern, Finish, dimple_rim};
 use crate::mesh::TriangleMesh;
 use crate::model::Shape;
 
@@ -663,7 +663,7 @@ fn rings(
     Rings {
         arc,
         pitch,
-        footprint: dimple_footprint(radius, depth).min(0.5 * pitch),
+        footprint: dimple_rim(radius, depth, pitch),
         row_pitch: match pattern {
             DimplePattern::Hexagonal => 0.5 * 3f64.sqrt() * pitch,
             DimplePattern::Square => pitch,

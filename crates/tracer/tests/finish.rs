@@ -18,29 +18,10 @@ use rayon::prelude::*;
 /// 2 mm LED at the focus facing the vertex, its reflector finished by
 /// `finish` (a TOML inline table, or empty).
 fn spot(finish: &str) -> String {
-    let finish = if finish.is_empty() {
-        String::new()
-    } else {
-        format!("finish = {finish}")
-    };
-    format!(
-        r#"
-format_version = 1
-name = "finished spot"
-[materials.alu]
-type = "mirror"
-reflectance = 0.9
-[[emitter]]
-name = "LED"
-flux_lm = 1000.0
-shape = {{ type = "disk", radius = 0.001 }}
-transform = {{ rotate_deg = [180.0, 0.0, 0.0] }}
-[[part]]
-name = "reflector"
-material = "alu"
-shape = {{ type = "paraboloid", focal_length = 0.01, aperture_diameter = 0.024, neck_diameter = 0.006, segments_around = 96, segments_along = 16 }}
-{finish}
-"#
+    finished_scene(
+        "reflector",
+        "{ type = \"paraboloid\", focal_length = 0.01, aperture_diameter = 0.024, neck_diameter = 0.006, segments_around = 96, segments_along = 16 }",
+        finish,
     )
 }
 
@@ -54,6 +35,16 @@ fn trough(finish: &str) -> String {
             format!("[{x}, {}]", f - x * x / (4.0 * f))
         })
         .collect();
+    let shape = format!(
+        "{{ type = \"extruded\", profile = [{}], length = 0.02, end_caps = false, segments_per_span = 4 }}",
+        points.join(", ")
+    );
+    finished_scene("trough", &shape, finish)
+}
+
+/// One mirror part `name` of `shape` (a TOML inline table) around a 2 mm
+/// LED facing −z at the origin, finished by `finish` (or not, if empty).
+fn finished_scene(name: &str, shape: &str, finish: &str) -> String {
     let finish = if finish.is_empty() {
         String::new()
     } else {
@@ -62,7 +53,7 @@ fn trough(finish: &str) -> String {
     format!(
         r#"
 format_version = 1
-name = "finished trough"
+name = "finished {name}"
 [materials.alu]
 type = "mirror"
 reflectance = 0.9
@@ -72,12 +63,11 @@ flux_lm = 1000.0
 shape = {{ type = "disk", radius = 0.001 }}
 transform = {{ rotate_deg = [180.0, 0.0, 0.0] }}
 [[part]]
-name = "trough"
+name = "{name}"
 material = "alu"
-shape = {{ type = "extruded", profile = [{}], length = 0.02, end_caps = false, segments_per_span = 4 }}
+shape = {shape}
 {finish}
-"#,
-        points.join(", ")
+"#
     )
 }
 

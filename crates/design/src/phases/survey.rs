@@ -11,6 +11,7 @@
 //! points a term could change fast. So it says what was traced, not
 //! what is impossible.
 
+use lucerna_photometry::format_number;
 use serde::Serialize;
 
 use crate::history::Phase;
@@ -80,16 +81,23 @@ pub struct Survey {
 }
 
 impl Survey {
-    /// The variables and their ranges, in words.
+    /// The variables and their ranges, in words, their values in the
+    /// file's units (four significant digits).
     pub fn across(&self) -> String {
+        self.across_with(|_, x| format_number(x, 4))
+    }
+
+    /// The same with each value as `shown(name, value)` writes it (the
+    /// editor's mm and degrees).
+    pub fn across_with(&self, shown: impl Fn(&str, f64) -> String) -> String {
         self.axes
             .iter()
             .map(|a| {
                 format!(
                     "{} {} … {}",
                     a.name,
-                    significant(a.lower),
-                    significant(a.upper)
+                    shown(&a.name, a.lower),
+                    shown(&a.name, a.upper)
                 )
             })
             .collect::<Vec<_>>()
@@ -143,7 +151,7 @@ impl Survey {
                 Some(format!(
                     "the best traced has {} at its {which} bound ({}): the bounds lie within a factor of four of the start value (or where the scene stops being valid), so a start nearer the light wanted moves them",
                     a.name,
-                    significant(x)
+                    format_number(x, 4)
                 ))
             })
             .collect()
@@ -270,15 +278,6 @@ fn absorb(ranges: &mut Vec<TermRange>, terms: &[TermStatus]) {
     }
 }
 
-/// Four significant digits: bounds in metres read as 0.00003750.
-fn significant(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() {
-        return format!("{x}");
-    }
-    let decimals = (3.0 - x.abs().log10().floor()).max(0.0) as usize;
-    format!("{x:.decimals$}")
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -324,8 +323,8 @@ mod tests {
         assert!(t.beyond());
         let f = s.findings();
         assert!(f[0].contains("none of the 3 candidates"), "{f:?}");
-        assert!(f[0].contains("0.00003750 … 0.0001500"), "{f:?}");
-        assert!(f[1].contains("at its upper bound (0.0001500)"), "{f:?}");
+        assert!(f[0].contains("0.0000375 … 0.00015"), "{f:?}");
+        assert!(f[1].contains("at its upper bound (0.00015)"), "{f:?}");
     }
 
     #[test]
